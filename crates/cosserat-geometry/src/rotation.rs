@@ -1,0 +1,247 @@
+//! Rotations: unit quaternions, rotation matrices, `axl`/`skew`, exponential and Cayley maps, and the
+//! quaternion time update of the model.
+//!
+//! Conventions (model.md §0, §1.5):
+//! - Quaternions are nalgebra [`Quaternion`]s built with `Quaternion::new(w, x, y, z)`, scalar first.
+//! - Angular velocities are *spatial* (world-frame): `Ṙ = [ω]× R`, so updates multiply from the left.
+//! - `axl` is the standard axial vector: `axl([θ]×) = θ` and `[θ]× y = θ × y`.
+//!
+//! All functions are generic over [`Real`] so that they can be differentiated with dual numbers.
+//! [`RotationJet`] does exactly that for the update map `ω ↦ R(Φ(q, ω, Δt))`, the only nonlinearity of
+//! the rotation field inside the energy.
+
+use crate::real::Real;
+use nalgebra::{Const, Matrix3, Quaternion, SVector, Vector3};
+use num_dual::{Derivative, Dual2SVec64};
+
+/// The rotation matrix of a unit quaternion (scalar first).
+///
+/// This is the standard polynomial formula; it does **not** normalise, so `q` must be a unit
+/// quaternion for the result to be orthogonal.
+#[inline]
+pub fn rotation_matrix<T: Real>(q: &Quaternion<T>) -> Matrix3<T> {
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    let one = T::one();
+    let two = T::from(2.0);
+    Matrix3::new(
+        one - two * (y * y + z * z),
+        two * (x * y - w * z),
+        two * (x * z + w * y),
+        two * (x * y + w * z),
+        one - two * (x * x + z * z),
+        two * (y * z - w * x),
+        two * (x * z - w * y),
+        two * (y * z + w * x),
+        one - two * (x * x + y * y),
+    )
+}
+
+/// The unit quaternion (with non-negative scalar part) of a rotation matrix.
+///
+/// Uses Shepperd's method, which picks the numerically largest component first. The input must be a
+/// rotation matrix (orthogonal, determinant +1); no projection is done.
+pub fn quaternion_from_matrix(m: &Matrix3<f64>) -> Quaternion<f64> {
+    let tr = m.trace();
+    let q = if tr > 0.0 {
+        let s = (tr + 1.0).sqrt() * 2.0;
+        Quaternion::new(
+            0.25 * s,
+            (m[(2, 1)] - m[(1, 2)]) / s,
+            (m[(0, 2)] - m[(2, 0)]) / s,
+            (m[(1, 0)] - m[(0, 1)]) / s,
+        )
+    } else if m[(0, 0)] > m[(1, 1)] && m[(0, 0)] > m[(2, 2)] {
+        let s = (1.0 + m[(0, 0)] - m[(1, 1)] - m[(2, 2)]).sqrt() * 2.0;
+        Quaternion::new(
+            (m[(2, 1)] - m[(1, 2)]) / s,
+            0.25 * s,
+            (m[(0, 1)] + m[(1, 0)]) / s,
+            (m[(0, 2)] + m[(2, 0)]) / s,
+        )
+    } else if m[(1, 1)] > m[(2, 2)] {
+        let s = (1.0 + m[(1, 1)] - m[(0, 0)] - m[(2, 2)]).sqrt() * 2.0;
+        Quaternion::new(
+            (m[(0, 2)] - m[(2, 0)]) / s,
+            (m[(0, 1)] + m[(1, 0)]) / s,
+            0.25 * s,
+            (m[(1, 2)] + m[(2, 1)]) / s,
+        )
+    } else {
+        let s = (1.0 + m[(2, 2)] - m[(0, 0)] - m[(1, 1)]).sqrt() * 2.0;
+        Quaternion::new(
+            (m[(1, 0)] - m[(0, 1)]) / s,
+            (m[(0, 2)] + m[(2, 0)]) / s,
+            (m[(1, 2)] + m[(2, 1)]) / s,
+            0.25 * s,
+        )
+    };
+    let q = q.normalize();
+    if q.w < 0.0 { -q } else { q }
+}
+
+/// The cross-product matrix `[v]×`, with `[v]× y = v × y`.
+#[inline]
+pub fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
+    let z = T::zero();
+    Matrix3::new(z, -v.z, v.y, v.z, z, -v.x, -v.y, v.x, z)
+}
+
+/// The standard axial vector of the skew-symmetric part of `m`: `axl(skew m)`.
+///
+/// For a skew matrix `[θ]×` it returns `θ`. For a general matrix it is
+/// `½ (m₃₂ − m₂₃, m₁₃ − m₃₁, m₂₁ − m₁₂)` (1-based).
+#[inline]
+pub fn axl<T: Real>(m: &Matrix3<T>) -> Vector3<T> {
+    let h = T::from(0.5);
+    Vector3::new(
+        (m[(2, 1)] - m[(1, 2)]) * h,
+        (m[(0, 2)] - m[(2, 0)]) * h,
+        (m[(1, 0)] - m[(0, 1)]) * h,
+    )
+}
+
+/// The axial vector read from the negated upper triangle, `(−m₂₃, −m₃₁, −m₁₂)` (1-based).
+///
+/// This is the variant of the authors' reference code (model.md §2.3). It agrees with [`axl`] on skew
+/// matrices and differs by the non-skewness of `m` otherwise.
+#[inline]
+pub fn axl_upper<T: Real>(m: &Matrix3<T>) -> Vector3<T> {
+    Vector3::new(-m[(1, 2)], -m[(2, 0)], -m[(0, 1)])
+}
+
+/// The rotation `exp([v]×)` by the angle `|v|` about `v/|v|` (Rodrigues' formula).
+///
+/// Near `v = 0` the coefficients switch to their Taylor series, so the map and its dual-number
+/// derivatives stay exact there.
+pub fn exp_map<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
+    let theta2 = v.norm_squared();
+    let (a, b) = if theta2.re() < 1e-8 {
+        // sin θ / θ and (1 − cos θ) / θ² to O(θ⁴).
+        (
+            T::one() - theta2 / 6.0 + theta2 * theta2 / 120.0,
+            T::from(0.5) - theta2 / 24.0 + theta2 * theta2 / 720.0,
+        )
+    } else {
+        let theta = theta2.sqrt();
+        (theta.sin() / theta, (T::one() - theta.cos()) / theta2)
+    };
+    let k = skew(v);
+    Matrix3::identity() + k * a + k * k * b
+}
+
+/// The Cayley map `cay(v) = (I − [v]×/2)⁻¹ (I + [v]×/2)`: a rotation by `2 arctan(|v|/2)` about `v`.
+///
+/// The quaternion update of the model is exactly `R(Φ(q, ω, Δt)) = cay(Δt ω) R(q)` (model.md §1.5).
+pub fn cayley<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
+    let s = T::from(4.0) / (T::from(4.0) + v.norm_squared());
+    let k = skew(v);
+    Matrix3::identity() + (k + k * k * T::from(0.5)) * s
+}
+
+/// The Hamilton product `p ⊗ q` of quaternions.
+#[inline]
+pub fn quaternion_product<T: Real>(p: &Quaternion<T>, q: &Quaternion<T>) -> Quaternion<T> {
+    Quaternion::new(
+        p.w * q.w - p.i * q.i - p.j * q.j - p.k * q.k,
+        p.w * q.i + p.i * q.w + p.j * q.k - p.k * q.j,
+        p.w * q.j - p.i * q.k + p.j * q.w + p.k * q.i,
+        p.w * q.k + p.i * q.j - p.j * q.i + p.k * q.w,
+    )
+}
+
+/// The time update of a unit quaternion by a spatial angular velocity (model.md §1.5):
+///
+/// `Φ(q, ω, Δt) = (q + Δt/2 ω̂ ⊗ q) / |q + Δt/2 ω̂ ⊗ q|`, with `ω̂ = (0, ω)`.
+///
+/// The quaternion `q` is data (`f64`); only `ω` carries the scalar type, because in the energy the
+/// angular velocity is the unknown. The result is a unit quaternion for any `ω`.
+#[inline]
+pub fn quaternion_update<T: Real>(q: &Quaternion<f64>, omega: &Vector3<T>, dt: f64) -> Quaternion<T> {
+    let h = dt * 0.5;
+    let (w, x, y, z) = (q.w, q.i, q.j, q.k);
+    let (ox, oy, oz) = (omega.x * h, omega.y * h, omega.z * h);
+    // (0, o) ⊗ (w, x, y, z) with o = Δt ω / 2.
+    let nw = -(ox * x + oy * y + oz * z) + w;
+    let nx = ox * w + oy * z - oz * y + x;
+    let ny = -(ox * z) + oy * w + oz * x + y;
+    let nz = ox * y - oy * x + oz * w + z;
+    let inv = (nw * nw + nx * nx + ny * ny + nz * nz).sqrt().recip();
+    Quaternion::new(nw * inv, nx * inv, ny * inv, nz * inv)
+}
+
+/// The same rotation as `q`, with the sign chosen so that `q · reference ≥ 0`.
+///
+/// `q` and `−q` are one rotation. Linear interpolation of quaternions needs neighbours in the same
+/// hemisphere (model.md §8.12); this is the guard.
+#[inline]
+pub fn same_hemisphere(q: &Quaternion<f64>, reference: &Quaternion<f64>) -> Quaternion<f64> {
+    if q.dot(reference) < 0.0 { -q } else { *q }
+}
+
+/// The value and the first and second derivatives of `ω ↦ R(Φ(q, ω, Δt))` at one `ω`.
+///
+/// This is where the nonlinearity of a rotation sits inside the energy. Computing its derivatives with a
+/// three-direction second-order dual number and chaining everything else (bilinear strain maps and a
+/// quadratic density) by hand gives the exact Hessian at a fraction of the cost of differentiating the
+/// whole energy (see `docs/performance.md`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RotationJet {
+    /// `R`.
+    pub r: Matrix3<f64>,
+    /// `∂R/∂ω_i` for `i = 0, 1, 2`.
+    pub d1: [Matrix3<f64>; 3],
+    /// `∂²R/∂ω_i∂ω_j` (symmetric in `i, j`).
+    pub d2: [[Matrix3<f64>; 3]; 3],
+}
+
+impl RotationJet {
+    /// Evaluates the jet of `ω ↦ R(Φ(q, ω, Δt))`.
+    pub fn of_update(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {
+        type D = Dual2SVec64<3>;
+        let w: Vector3<D> = Vector3::from_fn(|i, _| {
+            let mut d = D::from_re(omega[i]);
+            d.v1 = Derivative::some(SVector::<f64, 3>::ith(i, 1.0).transpose());
+            d
+        });
+        let rd = rotation_matrix(&quaternion_update(q, &w, dt));
+        Self::from_dual_matrix(&rd)
+    }
+
+    /// The jet of a constant rotation (all derivatives zero).
+    pub fn constant(r: Matrix3<f64>) -> Self {
+        Self {
+            r,
+            d1: [Matrix3::zeros(); 3],
+            d2: [[Matrix3::zeros(); 3]; 3],
+        }
+    }
+
+    fn from_dual_matrix(rd: &Matrix3<Dual2SVec64<3>>) -> Self {
+        let mut jet = Self::constant(rd.map(|x| x.re));
+        for (idx, x) in rd.iter().enumerate() {
+            let (row, col) = (idx % 3, idx / 3);
+            let g = x.v1.unwrap_generic(Const::<1>, Const::<3>);
+            let h = x.v2.unwrap_generic(Const::<3>, Const::<3>);
+            for i in 0..3 {
+                jet.d1[i][(row, col)] = g[i];
+                for j in 0..3 {
+                    jet.d2[i][j][(row, col)] = h[(i, j)];
+                }
+            }
+        }
+        jet
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axl_variants_agree_on_skew_matrices() {
+        let v = Vector3::new(0.3, -1.2, 2.5);
+        let k = skew(&v);
+        assert!((axl(&k) - v).norm() < 1e-15);
+        assert!((axl_upper(&k) - v).norm() < 1e-15);
+    }
+}
