@@ -1,1 +1,42 @@
-//! Work in progress.
+//! The incremental potential of a Cosserat shell system: energy terms, sparsity pattern and
+//! deterministic parallel assembly.
+//!
+//! Entry points:
+//! - [`IncrementalPotential`] built from [`PotentialParts`]: shells ([`shell::ShellTerm`]), inertia and
+//!   loads ([`inertia`]), boundary conditions ([`boundary`]) and further [`PotentialTerm`]s;
+//! - [`SparsityPattern`]: the upper-triangular 3×3-block CSC pattern, built once per topology;
+//! - [`parallel::ordered_map`]: element kernels in parallel, scattered in element order, so results are
+//!   bit-identical for any number of threads.
+//!
+//! Non-goals: solving (`cosserat-solver`), scenes and file formats (`cosserat-scene`).
+//!
+//! Feature flags: none.
+//!
+//! ```
+//! use cosserat_assembly::SparsityPattern;
+//! // Two elements sharing blocks 1 and 2.
+//! let p = SparsityPattern::from_groups(4, [&[0, 1, 2][..], &[1, 2, 3][..]]);
+//! assert_eq!(p.n_dofs(), 12);
+//! assert!(p.entry(0, 3 * 2).is_some()); // block (0, 2) coupled
+//! assert!(p.entry(0, 3 * 3).is_none()); // block (0, 3) not coupled
+//! ```
+
+pub mod boundary;
+pub mod dofs;
+pub mod error;
+pub mod inertia;
+pub mod parallel;
+pub mod pattern;
+pub mod potential;
+pub mod scatter;
+pub mod shell;
+pub mod state;
+pub mod term;
+
+pub use dofs::DofLayout;
+pub use error::AssemblyError;
+pub use parallel::Parallelism;
+pub use pattern::SparsityPattern;
+pub use potential::{IncrementalPotential, PotentialParts, ShellEnergy};
+pub use state::SystemState;
+pub use term::PotentialTerm;

@@ -1,0 +1,271 @@
+//! The incremental potential of one time step: the sum of all active terms, with the sparsity pattern
+//! and the per-evaluation nodal rotation data.
+//!
+//! This is the object the Newton solver minimises. It is composed of independently built parts (shell
+//! energies, inertia, loads, boundary penalties, exact position constraints, further terms such as
+//! contact) and holds no physics itself: it evaluates the terms, owns the buffers they share, and
+//! advances the state after an accepted step.
+
+use crate::boundary::{AngularVelocityPenalty, PositionConstraint, PositionPenalty, RotationPenalty};
+use crate::dofs::DofLayout;
+use crate::error::AssemblyError;
+use crate::inertia::{InertiaTerm, LoadTerm};
+use crate::parallel::Parallelism;
+use crate::pattern::SparsityPattern;
+use crate::state::SystemState;
+use crate::term::{Evaluation, NodeRotations, PotentialTerm};
+use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
+use nalgebra::Matrix3;
+use rayon::prelude::*;
+
+/// A shell's elastic energy, with the controls scripts need (rest fields).
+pub trait ShellEnergy: PotentialTerm {
+    /// Number of quadrature points.
+    fn n_points(&self) -> usize;
+    /// Sets the rest metric and rest curvature per point (world-frame tensors; `None` = default).
+    fn set_rest_fields_dyn(&mut self, fields: &mut dyn FnMut(usize) -> (Option<Matrix3<f64>>, Option<Matrix3<f64>>));
+    /// Clears prescribed rest fields.
+    fn clear_rest_fields_dyn(&mut self);
+    /// Projects element Hessians onto the positive semi-definite cone when set.
+    fn set_project_pd(&mut self, on: bool);
+}
+
+impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellEnergy
+    for crate::shell::ShellTerm<NU, NR, NL, NE, NB>
+{
+    fn n_points(&self) -> usize {
+        self.discretization().rest.shapes.len()
+    }
+
+    fn set_rest_fields_dyn(&mut self, fields: &mut dyn FnMut(usize) -> (Option<Matrix3<f64>>, Option<Matrix3<f64>>)) {
+        self.set_rest_fields(fields);
+    }
+
+    fn clear_rest_fields_dyn(&mut self) {
+        self.clear_rest_fields();
+    }
+
+    fn set_project_pd(&mut self, on: bool) {
+        self.project_pd = on;
+    }
+}
+
+/// The parts of an incremental potential.
+pub struct PotentialParts {
+    /// Layout of the unknowns.
+    pub layout: DofLayout,
+    /// Start-of-step state.
+    pub state: SystemState,
+    /// Shell energies.
+    pub shells: Vec<Box<dyn ShellEnergy>>,
+    /// Inertia (absent in quasi-static runs).
+    pub inertia: Option<InertiaTerm>,
+    /// Gravity, forces and torques.
+    pub loads: LoadTerm,
+    /// Position penalties.
+    pub position_penalties: Vec<PositionPenalty>,
+    /// Rotation penalties.
+    pub rotation_penalties: Vec<RotationPenalty>,
+    /// Angular-velocity penalties.
+    pub omega_penalties: Vec<AngularVelocityPenalty>,
+    /// Exactly eliminated positions.
+    pub position_constraints: Vec<PositionConstraint>,
+    /// Further terms (e.g. contact).
+    pub extra: Vec<Box<dyn PotentialTerm>>,
+}
+
+/// The incremental potential `Π(v, ω)` of a time step.
+pub struct IncrementalPotential {
+    /// The parts; scripts change targets, forces and rest fields through them between steps.
+    pub parts: PotentialParts,
+    /// Time step of the next evaluation [s].
+    pub dt: f64,
+    /// Whether element kernels run in parallel.
+    pub parallelism: Parallelism,
+    pattern: SparsityPattern,
+    rotations: NodeRotations,
+}
+
+impl IncrementalPotential {
+    /// Builds the pattern of all terms and binds them to it.
+    pub fn new(mut parts: PotentialParts, dt: f64) -> Self {
+        let n_blocks = parts.layout.n_blocks();
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for s in &parts.shells {
+            groups.extend(s.coupling_groups());
+        }
+        for t in &parts.extra {
+            groups.extend(t.coupling_groups());
+        }
+        let pattern = SparsityPattern::from_groups(n_blocks, groups.iter().map(|g| g.as_slice()));
+        for s in &mut parts.shells {
+            s.bind(&pattern);
+        }
+        for t in &mut parts.extra {
+            t.bind(&pattern);
+        }
+        let n_rot = parts.layout.n_rot_nodes;
+        Self { parts, dt, parallelism: Parallelism::Rayon, pattern, rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]) }
+    }
+
+    /// The Hessian's sparsity pattern (upper triangle).
+    pub fn pattern(&self) -> &SparsityPattern {
+        &self.pattern
+    }
+
+    /// Number of unknowns.
+    pub fn n_dofs(&self) -> usize {
+        self.parts.layout.n_dofs()
+    }
+
+    fn terms(&self) -> impl Iterator<Item = &dyn PotentialTerm> {
+        let p = &self.parts;
+        p.shells
+            .iter()
+            .map(|s| s.as_ref() as &dyn PotentialTerm)
+            .chain(p.inertia.iter().map(|t| t as &dyn PotentialTerm))
+            .chain(std::iter::once(&p.loads as &dyn PotentialTerm))
+            .chain(p.position_penalties.iter().map(|t| t as &dyn PotentialTerm))
+            .chain(p.rotation_penalties.iter().map(|t| t as &dyn PotentialTerm))
+            .chain(p.omega_penalties.iter().map(|t| t as &dyn PotentialTerm))
+            .chain(p.extra.iter().map(|t| t.as_ref()))
+    }
+
+    /// Names of the active energy terms, for the run summary.
+    pub fn active_terms(&self) -> Vec<String> {
+        let mut names: Vec<String> = Vec::new();
+        for t in self.terms() {
+            if std::ptr::addr_eq(t as *const dyn PotentialTerm, &self.parts.loads as *const LoadTerm) && !self.parts.loads.is_active() {
+                continue;
+            }
+            for n in t.active_energy_terms() {
+                if !names.contains(&n) {
+                    names.push(n);
+                }
+            }
+        }
+        names
+    }
+
+    fn update_rotations(&mut self, u: &[f64], jets: bool) {
+        let layout = self.parts.layout;
+        let (q, dt, par) = (&self.parts.state.q, self.dt, self.parallelism);
+        let omega = |k: usize| layout.omega(u, k);
+        match (jets, &mut self.rotations) {
+            (true, NodeRotations::Jets(buf)) => fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt)),
+            (false, NodeRotations::Matrices(buf)) => fill(buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt))),
+            (true, slot) => {
+                let mut buf = vec![RotationJet::constant(Matrix3::identity()); q.len()];
+                fill(&mut buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
+                *slot = NodeRotations::Jets(buf);
+            }
+            (false, slot) => {
+                let mut buf = vec![Matrix3::identity(); q.len()];
+                fill(&mut buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt)));
+                *slot = NodeRotations::Matrices(buf);
+            }
+        }
+    }
+
+    fn check_len(&self, u: &[f64]) -> Result<(), AssemblyError> {
+        if u.len() == self.n_dofs() { Ok(()) } else { Err(AssemblyError::WrongLength { expected: self.n_dofs(), got: u.len() }) }
+    }
+
+    /// `Π(u)`.
+    ///
+    /// # Errors
+    /// A non-finite contribution, or a wrong length of `u`.
+    pub fn value(&mut self, u: &[f64]) -> Result<f64, AssemblyError> {
+        self.check_len(u)?;
+        self.update_rotations(u, false);
+        let eval = self.evaluation(u);
+        self.terms().try_fold(0.0, |acc, t| Ok(acc + t.value(&eval)?))
+    }
+
+    /// `Π(u)` and `∇Π(u)` (overwrites `grad`).
+    ///
+    /// # Errors
+    /// As [`IncrementalPotential::value`].
+    pub fn gradient(&mut self, u: &[f64], grad: &mut [f64]) -> Result<f64, AssemblyError> {
+        self.check_len(u)?;
+        self.update_rotations(u, true);
+        grad.fill(0.0);
+        let eval = self.evaluation(u);
+        self.terms().try_fold(0.0, |acc, t| Ok(acc + t.gradient(&eval, grad)?))
+    }
+
+    /// `Π(u)`, `∇Π(u)` and the upper triangle of `∇²Π(u)` in pattern order (overwrites both).
+    ///
+    /// # Errors
+    /// As [`IncrementalPotential::value`].
+    pub fn hessian(&mut self, u: &[f64], grad: &mut [f64], values: &mut [f64]) -> Result<f64, AssemblyError> {
+        self.check_len(u)?;
+        self.update_rotations(u, true);
+        grad.fill(0.0);
+        values.fill(0.0);
+        let eval = self.evaluation(u);
+        let pattern = &self.pattern;
+        self.terms().try_fold(0.0, |acc, t| Ok(acc + t.hessian(&eval, grad, pattern, values)?))
+    }
+
+    fn evaluation<'a>(&'a self, u: &'a [f64]) -> Evaluation<'a> {
+        Evaluation {
+            state: &self.parts.state,
+            layout: &self.parts.layout,
+            u,
+            dt: self.dt,
+            rotations: &self.rotations,
+            parallelism: self.parallelism,
+        }
+    }
+
+    /// Eliminated unknowns and their values for the current targets and `Δt`: `(mask, values)`.
+    pub fn fixed_dofs(&self) -> Option<(Vec<bool>, Vec<f64>)> {
+        if self.parts.position_constraints.is_empty() {
+            return None;
+        }
+        let n = self.n_dofs();
+        let (mut mask, mut values) = (vec![false; n], vec![0.0; n]);
+        for c in &self.parts.position_constraints {
+            for (n_idx, &i) in c.nodes.iter().enumerate() {
+                for a in (0..3).filter(|&a| c.active[a]) {
+                    let dof = 3 * self.parts.layout.disp_block(i) + a;
+                    mask[dof] = true;
+                    values[dof] = (c.targets[n_idx][a] - self.parts.state.x[i][a]) / self.dt;
+                }
+            }
+        }
+        Some((mask, values))
+    }
+
+    /// Advances the state with converged unknowns `u` (model.md §1.7): positions, velocities, nodal and
+    /// quadrature-point rotations, angular velocities.
+    pub fn commit(&mut self, u: &[f64]) {
+        let layout = self.parts.layout;
+        let dt = self.dt;
+        for s in &mut self.parts.shells {
+            s.commit(&mut self.parts.state, &layout, u, dt);
+        }
+        for t in &mut self.parts.extra {
+            t.commit(&mut self.parts.state, &layout, u, dt);
+        }
+        let st = &mut self.parts.state;
+        for i in 0..layout.n_disp_nodes {
+            let v = layout.velocity(u, i);
+            st.x[i] += v * dt;
+            st.v[i] = v;
+        }
+        for k in 0..layout.n_rot_nodes {
+            let w = layout.omega(u, k);
+            st.q[k] = quaternion_update(&st.q[k], &w, dt);
+            st.omega[k] = w;
+        }
+    }
+}
+
+fn fill<T: Send>(buf: &mut [T], par: Parallelism, f: impl Fn(usize) -> T + Sync) {
+    match par {
+        Parallelism::Sequential => buf.iter_mut().enumerate().for_each(|(k, x)| *x = f(k)),
+        Parallelism::Rayon => buf.par_iter_mut().enumerate().with_min_len(256).for_each(|(k, x)| *x = f(k)),
+    }
+}

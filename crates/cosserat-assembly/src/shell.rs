@@ -1,0 +1,290 @@
+//! The elastic energy of a Cosserat shell as a potential term.
+//!
+//! One generic implementation serves every element pair; the pairs in use are named by aliases
+//! ([`Tri3Tri3Shell`], [`Tri6Tri3Shell`], [`Tri6Tri6Shell`]). Per element it gathers the end-of-step
+//! nodal positions and the shared nodal rotation jets, runs the point kernel of `cosserat-material` at
+//! each quadrature point (advancing that point's own rotation with the interpolated angular velocity),
+//! maps to the element's unknowns, and scatters through precomputed positions.
+
+use crate::dofs::DofLayout;
+use crate::error::AssemblyError;
+use crate::parallel::ordered_map;
+use crate::pattern::SparsityPattern;
+use crate::scatter::ElementScatter;
+use crate::state::SystemState;
+use crate::term::{Evaluation, PotentialTerm};
+use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
+use cosserat_material::element::{ElementDerivatives, accumulate, accumulate_gradient, f_hat, point_omega};
+use cosserat_material::kernel::{PointInput, point_gradient, point_hessian, point_value};
+use cosserat_material::strain_space::{StrainVector, strain_offset};
+use cosserat_material::volume::{volume_density, volume_hessian};
+use cosserat_material::rest::ShellRest;
+use cosserat_material::{AxlVariant, Moduli};
+use nalgebra::{Matrix3, SMatrix, Vector3};
+
+/// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
+/// in the global system.
+#[derive(Debug, Clone)]
+pub struct ShellDiscretization<const NU: usize, const NR: usize> {
+    /// Rest state per quadrature point (shape data, frames, weights, density Hessians).
+    pub rest: ShellRest<NU, NR>,
+    /// Displacement element connectivity, in global displacement-node indices.
+    pub disp_elements: Vec<[usize; NU]>,
+    /// Rotation element connectivity (same elements), in global rotation-node indices.
+    pub rot_elements: Vec<[usize; NR]>,
+    /// Index of this shell's first point in [`SystemState::q_points`].
+    pub first_point: usize,
+    /// Moduli for the nonlinear volume term, if it is active.
+    pub volume: Option<Moduli>,
+    /// Axial-vector variant of the curvature tensor.
+    pub axl: AxlVariant,
+}
+
+/// The elastic energy of one shell with `NU`-node displacement and `NR`-node rotation elements.
+/// `NL = 6 + 3 NR` locals per point, `NE = 3 (NU + NR)` unknowns and `NB = NU + NR` blocks per element.
+#[derive(Debug, Clone)]
+pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> {
+    disc: ShellDiscretization<NU, NR>,
+    /// Strain offsets per point when a rest metric or rest curvature is prescribed.
+    offsets: Option<Vec<StrainVector>>,
+    default_offsets: Vec<StrainVector>,
+    scatter: Option<ElementScatter<NB>>,
+    layout: DofLayout,
+    /// Project each element Hessian onto the positive semi-definite cone.
+    pub project_pd: bool,
+}
+
+/// Linear displacement and rotation elements.
+pub type Tri3Tri3Shell = ShellTerm<3, 3, 15, 18, 6>;
+/// Quadratic displacement, linear rotation elements (the paper's main discretisation).
+pub type Tri6Tri3Shell = ShellTerm<6, 3, 15, 27, 9>;
+/// Quadratic displacement and rotation elements.
+pub type Tri6Tri6Shell = ShellTerm<6, 6, 24, 36, 12>;
+
+impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellTerm<NU, NR, NL, NE, NB> {
+    /// The term of a discretised shell within a system of the given layout.
+    pub fn new(disc: ShellDiscretization<NU, NR>, layout: DofLayout) -> Self {
+        const { assert!(NL == 6 + 3 * NR && NE == 3 * (NU + NR) && NB == NU + NR, "inconsistent element sizes") };
+        let default_offsets = disc.rest.shapes.iter().map(|s| strain_offset(&s.frame, None, None)).collect();
+        Self { disc, offsets: None, default_offsets, scatter: None, layout, project_pd: false }
+    }
+
+    /// The discretisation.
+    pub fn discretization(&self) -> &ShellDiscretization<NU, NR> {
+        &self.disc
+    }
+
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.disc.disp_elements.len()
+    }
+
+    /// Sets the rest metric `A` (growth; `None` = the rest tangent projector `a`) and the rest curvature
+    /// `Γ_rest` (`None` = 0), both world-frame 3×3 tensors, at every quadrature point.
+    pub fn set_rest_fields(&mut self, mut fields: impl FnMut(usize) -> (Option<Matrix3<f64>>, Option<Matrix3<f64>>)) {
+        let offsets = self
+            .disc
+            .rest
+            .shapes
+            .iter()
+            .enumerate()
+            .map(|(p, s)| {
+                let (a, g) = fields(p);
+                strain_offset(&s.frame, a.as_ref(), g.as_ref())
+            })
+            .collect();
+        self.offsets = Some(offsets);
+    }
+
+    /// Clears prescribed rest fields.
+    pub fn clear_rest_fields(&mut self) {
+        self.offsets = None;
+    }
+
+    #[inline]
+    fn offset(&self, p: usize) -> &StrainVector {
+        match &self.offsets {
+            Some(o) => &o[p],
+            None => &self.default_offsets[p],
+        }
+    }
+
+    fn blocks(&self, e: usize) -> [usize; NB] {
+        let d = &self.disc.disp_elements[e];
+        let r = &self.disc.rot_elements[e];
+        std::array::from_fn(|i| if i < NU { self.layout.disp_block(d[i]) } else { self.layout.rot_block(r[i - NU]) })
+    }
+
+    fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NU] {
+        let d = &self.disc.disp_elements[e];
+        std::array::from_fn(|i| eval.state.x[d[i]] + eval.layout.velocity(eval.u, d[i]) * eval.dt)
+    }
+
+    fn omegas(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NR] {
+        let r = &self.disc.rot_elements[e];
+        std::array::from_fn(|k| eval.layout.omega(eval.u, r[k]))
+    }
+
+    fn element_value(&self, e: usize, eval: &Evaluation<'_>) -> f64 {
+        let x = self.positions(e, eval);
+        let omega = self.omegas(e, eval);
+        let r = &self.disc.rot_elements[e];
+        let node_r: [&Matrix3<f64>; NR] = std::array::from_fn(|k| eval.rotations.matrix(r[k]));
+        let mut value = 0.0;
+        for g in 0..self.disc.rest.points_per_element {
+            let p = e * self.disc.rest.points_per_element + g;
+            let shape = &self.disc.rest.shapes[p];
+            let q = &eval.state.q_points[self.disc.first_point + p];
+            let rp = rotation_matrix(&quaternion_update(q, &point_omega(shape, &omega), eval.dt));
+            let f = f_hat(shape, &x);
+            let mut psi = point_value(shape, &f, &rp, node_r, self.offset(p), self.disc.rest.densities.get(p), self.disc.axl);
+            if let Some(m) = &self.disc.volume {
+                psi += volume_density(&f, m);
+            }
+            value += shape.weight * psi;
+        }
+        value
+    }
+
+    fn element_derivatives(&self, e: usize, eval: &Evaluation<'_>, with_hessian: bool) -> ElementDerivatives<NE> {
+        let x = self.positions(e, eval);
+        let omega = self.omegas(e, eval);
+        let r = &self.disc.rot_elements[e];
+        let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
+        let mut out = ElementDerivatives::<NE>::zeros();
+        for g in 0..self.disc.rest.points_per_element {
+            let p = e * self.disc.rest.points_per_element + g;
+            let shape = &self.disc.rest.shapes[p];
+            let q = &eval.state.q_points[self.disc.first_point + p];
+            let point_jet = RotationJet::of_update(q, &point_omega(shape, &omega), eval.dt);
+            let input = PointInput { f_hat: f_hat(shape, &x), point_jet: &point_jet, node_jets, offset: self.offset(p) };
+            let d = self.disc.rest.densities.get(p);
+            if with_hessian {
+                let mut local = point_hessian::<NU, NR, NL>(shape, &input, d, self.disc.axl);
+                if let Some(m) = &self.disc.volume {
+                    let (v, gv, hv) = volume_hessian(&input.f_hat, m);
+                    local.value += v;
+                    let mut gl = local.gradient.fixed_rows_mut::<6>(0);
+                    gl += gv;
+                    let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
+                    hl += hv;
+                }
+                accumulate(shape, &local, eval.dt, shape.weight, &mut out);
+            } else {
+                let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, &input, d, self.disc.axl);
+                if let Some(m) = &self.disc.volume {
+                    let (v, gv, _) = volume_hessian(&input.f_hat, m);
+                    value += v;
+                    let mut gl = gradient.fixed_rows_mut::<6>(0);
+                    gl += gv;
+                }
+                out.value += shape.weight * value;
+                accumulate_gradient(shape, &gradient, eval.dt, shape.weight, &mut out.gradient);
+            }
+        }
+        if with_hessian && self.project_pd {
+            out.hessian = project_positive_semidefinite(&out.hessian);
+        }
+        out
+    }
+
+    fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
+        let ok = d.value.is_finite() && d.gradient.iter().all(|x| x.is_finite()) && (!with_hessian || d.hessian.iter().all(|x| x.is_finite()));
+        if ok { Ok(()) } else { Err(AssemblyError::NonFinite { term: self.name(), location: "element", index: e }) }
+    }
+}
+
+/// The nearest positive semi-definite matrix: negative eigenvalues clamped to zero.
+pub fn project_positive_semidefinite<const N: usize>(h: &SMatrix<f64, N, N>) -> SMatrix<f64, N, N> {
+    let eig = nalgebra::DMatrix::from_column_slice(N, N, h.as_slice()).symmetric_eigen();
+    if eig.eigenvalues.iter().all(|&l| l >= 0.0) {
+        return *h;
+    }
+    let clamped = eig.eigenvalues.map(|l| l.max(0.0));
+    let v = &eig.eigenvectors;
+    let p = v * nalgebra::DMatrix::from_diagonal(&clamped) * v.transpose();
+    SMatrix::<f64, N, N>::from_column_slice(p.as_slice())
+}
+
+impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> PotentialTerm for ShellTerm<NU, NR, NL, NE, NB> {
+    fn name(&self) -> String {
+        format!("shell_tri{NU}_tri{NR}")
+    }
+
+    fn coupling_groups(&self) -> Vec<Vec<usize>> {
+        (0..self.n_elements()).map(|e| self.blocks(e).to_vec()).collect()
+    }
+
+    fn bind(&mut self, pattern: &SparsityPattern) {
+        let blocks = (0..self.n_elements()).map(|e| self.blocks(e)).collect();
+        self.scatter = Some(ElementScatter::new(pattern, blocks));
+    }
+
+    fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
+        let mut total = 0.0;
+        ordered_map(
+            self.n_elements(),
+            eval.parallelism,
+            |e| self.element_value(e, eval),
+            |e, v: f64| {
+                if !v.is_finite() {
+                    return Err(AssemblyError::NonFinite { term: self.name(), location: "element", index: e });
+                }
+                total += v;
+                Ok(())
+            },
+        )?;
+        Ok(total)
+    }
+
+    fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
+        let scatter = self.scatter.as_ref().expect("term used before bind()");
+        let mut total = 0.0;
+        ordered_map(
+            self.n_elements(),
+            eval.parallelism,
+            |e| self.element_derivatives(e, eval, false),
+            |e, d| {
+                self.check(&d, e, false)?;
+                total += d.value;
+                scatter.add_gradient(e, &d.gradient, grad);
+                Ok(())
+            },
+        )?;
+        Ok(total)
+    }
+
+    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+        let scatter = self.scatter.as_ref().expect("term used before bind()");
+        let mut total = 0.0;
+        ordered_map(
+            self.n_elements(),
+            eval.parallelism,
+            |e| Box::new(self.element_derivatives(e, eval, true)),
+            |e, d| {
+                self.check(&d, e, true)?;
+                total += d.value;
+                scatter.add_gradient(e, &d.gradient, grad);
+                scatter.add_hessian(e, &d.hessian, pattern, values);
+                Ok(())
+            },
+        )?;
+        Ok(total)
+    }
+
+    fn commit(&mut self, state: &mut SystemState, layout: &DofLayout, u: &[f64], dt: f64) {
+        let n_qp = self.disc.rest.points_per_element;
+        for (e, r) in self.disc.rot_elements.iter().enumerate() {
+            let omega: [Vector3<f64>; NR] = std::array::from_fn(|k| layout.omega(u, r[k]));
+            for g in 0..n_qp {
+                let p = e * n_qp + g;
+                let q = &mut state.q_points[self.disc.first_point + p];
+                *q = quaternion_update(q, &point_omega(&self.disc.rest.shapes[p], &omega), dt);
+            }
+        }
+    }
+
+    fn active_energy_terms(&self) -> Vec<String> {
+        self.disc.rest.active_terms.clone()
+    }
+}

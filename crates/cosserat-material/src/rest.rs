@@ -1,0 +1,180 @@
+//! The rest state of a shell: per quadrature point the shape data, the rest frame, the integration
+//! weight and the density Hessian, computed once from the rest mesh.
+//!
+//! The displacement tangent `G` defines the rest frame `Q = [t₁ t₂ n₀]` and `P = G⁺ [t₁ t₂]`, which turns
+//! reference gradients into derivatives along the orthonormal tangents. The curvature (`b`, `H`, `K`)
+//! is computed only for the shell model, from a continuous normal field (`cosserat_fem::mesh::
+//! rest_geometry`): the exact element normal on curved elements and averaged nodal normals on flat ones,
+//! so a faceted (Tri3 or straight-edged Tri6) mesh of a curved surface still carries its curvature.
+//! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
+
+use crate::error::RestStateError;
+use crate::kernel::PointShape;
+use crate::model::{ModelOptions, ShellModel, TermSet};
+use crate::parameters::Moduli;
+use crate::strain_space::{DensityTable, StrainMatrix, local_geometry, strain_hessian};
+use cosserat_fem::mesh::{CurvatureSettings, MeshElement, Tri3Mesh, rest_geometry};
+use cosserat_fem::{MeshError, QuadratureRule, ShapeFunctions, TriMesh};
+use cosserat_geometry::surface::{Curvature, SurfaceMetric};
+use nalgebra::{Matrix3, Matrix2, Vector3};
+
+/// Options of the rest-state computation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RestOptions {
+    /// The model.
+    pub model: ModelOptions,
+    /// Where the rest curvature comes from (shell model only).
+    pub curvature: CurvatureSettings,
+    /// A point counts as flat when `|b|_F · √A_e` is below this (dimensionless; `A_e` the element's
+    /// area). Default `1e-8`.
+    pub flat_tolerance: f64,
+}
+
+impl RestOptions {
+    /// Default options for a model.
+    pub fn new(model: ModelOptions) -> Self {
+        Self { model, curvature: CurvatureSettings::default(), flat_tolerance: 1e-8 }
+    }
+}
+
+/// The rest state of one shell with `NU`-node displacement and `NR`-node rotation elements.
+#[derive(Debug, Clone)]
+pub struct ShellRest<const NU: usize, const NR: usize> {
+    /// Quadrature points per element.
+    pub points_per_element: usize,
+    /// Shape data per point (element-major).
+    pub shapes: Vec<PointShape<NU, NR>>,
+    /// Rest position of each point.
+    pub point_positions: Vec<Vector3<f64>>,
+    /// Rest curvature of each point (zero under the plate model, where it is not computed).
+    pub curvature: Vec<Curvature<f64>>,
+    /// Density Hessian per point.
+    pub densities: DensityTable,
+    /// Names of the active energy terms (union over points).
+    pub active_terms: Vec<String>,
+    /// Whether the nonlinear volume term is active.
+    pub nonlinear_volume: bool,
+    /// Number of points treated as curved.
+    pub n_curved_points: usize,
+    /// Rest area of each element (sum of its point weights) [m²].
+    pub element_areas: Vec<f64>,
+}
+
+/// Computes the rest state of a shell.
+///
+/// `disp` is the displacement mesh; `rot` the rotation mesh with the same elements in the same order;
+/// `corner` the Tri3 corner mesh of `disp` (the rotation mesh itself for Tri3 rotations), used for
+/// averaged nodal normals.
+///
+/// # Errors
+/// Degenerate elements (named by index), mismatched meshes, invalid material or model.
+pub fn shell_rest<const NU: usize, const NR: usize>(
+    disp: &TriMesh<NU>,
+    rot: &TriMesh<NR>,
+    corner: &Tri3Mesh,
+    rule: &QuadratureRule,
+    options: &RestOptions,
+    moduli: &Moduli,
+) -> Result<ShellRest<NU, NR>, RestStateError>
+where
+    TriMesh<NU>: MeshElement<NU>,
+    TriMesh<NR>: MeshElement<NR>,
+{
+    shell_rest_impl::<<TriMesh<NU> as MeshElement<NU>>::Element, <TriMesh<NR> as MeshElement<NR>>::Element, NU, NR>(
+        disp, rot, corner, rule, options, moduli,
+    )
+}
+
+fn shell_rest_impl<E: ShapeFunctions<NU>, F: ShapeFunctions<NR>, const NU: usize, const NR: usize>(
+    disp: &TriMesh<NU>,
+    rot: &TriMesh<NR>,
+    corner: &Tri3Mesh,
+    rule: &QuadratureRule,
+    options: &RestOptions,
+    moduli: &Moduli,
+) -> Result<ShellRest<NU, NR>, RestStateError>
+where
+    TriMesh<NU>: MeshElement<NU>,
+{
+    let n_el = disp.n_elements();
+    if rot.n_elements() != n_el {
+        return Err(RestStateError::ElementCountMismatch { disp: n_el, rot: rot.n_elements() });
+    }
+    let n_qp = rule.n_points();
+    // The curvature is needed only by the shell model.
+    let geometry = match options.model.model {
+        ShellModel::Shell => Some(rest_geometry(disp, corner, rule, &options.curvature)?),
+        ShellModel::Plate => None,
+    };
+    let flat_terms = TermSet::select(&options.model, moduli, false)?;
+    let curved_terms = TermSet::select(&options.model, moduli, true)?;
+    let flat_d = strain_hessian(&flat_terms, &local_geometry(&Matrix3::identity(), &Matrix3::zeros()), moduli);
+    let mut matrices: Vec<StrainMatrix> = vec![flat_d];
+    let mut index = Vec::with_capacity(n_el * n_qp);
+    let mut shapes = Vec::with_capacity(n_el * n_qp);
+    let mut point_positions = Vec::with_capacity(n_el * n_qp);
+    let mut curvature = Vec::with_capacity(n_el * n_qp);
+    let mut element_areas = Vec::with_capacity(n_el);
+    let mut n_curved_points = 0;
+    for e in 0..n_el {
+        let nodes = disp.element_nodes(e);
+        let mut area = 0.0;
+        for (g, (xi, w)) in rule.iter().enumerate() {
+            let grad = E::gradients(xi);
+            let tangent = E::tangent(&nodes, xi);
+            let metric = SurfaceMetric::try_new(&tangent)
+                .map_err(|_| MeshError::DegenerateElement { elem_idx: e, area: 0.5 * tangent.column(0).cross(&tangent.column(1)).norm() })?;
+            let frame = metric.orthonormal_frame();
+            let p: Matrix2<f64> = metric.pinv * frame.fixed_columns::<2>(0);
+            let weight = w * metric.area_element;
+            area += weight;
+            shapes.push(PointShape {
+                disp_grad: p.transpose() * grad,
+                rot_values: F::values(xi),
+                rot_grad: p.transpose() * F::gradients(xi),
+                frame,
+                weight,
+            });
+            point_positions.push(E::position(&nodes, xi));
+            let curv = geometry.as_ref().map_or_else(Curvature::flat, |geo| geo.at(e, g).curvature);
+            curvature.push(curv);
+        }
+        element_areas.push(area);
+        for g in 0..n_qp {
+            let p = e * n_qp + g;
+            let curv = &curvature[p];
+            let curved = geometry.is_some() && curv.b.norm() * area.sqrt() > options.flat_tolerance;
+            if curved {
+                n_curved_points += 1;
+                let geom = local_geometry(&shapes[p].frame, &curv.b);
+                matrices.push(strain_hessian(&curved_terms, &geom, moduli));
+                index.push((matrices.len() - 1) as u32);
+            } else {
+                index.push(0);
+            }
+        }
+    }
+    let mut active_terms = Vec::new();
+    if n_curved_points < n_el * n_qp {
+        active_terms.extend(flat_terms.names());
+    }
+    if n_curved_points > 0 {
+        for name in curved_terms.names() {
+            if !active_terms.contains(&name) {
+                active_terms.push(name);
+            }
+        }
+    }
+    let nonlinear_volume = flat_terms.contains(crate::model::EnergyTerm::NonlinearVolume);
+    Ok(ShellRest {
+        points_per_element: n_qp,
+        shapes,
+        point_positions,
+        curvature,
+        densities: DensityTable::indexed(matrices, index),
+        active_terms,
+        nonlinear_volume,
+        n_curved_points,
+        element_areas,
+    })
+}

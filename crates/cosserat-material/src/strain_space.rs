@@ -1,0 +1,110 @@
+//! The strain space of a point and the density's constant Hessian on it.
+//!
+//! At a quadrature point the strains are expressed in the orthonormal rest frame `Q = [t₁ t₂ n₀]`:
+//! `Ê = Qᵀ E Q` and `Γ̂ = Qᵀ Γ Q`. Since `E n₀` and `Γ n₀` do not depend on the unknowns, only the first two
+//! columns of each vary: 12 of the 18 numbers. The density is frame invariant, so in this frame the
+//! alternating tensor is the constant `ĉ = −[e₃]×`, and a flat plate's density Hessian is one matrix per
+//! material.
+//!
+//! Layout of a [`StrainVector`]: `Ê` column-major in entries 0–8, `Γ̂` column-major in 9–17.
+//! [`VARIABLE_STRAINS`] lists the 12 entries that depend on the unknowns.
+
+use crate::density::{PointGeometry, density};
+use crate::model::TermSet;
+use crate::parameters::Moduli;
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use num_dual::Dual2SVec64;
+
+/// The 18 strain numbers `(vec Ê, vec Γ̂)`.
+pub type StrainVector = SVector<f64, 18>;
+/// The constant Hessian of the density with respect to a [`StrainVector`].
+pub type StrainMatrix = SMatrix<f64, 18, 18>;
+
+/// Indices of the strain entries that depend on the unknowns: the first two columns of `Ê` and `Γ̂`.
+pub const VARIABLE_STRAINS: [usize; 12] = [0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 14];
+
+/// Splits a strain vector into `(Ê, Γ̂)`.
+pub fn unpack<T: nalgebra::Scalar + Copy>(s: &SVector<T, 18>) -> (Matrix3<T>, Matrix3<T>) {
+    (Matrix3::from_fn(|r, c| s[3 * c + r]), Matrix3::from_fn(|r, c| s[9 + 3 * c + r]))
+}
+
+/// Packs `(Ê, Γ̂)` into a strain vector.
+pub fn pack(e: &Matrix3<f64>, gamma: &Matrix3<f64>) -> StrainVector {
+    StrainVector::from_fn(|i, _| if i < 9 { e[(i % 3, i / 3)] } else { gamma[((i - 9) % 3, (i - 9) / 3)] })
+}
+
+/// The rest geometry of a point in its own orthonormal frame `Q`: `b̂ = Qᵀ b Q`, `ĉ = −[e₃]×`.
+pub fn local_geometry(frame: &Matrix3<f64>, b_world: &Matrix3<f64>) -> PointGeometry {
+    let b = frame.transpose() * b_world * frame;
+    let t = b.trace();
+    PointGeometry {
+        b,
+        mean: 0.5 * t,
+        gaussian: 0.5 * (t * t - (b * b).trace()),
+        c: -cosserat_geometry::rotation::skew(&Vector3::z()),
+    }
+}
+
+/// The constant strain offset `(Â, Γ̂_rest)` subtracted from the variable strains:
+/// `Â = Qᵀ A Q` with the rest metric `A` (default `a = I − n₀ ⊗ n₀`, i.e. `diag(1, 1, 0)`), and the rest
+/// curvature `Γ̂_rest = Qᵀ Γ_rest Q`.
+pub fn strain_offset(frame: &Matrix3<f64>, rest_metric: Option<&Matrix3<f64>>, rest_curvature: Option<&Matrix3<f64>>) -> StrainVector {
+    let a = match rest_metric {
+        Some(a) => frame.transpose() * a * frame,
+        None => Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 0.0)),
+    };
+    let g = rest_curvature.map_or_else(Matrix3::zeros, |g| frame.transpose() * g * frame);
+    pack(&a, &g)
+}
+
+/// The Hessian `D` of the strain-quadratic density with respect to the strain vector, computed with
+/// num-dual from [`density`]. The density is a homogeneous quadratic form, so `Ψ(s) = ½ sᵀ D s` exactly.
+pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
+    let zero = SVector::<f64, 18>::zeros();
+    let (_, _, h) = num_dual::hessian(
+        |s: SVector<Dual2SVec64<18>, 18>| {
+            let (e, g) = unpack(&s);
+            density(terms, &e, &g, geom, moduli)
+        },
+        &zero,
+    );
+    // Symmetric by construction up to round-off; make it exact.
+    (h + h.transpose()) * 0.5
+}
+
+/// The density Hessians of all points of a shell: one shared matrix where the rest state allows it
+/// (every flat point of a material), one per point otherwise.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DensityTable {
+    matrices: Vec<StrainMatrix>,
+    /// Matrix index per point; empty when all points share `matrices[0]`.
+    index: Vec<u32>,
+}
+
+impl DensityTable {
+    /// One matrix for every point.
+    pub fn uniform(d: StrainMatrix) -> Self {
+        Self { matrices: vec![d], index: Vec::new() }
+    }
+
+    /// Distinct matrices and, per point, the index of its matrix.
+    ///
+    /// # Panics
+    /// If an index is out of range.
+    #[track_caller]
+    pub fn indexed(matrices: Vec<StrainMatrix>, index: Vec<u32>) -> Self {
+        assert!(index.iter().all(|&i| (i as usize) < matrices.len()), "density index out of range");
+        if matrices.len() == 1 { Self::uniform(matrices[0]) } else { Self { matrices, index } }
+    }
+
+    /// The matrix of point `p`.
+    #[inline]
+    pub fn get(&self, p: usize) -> &StrainMatrix {
+        if self.index.is_empty() { &self.matrices[0] } else { &self.matrices[self.index[p] as usize] }
+    }
+
+    /// Number of distinct matrices stored.
+    pub fn n_matrices(&self) -> usize {
+        self.matrices.len()
+    }
+}

@@ -1,0 +1,342 @@
+//! The fast kernel against the directly composed energy (dual-number oracle and finite differences),
+//! rest and rigid-motion invariance, and frame indifference.
+
+use super::common::{self, rel_err};
+use cosserat_geometry::rotation::{RotationJet, quaternion_from_matrix, quaternion_product, rotation_matrix};
+use cosserat_material::element::{ElementDerivatives, accumulate, point_omega};
+use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
+use cosserat_material::oracle::{PointContext, element_point_energy, local_energy};
+use cosserat_material::strain_space::{StrainVector, local_geometry, strain_hessian, strain_offset};
+use cosserat_material::{AxlVariant, CurvedTerms, MaterialParameters, ModelOptions, ShellModel, TermSet};
+use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
+use num_dual::Dual2SVec64;
+use rand_chacha::ChaCha8Rng;
+
+fn material() -> MaterialParameters {
+    let mut m = MaterialParameters::new(0.01, 1e6, 0.3, 1000.0, 0.02);
+    m.curvature_coefficients = [1.0, 0.7, 0.2];
+    m.mu_c_factor = 0.8;
+    m
+}
+
+/// A random point with its state: the inputs of both the kernel and the oracle.
+#[derive(Clone, Copy)]
+struct Case<const NU: usize, const NR: usize> {
+    shape: PointShape<NU, NR>,
+    b_world: Matrix3<f64>,
+    offset: StrainVector,
+    q_point: Quaternion<f64>,
+    q_nodes: [Quaternion<f64>; NR],
+    x_start: [Vector3<f64>; NU],
+    velocity: [Vector3<f64>; NU],
+    omega: [Vector3<f64>; NR],
+    dt: f64,
+}
+
+impl<const NU: usize, const NR: usize> Case<NU, NR> {
+    fn random(rng: &mut ChaCha8Rng, curved: bool) -> Self {
+        let shape = common::shape::<NU, NR>(rng, 0.05);
+        let b_world = if curved { common::curvature_tensor(rng, &shape.frame, 8.0) } else { Matrix3::zeros() };
+        let offset = common::offset(rng, &shape.frame);
+        Self {
+            b_world,
+            offset,
+            q_point: common::quaternion(rng, 1.0),
+            q_nodes: std::array::from_fn(|_| common::quaternion(rng, 1.0)),
+            x_start: std::array::from_fn(|_| common::vec3(rng, 0.05)),
+            velocity: std::array::from_fn(|_| common::vec3(rng, 0.2)),
+            omega: std::array::from_fn(|_| common::vec3(rng, 3.0)),
+            dt: 0.05,
+            shape,
+        }
+    }
+
+    fn positions(&self) -> [Vector3<f64>; NU] {
+        std::array::from_fn(|i| self.x_start[i] + self.velocity[i] * self.dt)
+    }
+}
+
+fn terms_for(options: &ModelOptions, curved: bool) -> TermSet {
+    TermSet::select(options, &material().moduli().unwrap(), curved).unwrap()
+}
+
+/// Fast kernel: local derivatives at the case's state.
+fn fast<const NU: usize, const NR: usize, const NL: usize>(
+    case: &Case<NU, NR>,
+    terms: &TermSet,
+    axl: AxlVariant,
+) -> cosserat_material::kernel::LocalDerivatives<NL> {
+    let moduli = material().moduli().unwrap();
+    let geom = local_geometry(&case.shape.frame, &case.b_world);
+    let d = strain_hessian(terms, &geom, &moduli);
+    let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
+    let nj: [RotationJet; NR] = std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
+    let input = PointInput {
+        f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
+        point_jet: &pj,
+        node_jets: std::array::from_fn(|k| &nj[k]),
+        offset: &case.offset,
+    };
+    point_hessian::<NU, NR, NL>(&case.shape, &input, &d, axl)
+}
+
+fn check_against_dual_oracle<const NU: usize, const NR: usize, const NL: usize>(
+    seed: u64,
+    options: ModelOptions,
+    curved: bool,
+) {
+    let mut rng = common::rng(seed);
+    let moduli = material().moduli().unwrap();
+    for _ in 0..4 {
+        let case = Case::<NU, NR>::random(&mut rng, curved);
+        let terms = terms_for(&options, curved);
+        let got = fast::<NU, NR, NL>(&case, &terms, options.axl);
+        let geom = local_geometry(&case.shape.frame, &case.b_world);
+        let ctx = PointContext {
+            shape: &case.shape,
+            point_quaternion: case.q_point,
+            node_quaternions: case.q_nodes,
+            dt: case.dt,
+            offset: &case.offset,
+            geometry: &geom,
+            terms: &terms,
+            moduli: &moduli,
+            axl: options.axl,
+        };
+        let f = cosserat_material::element::f_hat(&case.shape, &case.positions());
+        let x = SVector::<f64, NL>::from_fn(|i, _| if i < 6 { f[i / 3][i % 3] } else { case.omega[(i - 6) / 3][(i - 6) % 3] });
+        let (value, gradient, hessian) = num_dual::hessian(
+            |x: SVector<Dual2SVec64<NL>, NL>| {
+                let f_hat = [Vector3::new(x[0], x[1], x[2]), Vector3::new(x[3], x[4], x[5])];
+                let omega: [Vector3<Dual2SVec64<NL>>; NR] =
+                    std::array::from_fn(|k| Vector3::new(x[6 + 3 * k], x[7 + 3 * k], x[8 + 3 * k]));
+                local_energy(&ctx, &f_hat, &omega)
+            },
+            &x,
+        );
+        assert!(value > 0.0);
+        // Both sides are exact; they differ only by round-off (about 1e-16 relative per operation,
+        // accumulated over a few hundred operations).
+        assert!((got.value - value).abs() <= 1e-12 * value, "value {} vs {}", got.value, value);
+        let eg = rel_err(&got.gradient, &gradient);
+        let eh = rel_err(&got.hessian, &hessian);
+        assert!(eg < 1e-11, "gradient relative error {eg:e}");
+        assert!(eh < 1e-11, "hessian relative error {eh:e}");
+        assert!(rel_err(&got.hessian, &got.hessian.transpose()) < 1e-13, "hessian not symmetric");
+    }
+}
+
+fn shell(curved_terms: CurvedTerms, axl: AxlVariant) -> ModelOptions {
+    ModelOptions { curved_terms, axl, ..ModelOptions::new(ShellModel::Shell) }
+}
+
+#[test]
+fn plate_kernel_matches_dual_oracle_for_linear_and_quadratic_rotations() {
+    check_against_dual_oracle::<3, 3, 15>(1, ModelOptions::new(ShellModel::Plate), false);
+    check_against_dual_oracle::<6, 3, 15>(2, ModelOptions::new(ShellModel::Plate), false);
+    check_against_dual_oracle::<6, 6, 24>(3, ModelOptions::new(ShellModel::Plate), false);
+}
+
+#[test]
+fn shell_kernel_matches_dual_oracle_on_curved_points() {
+    check_against_dual_oracle::<6, 3, 15>(4, shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
+    check_against_dual_oracle::<6, 6, 24>(5, shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
+    check_against_dual_oracle::<3, 3, 15>(6, shell(CurvedTerms::ReferenceCompatibility, AxlVariant::SkewPart), true);
+}
+
+#[test]
+fn upper_triangle_axl_variant_matches_dual_oracle() {
+    let plate = ModelOptions { axl: AxlVariant::UpperTriangle, ..ModelOptions::new(ShellModel::Plate) };
+    check_against_dual_oracle::<6, 3, 15>(7, plate, false);
+    check_against_dual_oracle::<6, 3, 15>(8, shell(CurvedTerms::Supplement, AxlVariant::UpperTriangle), true);
+}
+
+/// Element energy (sum over one point) as a function of the element unknowns, in f64.
+fn element_energy<const NU: usize, const NR: usize>(
+    case: &Case<NU, NR>,
+    terms: &TermSet,
+    axl: AxlVariant,
+    unknowns: &[f64],
+) -> f64 {
+    let moduli = material().moduli().unwrap();
+    let geom = local_geometry(&case.shape.frame, &case.b_world);
+    let ctx = PointContext {
+        shape: &case.shape,
+        point_quaternion: case.q_point,
+        node_quaternions: case.q_nodes,
+        dt: case.dt,
+        offset: &case.offset,
+        geometry: &geom,
+        terms,
+        moduli: &moduli,
+        axl,
+    };
+    let v: [Vector3<f64>; NU] = std::array::from_fn(|i| Vector3::new(unknowns[3 * i], unknowns[3 * i + 1], unknowns[3 * i + 2]));
+    let w: [Vector3<f64>; NR] = std::array::from_fn(|k| {
+        let o = 3 * (NU + k);
+        Vector3::new(unknowns[o], unknowns[o + 1], unknowns[o + 2])
+    });
+    element_point_energy(&ctx, &case.x_start, &v, &w)
+}
+
+fn element_fast<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    case: &Case<NU, NR>,
+    terms: &TermSet,
+    axl: AxlVariant,
+) -> ElementDerivatives<NE> {
+    let local = fast::<NU, NR, NL>(case, terms, axl);
+    let mut out = ElementDerivatives::<NE>::zeros();
+    accumulate(&case.shape, &local, case.dt, case.shape.weight, &mut out);
+    out
+}
+
+fn check_element_finite_differences<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    seed: u64,
+    options: ModelOptions,
+    curved: bool,
+) {
+    let mut rng = common::rng(seed);
+    let terms = terms_for(&options, curved);
+    for _ in 0..2 {
+        let case = Case::<NU, NR>::random(&mut rng, curved);
+        let got = element_fast::<NU, NR, NL, NE>(&case, &terms, options.axl);
+        let u0: Vec<f64> = (0..NE)
+            .map(|i| if i < 3 * NU { case.velocity[i / 3][i % 3] } else { case.omega[(i - 3 * NU) / 3][i % 3] })
+            .collect();
+        let e0 = element_energy(&case, &terms, options.axl, &u0);
+        assert!((got.value - e0).abs() <= 1e-12 * e0.abs());
+        // Central differences with step 1e-6 (unknowns are O(1)): truncation ~1e-12 |f'''|, round-off
+        // ~1e-16 |f| / 1e-6; both far below the 1e-6 relative tolerance.
+        let step = 1e-6;
+        let mut fd_grad = SVector::<f64, NE>::zeros();
+        for i in 0..NE {
+            let (mut up, mut um) = (u0.clone(), u0.clone());
+            up[i] += step;
+            um[i] -= step;
+            fd_grad[i] = (element_energy(&case, &terms, options.axl, &up)
+                - element_energy(&case, &terms, options.axl, &um))
+                / (2.0 * step);
+        }
+        let eg = rel_err(&got.gradient, &fd_grad);
+        assert!(eg < 1e-6, "gradient vs central differences: {eg:e}");
+        // Hessian column i: central differences of the exact gradient along unknown i.
+        let mut fd_hess = SMatrix::<f64, NE, NE>::zeros();
+        for i in 0..NE {
+            let shifted = |delta: f64| {
+                let mut c = case;
+                if i < 3 * NU {
+                    c.velocity[i / 3][i % 3] += delta;
+                } else {
+                    c.omega[(i - 3 * NU) / 3][i % 3] += delta;
+                }
+                element_fast::<NU, NR, NL, NE>(&c, &terms, options.axl).gradient
+            };
+            let col = (shifted(step) - shifted(-step)) / (2.0 * step);
+            fd_hess.set_column(i, &col);
+        }
+        // Entries are compared in the scale of their rows and columns (velocity and angular-velocity
+        // blocks differ by orders of magnitude), so a wrong small block cannot hide behind a large one.
+        let row_max: Vec<f64> = (0..NE).map(|i| got.hessian.row(i).amax()).collect();
+        let mut eh: f64 = 0.0;
+        for i in 0..NE {
+            for j in 0..NE {
+                let scale = (row_max[i] * row_max[j]).sqrt().max(1e-300);
+                eh = eh.max((got.hessian[(i, j)] - fd_hess[(i, j)]).abs() / scale);
+            }
+        }
+        assert!(eh < 1e-6, "hessian vs central differences: {eh:e}");
+        assert!(rel_err(&got.hessian, &got.hessian.transpose()) < 1e-13);
+    }
+}
+
+#[test]
+fn element_derivatives_match_central_differences_for_every_element_pair() {
+    let plate = ModelOptions::new(ShellModel::Plate);
+    let sh = shell(CurvedTerms::Supplement, AxlVariant::SkewPart);
+    check_element_finite_differences::<3, 3, 15, 18>(11, plate, false);
+    check_element_finite_differences::<6, 3, 15, 27>(12, plate, false);
+    check_element_finite_differences::<6, 6, 24, 36>(13, plate, false);
+    check_element_finite_differences::<3, 3, 15, 18>(14, sh, true);
+    check_element_finite_differences::<6, 3, 15, 27>(15, sh, true);
+    check_element_finite_differences::<6, 6, 24, 36>(16, sh, true);
+}
+
+/// The rest state of a point in its frame: `F̂ = [t₁ t₂]`, identity rotations, default offset.
+fn rest_case<const NU: usize, const NR: usize>(rng: &mut ChaCha8Rng) -> (PointShape<NU, NR>, Matrix3<f64>, StrainVector) {
+    let shape = common::shape::<NU, NR>(rng, 0.05);
+    let b = common::curvature_tensor(rng, &shape.frame, 8.0);
+    let offset = strain_offset(&shape.frame, None, None);
+    (shape, b, offset)
+}
+
+#[test]
+fn rest_state_and_rigid_motions_have_zero_energy_and_gradient_for_the_curved_shell() {
+    let mut rng = common::rng(21);
+    let moduli = material().moduli().unwrap();
+    let terms = terms_for(&shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
+    for _ in 0..5 {
+        let (shape, b, offset) = rest_case::<6, 3>(&mut rng);
+        let d = strain_hessian(&terms, &local_geometry(&shape.frame, &b), &moduli);
+        // A rigid rotation q of everything, then a common angular velocity ω over a step of dt: the
+        // point and all nodes turn by the same cay(dt ω) q, and so do the tangents.
+        let q = common::quaternion(&mut rng, 3.0);
+        let omega = common::vec3(&mut rng, 4.0);
+        let dt = 0.1;
+        for (q, omega) in [(Quaternion::identity(), Vector3::zeros()), (q, Vector3::zeros()), (q, omega)] {
+            let pj = RotationJet::of_update(&q, &omega, dt);
+            let nj = [pj; 3];
+            let t = shape.frame.fixed_columns::<2>(0);
+            let f_hat = [pj.r * t.column(0), pj.r * t.column(1)];
+            let input = PointInput { f_hat, point_jet: &pj, node_jets: [&nj[0], &nj[1], &nj[2]], offset: &offset };
+            let out = point_hessian::<6, 3, 15>(&shape, &input, &d, AxlVariant::SkewPart);
+            assert!(out.value.abs() < 1e-20, "energy at a rigid motion: {:e}", out.value);
+            let scale = d.amax();
+            assert!(out.gradient.amax() < 1e-12 * scale, "gradient at a rigid motion: {:e}", out.gradient.amax());
+        }
+    }
+}
+
+#[test]
+fn energy_is_frame_indifferent() {
+    let mut rng = common::rng(31);
+    let moduli = material().moduli().unwrap();
+    for curved in [false, true] {
+        let options = if curved { shell(CurvedTerms::Supplement, AxlVariant::SkewPart) } else { ModelOptions::new(ShellModel::Plate) };
+        let terms = terms_for(&options, curved);
+        let case = Case::<6, 3>::random(&mut rng, curved);
+        let d = strain_hessian(&terms, &local_geometry(&case.shape.frame, &case.b_world), &moduli);
+        let value = |f_hat: [Vector3<f64>; 2], q_point: Quaternion<f64>, q_nodes: [Quaternion<f64>; 3]| {
+            let r = rotation_matrix(&q_point);
+            let rn = q_nodes.map(|q| rotation_matrix(&q));
+            point_value(&case.shape, &f_hat, &r, [&rn[0], &rn[1], &rn[2]], &case.offset, &d, AxlVariant::SkewPart)
+        };
+        let f = cosserat_material::element::f_hat(&case.shape, &case.positions());
+        let e0 = value(f, case.q_point, case.q_nodes);
+        let rot = common::rotation(&mut rng, 3.0);
+        let qr = quaternion_from_matrix(&rot);
+        let e1 = value([rot * f[0], rot * f[1]], quaternion_product(&qr, &case.q_point), case.q_nodes.map(|q| quaternion_product(&qr, &q)));
+        assert!(e0 > 0.0);
+        assert!((e1 - e0).abs() < 1e-12 * e0, "{e0} vs {e1}");
+    }
+}
+
+#[test]
+fn gradient_only_path_agrees_with_hessian_path() {
+    let mut rng = common::rng(41);
+    let moduli = material().moduli().unwrap();
+    let terms = terms_for(&ModelOptions::new(ShellModel::Plate), false);
+    let case = Case::<6, 3>::random(&mut rng, false);
+    let d = strain_hessian(&terms, &local_geometry(&case.shape.frame, &case.b_world), &moduli);
+    let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
+    let nj: [RotationJet; 3] = std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
+    let input = PointInput {
+        f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
+        point_jet: &pj,
+        node_jets: [&nj[0], &nj[1], &nj[2]],
+        offset: &case.offset,
+    };
+    let full = point_hessian::<6, 3, 15>(&case.shape, &input, &d, AxlVariant::SkewPart);
+    let (v, g) = point_gradient::<6, 3, 15>(&case.shape, &input, &d, AxlVariant::SkewPart);
+    assert_eq!(v, full.value);
+    assert_eq!(g, full.gradient);
+}

@@ -1,0 +1,4 @@
+mod common;
+mod density;
+mod kernel;
+mod parameters;

@@ -1,0 +1,158 @@
+//! `probes.csv`: one row per output time with the values of the scene's probes.
+//!
+//! The header `t,<probe>.<component>,...` is fixed when the writer is created and written atomically;
+//! rows are then appended. Each row is formatted completely in memory and handed to the operating system
+//! in one `write_all` followed by a flush, and rows are refused before anything is written if they have
+//! the wrong length or a non-finite value, so an interrupted run never leaves half a row or a `NaN`.
+//! Numbers are written with the shortest text that reads back to the same `f64`.
+
+use std::collections::HashSet;
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::OutputError;
+use super::atomic::write_atomic;
+use super::number::format_f64;
+
+/// Name of the time column.
+pub const TIME_COLUMN: &str = "t";
+
+/// Why `column` cannot name a probe column, if it cannot.
+fn column_problem(column: &str) -> Option<&'static str> {
+    let Some((probe, component)) = column.rsplit_once('.') else {
+        return Some("expected the form <probe>.<component>");
+    };
+    if probe.is_empty() || component.is_empty() {
+        Some("probe and component must both be non-empty")
+    } else if column
+        .chars()
+        .any(|c| c == ',' || c == '"' || c.is_whitespace() || c.is_control())
+    {
+        Some("commas, quotes, white space and control characters are not allowed")
+    } else {
+        None
+    }
+}
+
+/// Refuses malformed or repeated probe column names.
+pub(crate) fn check_columns<S: AsRef<str>>(columns: &[S]) -> Result<(), OutputError> {
+    let mut seen = HashSet::new();
+    for column in columns.iter().map(AsRef::as_ref) {
+        if let Some(reason) = column_problem(column) {
+            return Err(OutputError::InvalidName {
+                what: "probe column",
+                name: column.to_owned(),
+                reason,
+            });
+        }
+        if !seen.insert(column) {
+            return Err(OutputError::DuplicateName {
+                what: "probe column",
+                name: column.to_owned(),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Appends rows to a probes CSV file.
+#[derive(Debug)]
+pub struct ProbeWriter {
+    path: PathBuf,
+    file: File,
+    columns: Vec<String>,
+    n_rows: usize,
+}
+
+impl ProbeWriter {
+    /// Creates (or replaces) the file at `path` with the header `t,<columns...>`.
+    ///
+    /// # Errors
+    /// [`OutputError::InvalidName`] for a column not of the form `<probe>.<component>` or containing
+    /// commas, quotes or white space, [`OutputError::DuplicateName`] for a repeated column, and I/O errors
+    /// naming `path`.
+    pub fn create<S: AsRef<str>>(path: &Path, columns: &[S]) -> Result<Self, OutputError> {
+        check_columns(columns)?;
+        let columns: Vec<String> = columns.iter().map(|c| c.as_ref().to_owned()).collect();
+        let mut header = String::from(TIME_COLUMN);
+        for column in &columns {
+            header.push(',');
+            header.push_str(column);
+        }
+        header.push('\n');
+        write_atomic(path, header.as_bytes())?;
+        let file = OpenOptions::new().append(true).open(path).map_err(|source| OutputError::Io {
+            operation: "open for appending",
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            file,
+            columns,
+            n_rows: 0,
+        })
+    }
+
+    /// The probe columns, without `t`.
+    pub fn columns(&self) -> &[String] {
+        &self.columns
+    }
+
+    /// Number of data rows written so far.
+    pub fn n_rows(&self) -> usize {
+        self.n_rows
+    }
+
+    /// Path of the file.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// Appends the row `t, values...`, one value per declared column.
+    ///
+    /// # Errors
+    /// [`OutputError::ProbeRowLength`] if `values` does not match the columns, [`OutputError::NonFiniteProbe`]
+    /// naming the column of a NaN or infinity (then nothing is written), and I/O errors naming the file.
+    pub fn write_row(&mut self, t: f64, values: &[f64]) -> Result<(), OutputError> {
+        let row = self.n_rows;
+        if values.len() != self.columns.len() {
+            return Err(OutputError::ProbeRowLength {
+                row,
+                expected: self.columns.len(),
+                found: values.len(),
+            });
+        }
+        let named = std::iter::once((TIME_COLUMN, t))
+            .chain(self.columns.iter().map(String::as_str).zip(values.iter().copied()));
+        let mut line = String::new();
+        for (idx, (column, value)) in named.enumerate() {
+            if !value.is_finite() {
+                return Err(OutputError::NonFiniteProbe {
+                    column: column.to_owned(),
+                    row,
+                    value,
+                });
+            }
+            if idx > 0 {
+                line.push(',');
+            }
+            line.push_str(&format_f64(value));
+        }
+        line.push('\n');
+        let Self { path, file, .. } = self;
+        let path = &*path;
+        let io_error = |operation| {
+            move |source| OutputError::Io {
+                operation,
+                path: path.clone(),
+                source,
+            }
+        };
+        file.write_all(line.as_bytes()).map_err(io_error("append a row to"))?;
+        file.flush().map_err(io_error("flush"))?;
+        self.n_rows += 1;
+        Ok(())
+    }
+}

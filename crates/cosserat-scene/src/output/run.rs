@@ -1,0 +1,262 @@
+//! [`RunWriter`]: the owner of a run's output directory.
+//!
+//! Layout of `DIR` (the output contract):
+//!
+//! | file | written |
+//! |---|---|
+//! | `DIR/frames/frame_00000.vtu`, `frame_00001.vtu`, ... | one per [`RunWriter::write_frame`], atomically |
+//! | `DIR/frames/run.pvd` | rewritten atomically after every frame; lists the frames relative to `frames/` |
+//! | `DIR/probes.csv` | header at creation, one row per [`RunWriter::write_probes`] |
+//! | `DIR/summary.json` | at the end, by [`RunWriter::finish`], [`RunWriter::fail`] or [`write_failure_summary`] |
+//!
+//! The collection lives next to the frames so that the frames directory is self-contained: it can be
+//! moved or archived and still opens in ParaView. Frame numbers have five digits and simply grow wider
+//! past 99 999 frames; the `.pvd` keeps the order either way.
+//!
+//! Starting a run removes what an earlier run left in `DIR`: the files above and the temporary files of
+//! interrupted atomic writes. Nothing else in `DIR` is touched.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use super::OutputError;
+use super::atomic::{create_dir_all, remove_if_exists, temporary_target};
+use super::probes::{ProbeWriter, check_columns};
+use super::pvd::{PvdEntry, write_pvd};
+use super::summary::{RunStatus, RunSummary, write_summary};
+use super::vtu::{VtuFrame, write_vtu};
+
+/// Name of the summary file in `DIR`.
+pub const SUMMARY_FILE: &str = "summary.json";
+/// Name of the probes file in `DIR`.
+pub const PROBES_FILE: &str = "probes.csv";
+/// Name of the frames directory in `DIR`.
+pub const FRAMES_DIR: &str = "frames";
+/// Name of the `.pvd` collection inside the frames directory.
+pub const PVD_FILE: &str = "run.pvd";
+
+/// File name of frame `frame_idx`: `frame_00000.vtu`, `frame_00001.vtu`, ...
+pub fn frame_file_name(frame_idx: usize) -> String {
+    format!("frame_{frame_idx:05}.vtu")
+}
+
+/// Whether `name` is a frame file name as made by [`frame_file_name`].
+fn is_frame_file_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|rest| rest.strip_suffix(".vtu"))
+        .is_some_and(|digits| digits.len() >= 5 && digits.bytes().all(|b| b.is_ascii_digit()))
+}
+
+/// Whether `name` is a file this module writes into `DIR` (`in_frames == false`) or `DIR/frames`.
+fn is_run_file(name: &str, in_frames: bool) -> bool {
+    if in_frames {
+        name == PVD_FILE || is_frame_file_name(name)
+    } else {
+        name == SUMMARY_FILE || name == PROBES_FILE
+    }
+}
+
+/// Removes from `dir` the files a run writes there, including leftover temporary files of atomic writes.
+fn remove_run_files(dir: &Path, in_frames: bool) -> Result<(), OutputError> {
+    let entries = match fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(source) if source.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(source) => {
+            return Err(OutputError::Io {
+                operation: "list",
+                path: dir.to_path_buf(),
+                source,
+            });
+        }
+    };
+    for entry in entries {
+        let entry = entry.map_err(|source| OutputError::Io {
+            operation: "list",
+            path: dir.to_path_buf(),
+            source,
+        })?;
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let target = temporary_target(name).unwrap_or(name);
+        let is_file = entry.file_type().is_ok_and(|kind| kind.is_file());
+        if is_file && is_run_file(target, in_frames) {
+            remove_if_exists(&entry.path())?;
+        }
+    }
+    Ok(())
+}
+
+/// Removes everything a run writes into `dir` (frames, collection, probes, summary, temporary files),
+/// and the frames directory itself if that leaves it empty. Other files are kept.
+///
+/// # Errors
+/// [`OutputError::Io`] naming the file or directory that could not be listed or removed.
+pub fn clear_run_outputs(dir: &Path) -> Result<(), OutputError> {
+    let frames_dir = dir.join(FRAMES_DIR);
+    remove_run_files(&frames_dir, true)?;
+    // A frames directory that still holds files of the user stays; an empty one goes.
+    let _ = fs::remove_dir(&frames_dir);
+    remove_run_files(dir, false)
+}
+
+/// Reports a run that failed before or while writing outputs: clears the earlier outputs in `dir`
+/// (see [`clear_run_outputs`]) and writes only `dir/summary.json`. Returns the path of the summary.
+///
+/// # Errors
+/// [`OutputError::NotAFailure`] if the summary's status is `ok`, the errors of
+/// [`RunSummary::validate`] (nothing is removed then), and I/O errors naming the path.
+pub fn write_failure_summary(dir: &Path, summary: &RunSummary) -> Result<PathBuf, OutputError> {
+    if summary.status == RunStatus::Ok {
+        return Err(OutputError::NotAFailure);
+    }
+    summary.validate()?;
+    create_dir_all(dir)?;
+    clear_run_outputs(dir)?;
+    let path = dir.join(SUMMARY_FILE);
+    write_summary(&path, summary)?;
+    Ok(path)
+}
+
+/// Writes the outputs of one run into its directory.
+#[derive(Debug)]
+pub struct RunWriter {
+    dir: PathBuf,
+    frames: Vec<PvdEntry>,
+    probes: ProbeWriter,
+}
+
+impl RunWriter {
+    /// Prepares `dir` for a new run: creates `dir` and `dir/frames`, removes the outputs of an earlier
+    /// run, and writes the header of `dir/probes.csv` with the given columns (`<probe>.<component>`; an
+    /// empty list gives a file with the time column only).
+    ///
+    /// # Errors
+    /// The column errors of [`ProbeWriter::create`] (checked before anything is removed) and I/O errors
+    /// naming the path.
+    pub fn create<S: AsRef<str>>(dir: impl Into<PathBuf>, probe_columns: &[S]) -> Result<Self, OutputError> {
+        let dir = dir.into();
+        // Bad columns are refused before anything is removed, so an earlier run stays intact.
+        check_columns(probe_columns)?;
+        create_dir_all(&dir)?;
+        clear_run_outputs(&dir)?;
+        create_dir_all(&dir.join(FRAMES_DIR))?;
+        let probes = ProbeWriter::create(&dir.join(PROBES_FILE), probe_columns)?;
+        Ok(Self {
+            dir,
+            frames: Vec::new(),
+            probes,
+        })
+    }
+
+    /// The output directory.
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// `DIR/frames`.
+    pub fn frames_dir(&self) -> PathBuf {
+        self.dir.join(FRAMES_DIR)
+    }
+
+    /// `DIR/frames/run.pvd`.
+    pub fn pvd_path(&self) -> PathBuf {
+        self.frames_dir().join(PVD_FILE)
+    }
+
+    /// `DIR/probes.csv`.
+    pub fn probes_path(&self) -> &Path {
+        self.probes.path()
+    }
+
+    /// `DIR/summary.json`.
+    pub fn summary_path(&self) -> PathBuf {
+        self.dir.join(SUMMARY_FILE)
+    }
+
+    /// The frames written so far, as listed in the collection.
+    pub fn frames(&self) -> &[PvdEntry] {
+        &self.frames
+    }
+
+    /// Number of frames written so far.
+    pub fn n_frames(&self) -> usize {
+        self.frames.len()
+    }
+
+    /// Writes `frame` as the next frame file and rewrites the collection. Returns the frame's path.
+    ///
+    /// # Errors
+    /// [`OutputError::FrameTimeNotIncreasing`] if the time is not after the previous frame's, the errors
+    /// of [`VtuFrame::validate`] (nothing is written then), and I/O errors naming the path.
+    pub fn write_frame(&mut self, frame: &VtuFrame) -> Result<PathBuf, OutputError> {
+        let frame_idx = self.frames.len();
+        if let Some(previous) = self.frames.last().map(|entry| entry.time) {
+            // A non-finite time is left to validation below, whose error names the array.
+            if frame.time.is_finite() && frame.time <= previous {
+                return Err(OutputError::FrameTimeNotIncreasing {
+                    frame_idx,
+                    time: frame.time,
+                    previous,
+                });
+            }
+        }
+        let file = frame_file_name(frame_idx);
+        let path = self.frames_dir().join(&file);
+        write_vtu(&path, frame)?;
+        self.frames.push(PvdEntry { time: frame.time, file });
+        if let Err(error) = write_pvd(&self.pvd_path(), &self.frames) {
+            self.frames.pop();
+            return Err(error);
+        }
+        Ok(path)
+    }
+
+    /// Appends a row to `DIR/probes.csv`: the time `t` and one value per declared column.
+    ///
+    /// # Errors
+    /// The errors of [`ProbeWriter::write_row`].
+    pub fn write_probes(&mut self, t: f64, values: &[f64]) -> Result<(), OutputError> {
+        self.probes.write_row(t, values)
+    }
+
+    /// Ends the run: writes `DIR/summary.json` and keeps every frame and probe row written. Use this for
+    /// `ok` and for `interrupted` runs whose outputs so far are valid. Returns the summary's path.
+    ///
+    /// # Errors
+    /// The errors of [`write_summary`].
+    pub fn finish(self, summary: &RunSummary) -> Result<PathBuf, OutputError> {
+        let path = self.summary_path();
+        write_summary(&path, summary)?;
+        Ok(path)
+    }
+
+    /// Ends a failed run: removes the frames, the collection and the probes written so far, and writes
+    /// only `DIR/summary.json` (see [`write_failure_summary`]). Returns the summary's path.
+    ///
+    /// # Errors
+    /// The errors of [`write_failure_summary`].
+    pub fn fail(self, summary: &RunSummary) -> Result<PathBuf, OutputError> {
+        let Self { dir, probes, .. } = self;
+        // Close the probes file before removing it.
+        drop(probes);
+        write_failure_summary(&dir, summary)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frame_names_are_recognised() {
+        assert!(is_frame_file_name(&frame_file_name(0)));
+        assert!(is_frame_file_name(&frame_file_name(123_456)));
+        assert!(!is_frame_file_name("frame_0001.vtu"));
+        assert!(!is_frame_file_name("frame_0000a.vtu"));
+        assert!(!is_frame_file_name("frame_00001.vtk"));
+        assert!(is_run_file(PVD_FILE, true));
+        assert!(!is_run_file(PVD_FILE, false));
+        assert!(is_run_file(SUMMARY_FILE, false));
+        assert!(!is_run_file("notes.txt", false));
+    }
+}

@@ -1,0 +1,171 @@
+//! `summary.json`: serde round trip, every contract key present, non-finite numbers refused.
+
+use std::collections::BTreeMap;
+
+use cosserat_scene::output::{BoundingBox, OutputError, RunStatus, RunSummary, read_summary, write_summary};
+
+use super::{entries, test_dir};
+
+fn sample_summary() -> RunSummary {
+    let mut extra = BTreeMap::new();
+    extra.insert("tip_deflection".to_owned(), serde_json::json!(0.1 + 0.2));
+    extra.insert(
+        "reference".to_owned(),
+        serde_json::json!({ "source": "Sze 2004", "values": [1.5, -2.0] }),
+    );
+    RunSummary {
+        scene: "cantilever".to_owned(),
+        displacement_element: "tri6".to_owned(),
+        rotation_element: "tri3".to_owned(),
+        n_cells: 128,
+        n_displacement_dofs: 867,
+        n_rotation_dofs: 243,
+        active_terms: vec!["membrane".to_owned(), "bending".to_owned(), "inertia".to_owned()],
+        dt: 1e-3,
+        n_steps: 1000,
+        avg_newton_iterations: 3.25,
+        wall_seconds: 12.75,
+        avg_step_ms: 12.5,
+        assembly_share: 0.625,
+        linear_solve_share: 0.25,
+        n_step_reductions: 2,
+        rest_bbox: BoundingBox {
+            min: [0.0, -0.5, 0.0],
+            max: [10.0, 0.5, 1e-17],
+        },
+        status: RunStatus::Ok,
+        reason: None,
+        stopped_at: Some(1.0),
+        extra,
+    }
+}
+
+/// The keys of the output contract, with the JSON names used for them.
+const CONTRACT_KEYS: [&str; 20] = [
+    "scene",
+    "displacement_element",
+    "rotation_element",
+    "n_cells",
+    "n_displacement_dofs",
+    "n_rotation_dofs",
+    "active_terms",
+    "dt",
+    "n_steps",
+    "avg_newton_iterations",
+    "wall_seconds",
+    "avg_step_ms",
+    "assembly_share",
+    "linear_solve_share",
+    "n_step_reductions",
+    "rest_bbox",
+    "status",
+    "reason",
+    "stopped_at",
+    "extra",
+];
+
+#[test]
+fn summary_round_trips_through_the_file() {
+    let dir = test_dir("summary_round_trip");
+    let path = dir.join("summary.json");
+    let summary = sample_summary();
+    write_summary(&path, &summary).expect("write");
+    assert_eq!(read_summary(&path).expect("read"), summary);
+    assert_eq!(entries(&dir), vec!["summary.json".to_owned()]);
+}
+
+#[test]
+fn json_holds_every_contract_key() {
+    let dir = test_dir("summary_keys");
+    let path = dir.join("summary.json");
+    write_summary(&path, &sample_summary()).expect("write");
+    let value: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("read")).expect("valid JSON");
+    let object = value.as_object().expect("a JSON object");
+    for key in CONTRACT_KEYS {
+        assert!(object.contains_key(key), "missing key {key}");
+    }
+    assert_eq!(
+        object.len(),
+        CONTRACT_KEYS.len(),
+        "unexpected keys: {:?}",
+        object.keys()
+    );
+    assert_eq!(object["status"], "ok");
+    assert_eq!(object["reason"], serde_json::Value::Null);
+    assert_eq!(object["rest_bbox"]["min"], serde_json::json!([0.0, -0.5, 0.0]));
+    assert_eq!(object["rest_bbox"]["max"].as_array().map(Vec::len), Some(3));
+    assert_eq!(
+        object["active_terms"],
+        serde_json::json!(["membrane", "bending", "inertia"])
+    );
+    assert_eq!(object["extra"]["tip_deflection"].as_f64(), Some(0.1 + 0.2));
+}
+
+#[test]
+fn statuses_are_lower_case_strings() {
+    for (status, text) in [
+        (RunStatus::Ok, "ok"),
+        (RunStatus::Error, "error"),
+        (RunStatus::Interrupted, "interrupted"),
+    ] {
+        assert_eq!(
+            serde_json::to_value(status).expect("serialise"),
+            serde_json::json!(text)
+        );
+        assert_eq!(
+            serde_json::from_value::<RunStatus>(serde_json::json!(text)).expect("parse"),
+            status
+        );
+    }
+}
+
+#[test]
+fn non_finite_numbers_are_refused_and_nothing_is_written() {
+    let dir = test_dir("summary_non_finite");
+    let path = dir.join("summary.json");
+    type Poison = fn(&mut RunSummary);
+    let cases: [(&str, Poison); 9] = [
+        ("dt", |s| s.dt = f64::NAN),
+        ("avg_newton_iterations", |s| s.avg_newton_iterations = f64::INFINITY),
+        ("wall_seconds", |s| s.wall_seconds = f64::NAN),
+        ("avg_step_ms", |s| s.avg_step_ms = f64::NEG_INFINITY),
+        ("assembly_share", |s| s.assembly_share = f64::NAN),
+        ("linear_solve_share", |s| s.linear_solve_share = f64::NAN),
+        ("rest_bbox.min[1]", |s| s.rest_bbox.min[1] = f64::NAN),
+        ("rest_bbox.max[2]", |s| s.rest_bbox.max[2] = f64::INFINITY),
+        ("stopped_at", |s| s.stopped_at = Some(f64::NAN)),
+    ];
+    for (field, poison) in cases {
+        let mut summary = sample_summary();
+        poison(&mut summary);
+        match write_summary(&path, &summary) {
+            Err(OutputError::NonFiniteSummary { field: reported, .. }) => assert_eq!(reported, field),
+            other => panic!("{field}: expected a non-finite error, got {other:?}"),
+        }
+        assert!(entries(&dir).is_empty(), "{field}: a file was written");
+    }
+}
+
+#[test]
+fn failed_summary_carries_status_and_reason() {
+    let summary = RunSummary::failed("plate", RunStatus::Error, "Newton diverged at t = 0.5 with dt = 1e-6");
+    summary.validate().expect("a failure summary is valid");
+    let value = serde_json::to_value(&summary).expect("serialise");
+    assert_eq!(value["status"], "error");
+    assert_eq!(value["reason"], "Newton diverged at t = 0.5 with dt = 1e-6");
+    assert_eq!(value["scene"], "plate");
+}
+
+#[test]
+fn bounding_box_of_points() {
+    let bbox = BoundingBox::of_points(&[[1.0, -2.0, 3.0], [-1.0, 5.0, 0.0], [0.0, 0.0, 4.0]]).expect("points");
+    assert_eq!(
+        bbox,
+        BoundingBox {
+            min: [-1.0, -2.0, 0.0],
+            max: [1.0, 5.0, 4.0]
+        }
+    );
+    assert_eq!(BoundingBox::of_points(&[]), None);
+}
