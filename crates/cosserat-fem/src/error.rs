@@ -1,8 +1,8 @@
-//! Errors of the element and mesh layer.
+//! Errors of the element and mesh layer: invalid meshes, failed normal fields and bad generator input.
 
 use thiserror::Error;
 
-/// A mesh that cannot be used for simulation.
+/// A mesh, normal field or generator request that cannot be used for simulation.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
 pub enum MeshError {
@@ -16,12 +16,67 @@ pub enum MeshError {
         /// Number of nodes of the mesh.
         n_nodes: usize,
     },
-    /// An element has (numerically) zero area: coincident or collinear nodes.
+    /// An element has (numerically) zero area: coincident or collinear nodes, or a curved element
+    /// whose area element vanishes or changes sign somewhere.
     #[error("element {elem_idx} is degenerate (area {area:e}): its nodes are coincident or collinear")]
     DegenerateElement {
         /// Index of the element.
         elem_idx: usize,
         /// Its area (or area element at the worst point), in squared length units.
         area: f64,
+    },
+    /// A node position has a NaN or infinite coordinate.
+    #[error("node {node_idx} has a non-finite coordinate")]
+    NonFiniteNode {
+        /// Index of the node.
+        node_idx: usize,
+    },
+    /// A node is not used by any element.
+    #[error("node {node_idx} is not referenced by any element")]
+    UnreferencedNode {
+        /// Index of the node.
+        node_idx: usize,
+    },
+    /// An edge is shared by more than two elements.
+    #[error("edge ({a}, {b}) is shared by {n_faces} elements; at most two are allowed")]
+    NonManifoldEdge {
+        /// The smaller vertex index of the edge.
+        a: usize,
+        /// The larger vertex index of the edge.
+        b: usize,
+        /// The number of elements sharing it.
+        n_faces: usize,
+    },
+    /// A field was evaluated at a point outside the reference triangle.
+    #[error("element {elem_idx}: point ({}, {}) lies outside the reference triangle", xi[0], xi[1])]
+    OutsideReferenceTriangle {
+        /// Index of the element.
+        elem_idx: usize,
+        /// The reference point.
+        xi: [f64; 2],
+    },
+    /// Two meshes that must describe the same triangles do not.
+    #[error("the rotation (corner) mesh does not match the element mesh: {reason}")]
+    CornerMeshMismatch {
+        /// What differs (element count, or the element whose corners differ).
+        reason: String,
+    },
+    /// A mesh generator got a parameter outside its valid range.
+    #[error("{generator}: parameter `{parameter}` = {value} is invalid: {reason}")]
+    InvalidParameter {
+        /// The generator's name.
+        generator: &'static str,
+        /// The parameter's name.
+        parameter: &'static str,
+        /// The value given.
+        value: f64,
+        /// The valid range or the reason for rejection.
+        reason: &'static str,
+    },
+    /// An operation removed every element of a mesh.
+    #[error("{operation} left a mesh without elements")]
+    EmptyMesh {
+        /// The operation.
+        operation: &'static str,
     },
 }

@@ -1,0 +1,4 @@
+//! Convergence tests, one module per study.
+
+mod curvature;
+pub mod study;
