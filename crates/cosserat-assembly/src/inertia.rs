@@ -8,7 +8,7 @@
 use crate::error::AssemblyError;
 use crate::pattern::SparsityPattern;
 use crate::term::{Evaluation, PotentialTerm, finite};
-use nalgebra::Vector3;
+use nalgebra::{Matrix3, Vector3};
 
 /// Lumped translational and isotropic rotational inertia, with translational damping.
 #[derive(Debug, Clone, PartialEq)]
@@ -17,8 +17,8 @@ pub struct InertiaTerm {
     pub masses: Vec<f64>,
     /// Rotational inertia per rotation node [kg·m²] (`ρ_θ h A_k`; zero in the paper's scenes).
     pub rotational_inertia: Vec<f64>,
-    /// Mass-proportional damping coefficient `d` [1/s] on translations.
-    pub damping: f64,
+    /// Mass-proportional damping coefficient `d` [1/s] on translations, per displacement node.
+    pub damping: Vec<f64>,
 }
 
 impl InertiaTerm {
@@ -26,7 +26,7 @@ impl InertiaTerm {
         let m = self.masses[i];
         let v = eval.layout.velocity(eval.u, i);
         let dv = v - eval.state.v[i];
-        let c = m * self.damping * eval.dt;
+        let c = m * self.damping[i] * eval.dt;
         (0.5 * m * dv.norm_squared() + 0.5 * c * v.norm_squared(), dv * m + v * c, m + c)
     }
 
@@ -77,6 +77,12 @@ impl PotentialTerm for InertiaTerm {
 }
 
 /// Gravity, nodal forces and nodal torques, as work over the step.
+///
+/// Forces do the work `f · Δt v`. A torque `τ` does the work `τ · ψ`, where `ψ` is the rotation vector of
+/// the step's nodal rotation increment `cay(Δt ω)` (angle `2 arctan(Δt|ω|/2)` about `ω`): for a torque
+/// about a fixed axis this is exactly the moment times the turned angle, so large quasi-static
+/// rotations (a strip rolled up by an end moment) see the applied moment and not a step-size-dependent
+/// approximation of it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadTerm {
     /// Mass per displacement node for gravity [kg].
@@ -89,6 +95,30 @@ pub struct LoadTerm {
     pub torques: Vec<Vector3<f64>>,
 }
 
+/// The rotation vector of the Cayley rotation `cay(v)`: `2 arctan(|v|/2) v/|v|`.
+fn cayley_rotation_vector<T: cosserat_geometry::Real>(v: &Vector3<T>) -> Vector3<T> {
+    let n2 = v.norm_squared();
+    if n2.re() < 1e-12 {
+        // 2 arctan(s/2)/s = 1 − s²/12 + s⁴/80 − …
+        v * (T::one() - n2 / 12.0 + n2 * n2 / 80.0)
+    } else {
+        let n = n2.sqrt();
+        v * ((n * 0.5).atan() * 2.0 / n)
+    }
+}
+
+/// Value, gradient and Hessian of `−τ · ψ(Δt ω)` with respect to `ω`.
+fn torque_work(tau: &Vector3<f64>, omega: &Vector3<f64>, dt: f64) -> (f64, Vector3<f64>, Matrix3<f64>) {
+    let (v, g, h) = num_dual::hessian(
+        |w: nalgebra::SVector<num_dual::Dual2SVec64<3>, 3>| {
+            let psi = cayley_rotation_vector(&Vector3::new(w[0] * dt, w[1] * dt, w[2] * dt));
+            -(psi.x * tau.x + psi.y * tau.y + psi.z * tau.z)
+        },
+        omega,
+    );
+    (v, g, h)
+}
+
 impl LoadTerm {
     /// Whether the term contributes anything.
     pub fn is_active(&self) -> bool {
@@ -97,18 +127,18 @@ impl LoadTerm {
             || self.torques.iter().any(|t| *t != Vector3::zeros())
     }
 
-    fn evaluate(&self, eval: &Evaluation<'_>, mut sink: impl FnMut(usize, Vector3<f64>)) -> f64 {
+    fn evaluate(&self, eval: &Evaluation<'_>, mut sink: impl FnMut(usize, Vector3<f64>, Option<Matrix3<f64>>)) -> f64 {
         let mut total = 0.0;
         for i in 0..self.forces.len() {
             let f = (self.forces[i] + self.gravity * self.masses[i]) * eval.dt;
             total -= f.dot(&eval.layout.velocity(eval.u, i));
-            sink(eval.layout.disp_block(i), -f);
+            sink(eval.layout.disp_block(i), -f, None);
         }
         for k in 0..self.torques.len() {
-            let t = self.torques[k] * eval.dt;
-            if t != Vector3::zeros() {
-                total -= t.dot(&eval.layout.omega(eval.u, k));
-                sink(eval.layout.rot_block(k), -t);
+            if self.torques[k] != Vector3::zeros() {
+                let (v, g, h) = torque_work(&self.torques[k], &eval.layout.omega(eval.u, k), eval.dt);
+                total += v;
+                sink(eval.layout.rot_block(k), g, Some(h));
             }
         }
         total
@@ -121,17 +151,23 @@ impl PotentialTerm for LoadTerm {
     }
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
-        let v = self.evaluate(eval, |_, _| {});
+        let v = self.evaluate(eval, |_, _, _| {});
         finite(v, &|| self.name(), "term", 0)
     }
 
     fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
-        let v = self.evaluate(eval, |b, g| add3(grad, b, &g));
+        let v = self.evaluate(eval, |b, g, _| add3(grad, b, &g));
         finite(v, &|| self.name(), "term", 0)
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], _: &SparsityPattern, _: &mut [f64]) -> Result<f64, AssemblyError> {
-        self.gradient(eval, grad)
+    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+        let v = self.evaluate(eval, |b, g, h| {
+            add3(grad, b, &g);
+            if let Some(h) = h {
+                crate::boundary::add_block(pattern, values, b, &h);
+            }
+        });
+        finite(v, &|| self.name(), "term", 0)
     }
 }
 

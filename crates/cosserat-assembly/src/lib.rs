@@ -31,6 +31,7 @@ pub mod potential;
 pub mod scatter;
 pub mod shell;
 pub mod state;
+pub mod system;
 pub mod term;
 
 pub use dofs::DofLayout;
@@ -39,4 +40,5 @@ pub use parallel::Parallelism;
 pub use pattern::SparsityPattern;
 pub use potential::{IncrementalPotential, PotentialParts, ShellEnergy};
 pub use state::SystemState;
+pub use system::{BuildError, ElementPair, ShellInput, ShellLayout, ShellMesh, System, SystemOptions, build_system};
 pub use term::PotentialTerm;

@@ -1,0 +1,154 @@
+//! The assembled incremental potential: derivatives against finite differences, rest state,
+//! determinism across thread counts.
+
+use super::common::strip;
+use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionPenalty, RotationPenalty};
+use cosserat_assembly::{ElementPair, IncrementalPotential, Parallelism};
+use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
+use cosserat_material::ShellModel;
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+fn random_vec(rng: &mut ChaCha8Rng, s: f64) -> Vector3<f64> {
+    Vector3::from_fn(|_, _| rng.random_range(-s..s))
+}
+
+/// Perturbs the state and adds every kind of boundary term and prescribed rest field.
+fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
+    let parts = &mut p.parts;
+    let st = &mut parts.state;
+    for x in &mut st.x {
+        *x += random_vec(rng, 2e-3);
+    }
+    for v in &mut st.v {
+        *v = random_vec(rng, 0.1);
+    }
+    for q in st.q.iter_mut().chain(st.q_points.iter_mut()) {
+        *q = quaternion_from_matrix(&exp_map(&random_vec(rng, 0.3)));
+    }
+    for w in &mut st.omega {
+        *w = random_vec(rng, 1.0);
+    }
+    let n_rot = parts.layout.n_rot_nodes;
+    parts.position_penalties.push(PositionPenalty {
+        label: "clamp".into(),
+        nodes: vec![0, 1, 2],
+        targets: vec![Vector3::zeros(); 3],
+        active: [true, false, true],
+        stiffness: 1e3,
+    });
+    parts.rotation_penalties.push(RotationPenalty {
+        label: "d3".into(),
+        nodes: vec![0, n_rot - 1],
+        targets: vec![exp_map(&Vector3::new(0.2, -0.1, 0.3)), Matrix3::identity()],
+        columns: [true, false, true],
+        stiffness: 10.0,
+    });
+    parts.omega_penalties.push(AngularVelocityPenalty {
+        label: "spin".into(),
+        nodes: vec![1],
+        target: Vector3::new(0.0, 0.0, 2.0),
+        active: [false, true, true],
+        stiffness: 5.0,
+    });
+    parts.loads.forces[3] = Vector3::new(0.1, -0.2, 0.3);
+    parts.loads.torques[2] = Vector3::new(0.03, -0.01, 0.02);
+    let g: Vec<Matrix3<f64>> = (0..p.parts.shells[0].n_points()).map(|_| Matrix3::from_fn(|_, _| rng.random_range(-5.0..5.0))).collect();
+    p.parts.shells[0].set_rest_fields_dyn(&mut |i| (Some(Matrix3::from_diagonal(&Vector3::new(1.05, 1.05, 0.0))), Some(g[i])));
+}
+
+fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
+    let n = p.n_dofs();
+    let mut g = vec![0.0; n];
+    let mut values = vec![0.0; p.pattern().nnz()];
+    p.hessian(u, &mut g, &mut values).unwrap();
+    let sym = p.pattern().symbolic();
+    let mut h = DMatrix::zeros(n, n);
+    for j in 0..n {
+        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
+            let i = sym.row_idx()[k];
+            h[(i, j)] = values[k];
+            h[(j, i)] = values[k];
+        }
+    }
+    h
+}
+
+fn check_derivatives(pair: ElementPair, model: ShellModel, seed: u64) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut p = strip(pair, 2, 1, model, true).potential;
+    decorate(&mut p, &mut rng);
+    let n = p.n_dofs();
+    let u: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
+    let mut g = vec![0.0; n];
+    let e0 = p.gradient(&u, &mut g).unwrap();
+    assert!((p.value(&u).unwrap() - e0).abs() <= 1e-12 * e0.abs());
+    let h = dense_hessian(&mut p, &u);
+    // Central differences, step 1e-6 on O(1) unknowns: truncation and round-off far below 1e-6.
+    let step = 1e-6;
+    let g_scale = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    let row_max: Vec<f64> = (0..n).map(|i| h.row(i).amax()).collect();
+    for i in 0..n {
+        let (mut up, mut um) = (u.clone(), u.clone());
+        up[i] += step;
+        um[i] -= step;
+        let fd = (p.value(&up).unwrap() - p.value(&um).unwrap()) / (2.0 * step);
+        assert!((fd - g[i]).abs() <= 1e-6 * g_scale, "gradient {i}: {} vs {fd}", g[i]);
+        let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
+        p.gradient(&up, &mut gp).unwrap();
+        p.gradient(&um, &mut gm).unwrap();
+        for j in 0..n {
+            let fd = (gp[j] - gm[j]) / (2.0 * step);
+            let scale = (row_max[i] * row_max[j]).sqrt();
+            assert!((fd - h[(j, i)]).abs() <= 1e-6 * scale, "hessian ({j}, {i}): {} vs {fd}", h[(j, i)]);
+        }
+    }
+}
+
+#[test]
+fn assembled_derivatives_match_finite_differences() {
+    check_derivatives(ElementPair::Tri3Tri3, ShellModel::Plate, 1);
+    check_derivatives(ElementPair::Tri6Tri3, ShellModel::Plate, 2);
+    check_derivatives(ElementPair::Tri6Tri6, ShellModel::Shell, 3);
+}
+
+#[test]
+fn a_plate_at_rest_without_loads_has_zero_energy_and_gradient() {
+    for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3, ElementPair::Tri6Tri6] {
+        let mut p = strip(pair, 4, 2, ShellModel::Plate, true).potential;
+        p.parts.loads.gravity = Vector3::zeros();
+        let u = vec![0.0; p.n_dofs()];
+        let mut g = vec![0.0; p.n_dofs()];
+        let e = p.gradient(&u, &mut g).unwrap();
+        // Scales: a unit strain costs about E h A = 1e6 · 1e-3 · 2e-3 J and the matching gradient is
+        // E h L Δt ≈ 1e-3; the rest state must be zero to round-off relative to those.
+        assert!(e.abs() < 1e-14 * 2.0, "{pair:?}: energy at rest {e:e}");
+        let g_max = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        assert!(g_max < 1e-14, "{pair:?}: gradient at rest {g_max:e}");
+    }
+}
+
+#[test]
+fn assembly_is_bit_identical_for_one_and_two_threads() {
+    // 40 × 8 quads = 640 elements: more than one chunk of the ordered parallel map.
+    let mut rng = ChaCha8Rng::seed_from_u64(9);
+    let mut p = strip(ElementPair::Tri6Tri3, 40, 8, ShellModel::Plate, true).potential;
+    decorate(&mut p, &mut rng);
+    let u: Vec<f64> = (0..p.n_dofs()).map(|_| rng.random_range(-0.5..0.5)).collect();
+    let mut run = |threads: usize, par: Parallelism| {
+        p.parallelism = par;
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+        pool.install(|| {
+            let mut g = vec![0.0; p.n_dofs()];
+            let mut values = vec![0.0; p.pattern().nnz()];
+            let e = p.hessian(&u, &mut g, &mut values).unwrap();
+            let v = p.value(&u).unwrap();
+            (e.to_bits(), v.to_bits(), g.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), values.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+        })
+    };
+    let seq = run(1, Parallelism::Sequential);
+    let one = run(1, Parallelism::Rayon);
+    let two = run(2, Parallelism::Rayon);
+    assert!(seq == one && one == two, "results differ between thread counts");
+}
