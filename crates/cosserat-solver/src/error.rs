@@ -1,0 +1,340 @@
+//! Error types of the solver crate: failures of the sparse linear solvers, of a problem's own
+//! evaluation, and of Newton's method.
+//!
+//! The three enums are layered: a [`ProblemError`] is what a [`NewtonProblem`](crate::NewtonProblem)
+//! reports about itself, a [`LinearSolveError`] is what the sparse factorisations report, and a
+//! [`NewtonError`] wraps both together with the iteration and the residual history, so that a time
+//! stepper can decide between halving the time step and stopping with a diagnostic.
+
+use faer::sparse::FaerError;
+use thiserror::Error;
+
+/// The numerical factorisation that produced (or failed to produce) a solution.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[non_exhaustive]
+pub enum Factorisation {
+    /// Supernodal Cholesky `A = L Lᵀ` (symmetric positive definite matrices only).
+    Llt,
+    /// Supernodal `A = P L B Lᵀ Pᵀ` with Bunch–Kaufman (rook) pivoting inside each supernode, `B` block
+    /// diagonal with 1×1 and 2×2 blocks (symmetric indefinite matrices).
+    Lblt,
+    /// Sparse LU with partial pivoting on the full (mirrored) matrix.
+    Lu,
+}
+
+impl std::fmt::Display for Factorisation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let name = match self {
+            Self::Llt => "LLᵀ",
+            Self::Lblt => "LBLᵀ",
+            Self::Lu => "LU",
+        };
+        f.write_str(name)
+    }
+}
+
+/// The stage of the linear solver in which faer reported a resource failure.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum LinearSolveStage {
+    /// Copying the sparsity pattern.
+    Pattern,
+    /// Ordering and symbolic analysis of the symmetric factorisations.
+    SymmetricSymbolic,
+    /// Column ordering and symbolic analysis of the LU factorisation.
+    LuSymbolic,
+    /// Allocation of workspace memory.
+    Workspace,
+    /// Numerical factorisation.
+    Numeric,
+}
+
+/// A failure of the sparse linear solver.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum LinearSolveError {
+    /// The pattern is not square.
+    #[error("the matrix pattern is {nrows}×{ncols}, not square")]
+    NotSquare {
+        /// Number of rows of the pattern.
+        nrows: usize,
+        /// Number of columns of the pattern.
+        ncols: usize,
+    },
+    /// The pattern stores per-column entry counts (a non-compact faer pattern); the values slice would
+    /// have gaps, which this solver does not accept.
+    #[error("the matrix pattern is not compact (it has explicit column counts)")]
+    NonCompactPattern,
+    /// The pattern has an entry strictly below the diagonal; only the upper triangle may be given.
+    #[error("pattern entry ({row}, {col}) lies below the diagonal; give the upper triangle only")]
+    LowerTriangleEntry {
+        /// Row of the offending entry.
+        row: usize,
+        /// Column of the offending entry.
+        col: usize,
+    },
+    /// The pattern has the same entry twice.
+    #[error("pattern entry ({row}, {col}) appears more than once")]
+    DuplicateEntry {
+        /// Row of the offending entry.
+        row: usize,
+        /// Column of the offending entry.
+        col: usize,
+    },
+    /// The pattern has no diagonal entry in a column. Every diagonal entry must be stored (possibly as
+    /// an explicit zero) so that fixed unknowns can be eliminated without changing the pattern.
+    #[error("the pattern has no diagonal entry in column {col}")]
+    MissingDiagonal {
+        /// The column without a diagonal entry.
+        col: usize,
+    },
+    /// A matrix value is NaN or infinite.
+    #[error("matrix value #{index} at ({row}, {col}) is not finite: {value}")]
+    NonFiniteValue {
+        /// Index into the values slice (pattern order).
+        index: usize,
+        /// Row of the entry.
+        row: usize,
+        /// Column of the entry.
+        col: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// A right-hand-side entry is NaN or infinite.
+    #[error("right-hand side entry {index} is not finite: {value}")]
+    NonFiniteRhs {
+        /// Index of the entry.
+        index: usize,
+        /// The offending value.
+        value: f64,
+    },
+    /// The Cholesky factorisation met a non-positive pivot: the matrix is not positive definite.
+    #[error("the matrix is not positive definite (non-positive pivot at column {col})")]
+    NotPositiveDefinite {
+        /// Column (in the caller's numbering) at which the pivot was found.
+        col: usize,
+    },
+    /// The factorisation met a zero pivot or produced a non-finite solution: the matrix is singular to
+    /// working precision.
+    #[error("the matrix is singular ({factorisation} factorisation{})", column_suffix(.col))]
+    Singular {
+        /// The factorisation that failed.
+        factorisation: Factorisation,
+        /// The column (in the caller's numbering) of the zero pivot, where known.
+        col: Option<usize>,
+    },
+    /// The solution's normwise backward error `‖b − A x‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞)` exceeds the accepted
+    /// bound: the factorisation was numerically unstable for this matrix.
+    #[error("{factorisation} solution has backward error {backward_error:e} above the bound {bound:e}")]
+    Inaccurate {
+        /// The factorisation that produced the solution.
+        factorisation: Factorisation,
+        /// The measured backward error.
+        backward_error: f64,
+        /// The accepted bound (`LinearSolverSettings::max_backward_error`).
+        bound: f64,
+    },
+    /// `LinearSolverSettings::max_backward_error` is NaN or not positive.
+    #[error("the backward-error bound must be positive, got {value}")]
+    InvalidBackwardErrorBound {
+        /// The rejected bound.
+        value: f64,
+    },
+    /// `solve_in_place` was called before a successful `factorise`.
+    #[error("no valid factorisation: call factorise successfully before solving")]
+    NotFactorised,
+    /// faer ran out of memory or overflowed its index type.
+    #[error("faer failed during {stage:?}: {source}")]
+    Faer {
+        /// Where the failure happened.
+        stage: LinearSolveStage,
+        /// The underlying faer error.
+        #[source]
+        source: FaerError,
+    },
+}
+
+fn column_suffix(col: &Option<usize>) -> String {
+    col.map_or_else(String::new, |c| format!(", zero pivot at column {c}"))
+}
+
+/// A failure reported by a [`NewtonProblem`](crate::NewtonProblem) about its own evaluation.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum ProblemError {
+    /// The energy contribution of one part of the problem (an element, a term, a spring; the problem
+    /// says which numbering it uses) is not finite.
+    #[error("non-finite energy in part {index}")]
+    NonFiniteEnergy {
+        /// Index of the offending part in the problem's own numbering.
+        index: usize,
+    },
+    /// The state is outside the problem's domain (an inverted element, an interpenetration, a
+    /// quaternion outside its hemisphere). During a Newton step this makes the solver shorten the step.
+    #[error("invalid state: {reason}")]
+    InvalidState {
+        /// What is invalid, for diagnostics.
+        reason: String,
+    },
+}
+
+/// Which quantity was found to be NaN or infinite.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NonFiniteQuantity {
+    /// The energy Π.
+    Energy,
+    /// An entry of the gradient ∇Π.
+    Gradient,
+    /// A value of the Hessian ∇²Π.
+    Hessian,
+    /// The feasible step fraction returned by the problem.
+    StepFraction,
+}
+
+/// A setting of [`NewtonSettings`](crate::NewtonSettings) or of the linear solver that is out of range.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum SettingName {
+    /// `residual_tolerance` must be positive and finite.
+    ResidualTolerance,
+    /// `residual_scale` must be positive and finite.
+    ResidualScale,
+    /// `armijo_constant` must lie in (0, 1).
+    ArmijoConstant,
+    /// `backtracking_factor` must lie in (0, 1).
+    BacktrackingFactor,
+    /// `min_step_fraction` must lie in (0, 1].
+    MinStepFraction,
+    /// `linear_solver.max_backward_error` must be positive (infinity disables the check).
+    MaxBackwardError,
+}
+
+/// A failure of Newton's method.
+///
+/// Every variant carries the residual history `residuals` (the residual at the start and after each
+/// iteration, see [`NewtonReport`](crate::NewtonReport)) for diagnostics; [`NewtonError::residuals`]
+/// returns it whatever the variant.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[non_exhaustive]
+pub enum NewtonError {
+    /// The residual did not fall below the tolerance within the allowed number of iterations.
+    #[error("no convergence in {iterations} Newton iterations (last residual {:e})", last(.residuals))]
+    MaxIterations {
+        /// Number of Newton iterations performed.
+        iterations: usize,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// The backtracking line search exhausted its iterations without satisfying the Armijo test.
+    #[error("line search failed in Newton iteration {iteration} (residual {residual:e})")]
+    LineSearchFailed {
+        /// The Newton iteration (1-based) whose line search failed.
+        iteration: usize,
+        /// The residual at the start of that iteration.
+        residual: f64,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// The Newton direction is not a descent direction (`dx·∇Π ≥ 0`) and flipping is disabled, or the
+    /// direction is orthogonal to the gradient.
+    #[error("Newton direction is not a descent direction in iteration {iteration} (dx·∇Π = {slope:e})")]
+    NotDescent {
+        /// The Newton iteration (1-based).
+        iteration: usize,
+        /// The directional derivative `dx·∇Π`.
+        slope: f64,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// The linear solve of a Newton iteration failed.
+    #[error("linear solve failed in Newton iteration {iteration}: {source}")]
+    LinearSolve {
+        /// The Newton iteration (1-based).
+        iteration: usize,
+        /// The linear solver's error.
+        #[source]
+        source: LinearSolveError,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// The problem reported an error of its own (iteration 0 is the initial evaluation).
+    #[error("problem evaluation failed in Newton iteration {iteration}: {source}")]
+    Problem {
+        /// The Newton iteration (0 for the initial evaluation).
+        iteration: usize,
+        /// The problem's error.
+        #[source]
+        source: ProblemError,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// A NaN or infinity appeared in a quantity returned by the problem (iteration 0 is the initial
+    /// evaluation). Such values are never accepted.
+    #[error("non-finite {quantity:?} (entry {index:?}) in Newton iteration {iteration}")]
+    NonFinite {
+        /// The Newton iteration (0 for the initial evaluation).
+        iteration: usize,
+        /// Which quantity.
+        quantity: NonFiniteQuantity,
+        /// The offending entry for gradients and Hessian values.
+        index: Option<usize>,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// No feasible step: the step fraction allowed by the problem (after halving until the state is
+    /// valid) fell below `min_step_fraction`.
+    #[error("infeasible step in Newton iteration {iteration}: step fraction {step_fraction:e} below the minimum")]
+    InfeasibleStep {
+        /// The Newton iteration (1-based).
+        iteration: usize,
+        /// The last step fraction tried.
+        step_fraction: f64,
+        /// Residual history.
+        residuals: Vec<f64>,
+    },
+    /// A buffer or mask has the wrong length.
+    #[error("{what} has length {found}, expected {expected}")]
+    DimensionMismatch {
+        /// Which buffer.
+        what: &'static str,
+        /// Expected length.
+        expected: usize,
+        /// Actual length.
+        found: usize,
+    },
+    /// The problem's Hessian pattern differs from the one the solver was built for.
+    #[error("the problem's Hessian pattern differs from the one the solver was built for")]
+    PatternChanged,
+    /// A setting is out of range.
+    #[error("setting {name:?} is out of range: {value}")]
+    InvalidSetting {
+        /// Which setting.
+        name: SettingName,
+        /// Its value.
+        value: f64,
+    },
+    /// Building the linear solver for the problem's pattern failed.
+    #[error("cannot build the linear solver: {0}")]
+    Setup(#[source] LinearSolveError),
+}
+
+fn last(residuals: &[f64]) -> f64 {
+    residuals.last().copied().unwrap_or(f64::NAN)
+}
+
+impl NewtonError {
+    /// The residual history carried by the error (empty for set-up errors).
+    pub fn residuals(&self) -> &[f64] {
+        match self {
+            Self::MaxIterations { residuals, .. }
+            | Self::LineSearchFailed { residuals, .. }
+            | Self::NotDescent { residuals, .. }
+            | Self::LinearSolve { residuals, .. }
+            | Self::Problem { residuals, .. }
+            | Self::NonFinite { residuals, .. }
+            | Self::InfeasibleStep { residuals, .. } => residuals,
+            Self::DimensionMismatch { .. } | Self::PatternChanged | Self::InvalidSetting { .. } | Self::Setup(_) => &[],
+        }
+    }
+}

@@ -1,0 +1,176 @@
+//! The symmetric factorisations' shared state: one symbolic analysis (fill-reducing ordering,
+//! elimination tree, supernodes) and the numerical factor storage, plus the supernodal Cholesky
+//! `L Lᵀ` itself.
+//!
+//! The symbolic analysis is asked to be supernodal. faer's intranode Bunch–Kaufman `L B Lᵀ`
+//! (`ldlt.rs`) pivots only inside supernodes and degrades to unpivoted `L D Lᵀ` on a simplicial
+//! structure, so one supernodal analysis serves both the Cholesky attempt and the indefinite fallback.
+//! faer still chooses a simplicial structure when `L` is diagonal (its flop estimate is zero); then
+//! no pivoting is needed and the unpivoted `L D Lᵀ` is exact.
+
+use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
+use faer::sparse::SparseColMatRef;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
+    factorize_symbolic_cholesky,
+};
+use faer::{Conj, MatMut, Par, Side};
+
+use super::pattern::UpperPattern;
+use super::{FactorStats, FillOrdering};
+use crate::error::{LinearSolveError, LinearSolveStage};
+
+/// The symbolic Cholesky analysis of a fixed pattern with the buffers for numerical factors and
+/// solves.
+pub(crate) struct SymmetricFactor {
+    pub(super) symbolic: SymbolicCholesky<usize>,
+    /// Numerical values of `L` (shared by `L Lᵀ` and `L B Lᵀ`).
+    pub(super) l_values: Vec<f64>,
+    /// Workspace for numerical factorisation and solves, sized once.
+    pub(super) mem: MemBuffer,
+    pub(super) par: Par,
+    stats: FactorStats,
+}
+
+impl std::fmt::Debug for SymmetricFactor {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SymmetricFactor")
+            .field("symbolic", &self.symbolic)
+            .field("len_l_values", &self.l_values.len())
+            .field("par", &self.par)
+            .field("stats", &self.stats)
+            .finish_non_exhaustive()
+    }
+}
+
+impl SymmetricFactor {
+    /// Orders the pattern and runs the supernodal symbolic analysis; allocates all buffers.
+    pub(crate) fn try_new(pattern: &UpperPattern, ordering: FillOrdering, par: Par) -> Result<Self, LinearSolveError> {
+        let ord = match ordering {
+            FillOrdering::Amd => SymmetricOrdering::Amd,
+            FillOrdering::Identity => SymmetricOrdering::Identity,
+        };
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, ord, params).map_err(|source| {
+            LinearSolveError::Faer {
+                stage: LinearSolveStage::SymmetricSymbolic,
+                source,
+            }
+        })?;
+        let req = StackReq::any_of(&[
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+            symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
+            symbolic.factorize_numeric_intranode_lblt_scratch::<f64>(par, super::ldlt::lblt_params()),
+            symbolic.solve_in_place_scratch::<f64>(1, par),
+        ]);
+        let mem = MemBuffer::try_new(req).map_err(|_| LinearSolveError::Faer {
+            stage: LinearSolveStage::Workspace,
+            source: faer::sparse::FaerError::OutOfMemory,
+        })?;
+        let l_values = vec![0.0; symbolic.len_val()];
+        let stats = factor_stats(&symbolic);
+        Ok(Self {
+            symbolic,
+            l_values,
+            mem,
+            par,
+            stats,
+        })
+    }
+
+    /// Structural statistics of `L`.
+    pub(crate) fn stats(&self) -> FactorStats {
+        self.stats
+    }
+
+    /// The column, in the caller's numbering, of the pivot that faer reports as `index`.
+    ///
+    /// faer 0.24.4 reports pivot failures 1-based from its simplicial kernels and 0-based from its
+    /// supernodal ones; both are mapped here, and an index out of range (which would be a faer bug) is
+    /// passed through unchanged rather than panicking.
+    pub(super) fn failed_column(&self, index: usize) -> usize {
+        let permuted = match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => index.saturating_sub(1),
+            SymbolicCholeskyRaw::Supernodal(_) => index,
+        };
+        self.original_column(permuted)
+    }
+
+    /// The column, in the caller's numbering, of column `permuted` of the reordered matrix.
+    pub(super) fn original_column(&self, permuted: usize) -> usize {
+        self.symbolic
+            .perm()
+            .and_then(|p| p.arrays().0.get(permuted).copied())
+            .unwrap_or(permuted)
+    }
+
+    /// Numerical Cholesky factorisation of the matrix whose upper triangle is `values`.
+    pub(crate) fn factorise_llt(&mut self, pattern: &UpperPattern, values: &[f64]) -> Result<(), LinearSolveError> {
+        let a = SparseColMatRef::new(pattern.as_ref(), values);
+        let result = self.symbolic.factorize_numeric_llt(
+            &mut self.l_values,
+            a,
+            Side::Upper,
+            LltRegularization::default(),
+            self.par,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        );
+        match result {
+            Ok(_) => Ok(()),
+            Err(LltError::NonPositivePivot { index }) => Err(LinearSolveError::NotPositiveDefinite {
+                col: self.failed_column(index),
+            }),
+        }
+    }
+
+    /// Solves `L Lᵀ x = rhs` in place with the last Cholesky factorisation.
+    pub(crate) fn solve_llt_in_place(&mut self, rhs: &mut [f64]) {
+        let n = rhs.len();
+        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            MatMut::from_column_major_slice_mut(rhs, n, 1),
+            self.par,
+            MemStack::new(&mut self.mem),
+        );
+    }
+}
+
+/// Number of stored entries of `L` and the operation-count estimate `Σ_j c_j²` from the symbolic
+/// structure, with `c_j` the stored entries of column `j` including the diagonal.
+fn factor_stats(symbolic: &SymbolicCholesky<usize>) -> FactorStats {
+    let mut nnz_l = 0usize;
+    let mut flops = 0.0f64;
+    let mut add_column = |count: usize| {
+        nnz_l += count;
+        flops += (count as f64) * (count as f64);
+    };
+    let n_supernodes = match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => {
+            for s in 0..sn.n_supernodes() {
+                let width = sn.supernode_end()[s] - sn.supernode_begin()[s];
+                let below = sn.supernode(s).pattern().len();
+                for local in 0..width {
+                    add_column(width - local + below);
+                }
+            }
+            sn.n_supernodes()
+        }
+        SymbolicCholeskyRaw::Simplicial(simp) => {
+            for w in simp.col_ptr().windows(2) {
+                add_column(w[1] - w[0]);
+            }
+            simp.ncols()
+        }
+    };
+    FactorStats {
+        nnz_l,
+        flops,
+        n_supernodes,
+    }
+}

@@ -1,0 +1,424 @@
+//! Sparse symmetric linear solvers on a fixed sparsity pattern, built on faer.
+//!
+//! The Newton matrix of the shell simulator is symmetric, sparse, and has the same pattern for the
+//! whole run, while its values change every iteration. [`SparseSolver`] therefore does all symbolic
+//! work (fill-reducing ordering, elimination tree, supernodes, mirrored LU pattern) once and keeps all
+//! workspaces, so a numerical factorisation and solve allocate only what faer allocates internally.
+//!
+//! Input is the upper triangle including the diagonal in compressed sparse column form (a faer
+//! [`SymbolicSparseColMatRef`] plus a values slice in pattern order).
+//!
+//! Factorisations ([`LinearSolverKind`]):
+//! - supernodal Cholesky `L Lᵀ` for positive definite matrices (`cholesky.rs`, which also holds the
+//!   shared symbolic analysis);
+//! - supernodal Bunch–Kaufman `L B Lᵀ` with rook pivoting inside supernodes for indefinite ones
+//!   (`ldlt.rs`);
+//! - sparse LU with partial pivoting on the mirrored full matrix (`lu.rs`);
+//! - `Auto`: Cholesky, then `L B Lᵀ` if the matrix is not positive definite, then LU if `L B Lᵀ` breaks
+//!   down or its solution is inaccurate. The factorisation actually used is reported.
+//!
+//! Fixed unknowns are eliminated without touching the pattern: their rows and columns are replaced by
+//! those of the identity in a copy of the values and their right-hand-side entries are zeroed, so the
+//! solve returns the reduced system's solution on the free unknowns and exact zeros on the fixed ones.
+
+mod cholesky;
+mod ldlt;
+mod lu;
+mod pattern;
+
+use faer::Par;
+use faer::sparse::SymbolicSparseColMatRef;
+
+use self::cholesky::SymmetricFactor;
+use self::ldlt::LbltFactor;
+use self::lu::LuFactor;
+use self::pattern::{UpperPattern, backward_error};
+use crate::error::{Factorisation, LinearSolveError};
+
+/// Which factorisation [`SparseSolver`] uses.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum LinearSolverKind {
+    /// Supernodal Cholesky `L Lᵀ`. Fails with [`LinearSolveError::NotPositiveDefinite`] on a matrix
+    /// that is not positive definite. The fastest choice for positive definite systems.
+    Cholesky,
+    /// Symmetric indefinite `P L B Lᵀ Pᵀ` with 1×1 and 2×2 pivots (faer's intranode Bunch–Kaufman with
+    /// rook pivoting, the most robust symmetric indefinite factorisation faer 0.24 offers).
+    Ldlt,
+    /// Sparse LU with partial pivoting on the full matrix: the most robust and the most expensive.
+    Lu,
+    /// Cholesky first; on a non-positive pivot the symmetric indefinite factorisation; if that breaks
+    /// down or its solution's backward error exceeds the bound, LU. The LU analysis is done on first
+    /// use only and then kept.
+    #[default]
+    Auto,
+}
+
+/// The fill-reducing ordering of the symmetric factorisations. LU always uses faer's COLAMD column
+/// ordering, which faer 0.24 does not let the caller replace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum FillOrdering {
+    /// Approximate minimum degree (AMD).
+    #[default]
+    Amd,
+    /// No reordering (for banded matrices, or to make the factor structure predictable).
+    Identity,
+}
+
+/// Settings of [`SparseSolver`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LinearSolverSettings {
+    /// The factorisation (default [`LinearSolverKind::Auto`]).
+    pub kind: LinearSolverKind,
+    /// The fill-reducing ordering of the symmetric factorisations (default AMD).
+    pub ordering: FillOrdering,
+    /// faer's parallelism for factorisation and solves (default sequential).
+    pub parallelism: Par,
+    /// Largest accepted normwise backward error `‖b − A x‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞)` of a solution
+    /// (dimensionless, default 1e-8). A backward-stable factorisation reaches about 1e-15; a larger
+    /// value signals pivot growth. `Auto` then falls back to LU; otherwise the solve fails with
+    /// [`LinearSolveError::Inaccurate`]. `f64::INFINITY` disables the check.
+    pub max_backward_error: f64,
+}
+
+impl Default for LinearSolverSettings {
+    fn default() -> Self {
+        Self {
+            kind: LinearSolverKind::Auto,
+            ordering: FillOrdering::Amd,
+            parallelism: Par::Seq,
+            max_backward_error: 1e-8,
+        }
+    }
+}
+
+/// Structural statistics of the symmetric factor `L`, for performance tables.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FactorStats {
+    /// Entries of `L` in the supernodal structure, diagonal included. Supernode amalgamation may store
+    /// some explicit zeros; they are counted because the factorisation works on them.
+    pub nnz_l: usize,
+    /// Operation-count estimate `Σ_j c_j²` of the numerical factorisation, with `c_j` the entries of
+    /// column `j` of `L` (about twice the number of multiply–add pairs).
+    pub flops: f64,
+    /// Number of supernodes.
+    pub n_supernodes: usize,
+}
+
+/// A sparse symmetric solver for one fixed pattern: symbolic analysis once, numerical factorisation
+/// and solves many times.
+///
+/// ```
+/// use cosserat_solver::linear::{LinearSolverKind, LinearSolverSettings, SparseSolver};
+/// use faer::sparse::SymbolicSparseColMat;
+/// // Upper triangle of [[4, 1], [1, 3]].
+/// let pattern = SymbolicSparseColMat::new_checked(2, 2, vec![0, 1, 3], None, vec![0, 0, 1]);
+/// let mut solver = SparseSolver::try_new(pattern.as_ref(), LinearSolverSettings::default()).unwrap();
+/// solver.factorise(&[4.0, 1.0, 3.0], None).unwrap();
+/// let mut x = [1.0, 2.0];
+/// solver.solve_in_place(&mut x).unwrap();
+/// assert!((x[0] - 1.0 / 11.0).abs() < 1e-15 && (x[1] - 7.0 / 11.0).abs() < 1e-15);
+/// ```
+#[derive(Debug)]
+pub struct SparseSolver {
+    settings: LinearSolverSettings,
+    pattern: UpperPattern,
+    symmetric: Option<SymmetricFactor>,
+    lblt: Option<LbltFactor>,
+    lu: Option<LuFactor>,
+    /// The values actually factorised (fixed rows and columns replaced by the identity).
+    values: Vec<f64>,
+    /// The fixed mask of the current factorisation (all `false` without one).
+    fixed: Vec<bool>,
+    norm_a: f64,
+    current: Option<Factorisation>,
+    rhs_copy: Vec<f64>,
+    product: Vec<f64>,
+    symbolic_analyses: usize,
+    last_backward_error: Option<f64>,
+}
+
+impl SparseSolver {
+    /// Validates and copies the pattern (upper triangle with every diagonal entry stored) and runs the
+    /// symbolic analysis the chosen kind needs.
+    ///
+    /// # Errors
+    /// [`LinearSolveError::InvalidBackwardErrorBound`] for a bound that is not positive, a pattern
+    /// error ([`LinearSolveError::NotSquare`], [`LinearSolveError::LowerTriangleEntry`],
+    /// [`LinearSolveError::MissingDiagonal`], ...) or [`LinearSolveError::Faer`] if faer runs out of
+    /// memory.
+    pub fn try_new(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        settings: LinearSolverSettings,
+    ) -> Result<Self, LinearSolveError> {
+        let bound = settings.max_backward_error;
+        if bound.is_nan() || bound <= 0.0 {
+            return Err(LinearSolveError::InvalidBackwardErrorBound { value: bound });
+        }
+        let pattern = UpperPattern::try_new(pattern)?;
+        let n = pattern.n();
+        let nnz = pattern.nnz();
+        let mut solver = Self {
+            settings,
+            pattern,
+            symmetric: None,
+            lblt: None,
+            lu: None,
+            values: vec![0.0; nnz],
+            fixed: vec![false; n],
+            norm_a: 0.0,
+            current: None,
+            rhs_copy: vec![0.0; n],
+            product: vec![0.0; n],
+            symbolic_analyses: 0,
+            last_backward_error: None,
+        };
+        solver.prepare_symbolic()?;
+        Ok(solver)
+    }
+
+    /// Runs the symbolic analyses the current kind needs and that are not done yet.
+    fn prepare_symbolic(&mut self) -> Result<(), LinearSolveError> {
+        let kind = self.settings.kind;
+        if kind != LinearSolverKind::Lu && self.symmetric.is_none() {
+            self.symmetric = Some(SymmetricFactor::try_new(
+                &self.pattern,
+                self.settings.ordering,
+                self.settings.parallelism,
+            )?);
+            self.symbolic_analyses += 1;
+        }
+        if matches!(kind, LinearSolverKind::Ldlt | LinearSolverKind::Auto) && self.lblt.is_none() {
+            self.lblt = Some(LbltFactor::new(self.pattern.n()));
+        }
+        if kind == LinearSolverKind::Lu {
+            self.ensure_lu()?;
+        }
+        Ok(())
+    }
+
+    fn ensure_lu(&mut self) -> Result<&mut LuFactor, LinearSolveError> {
+        if self.lu.is_none() {
+            self.lu = Some(LuFactor::try_new(&self.pattern, self.settings.parallelism)?);
+            self.symbolic_analyses += 1;
+        }
+        Ok(self.lu.as_mut().expect("the LU factor was just built"))
+    }
+
+    /// The current settings.
+    pub fn settings(&self) -> &LinearSolverSettings {
+        &self.settings
+    }
+
+    /// Changes the settings. Symbolic analyses that remain valid are kept; a new ordering or
+    /// parallelism discards them and redoes the ones the new kind needs. The current factorisation is
+    /// discarded.
+    ///
+    /// # Errors
+    /// As [`try_new`](Self::try_new) for the symbolic analysis.
+    pub fn set_settings(&mut self, settings: LinearSolverSettings) -> Result<(), LinearSolveError> {
+        if settings == self.settings {
+            return Ok(());
+        }
+        let bound = settings.max_backward_error;
+        if bound.is_nan() || bound <= 0.0 {
+            return Err(LinearSolveError::InvalidBackwardErrorBound { value: bound });
+        }
+        if settings.ordering != self.settings.ordering || settings.parallelism != self.settings.parallelism {
+            self.symmetric = None;
+            self.lu = None;
+        }
+        self.settings = settings;
+        self.current = None;
+        self.prepare_symbolic()
+    }
+
+    /// The dimension `n` of the system.
+    pub fn n(&self) -> usize {
+        self.pattern.n()
+    }
+
+    /// The number of stored entries of the upper-triangle pattern (the length of the values slice).
+    pub fn nnz(&self) -> usize {
+        self.pattern.nnz()
+    }
+
+    /// Whether `pattern` is the pattern this solver was built for (same dimension and the same entries
+    /// in the same order).
+    pub fn pattern_matches(&self, pattern: SymbolicSparseColMatRef<'_, usize>) -> bool {
+        self.pattern.same_as(pattern)
+    }
+
+    /// How many symbolic analyses this solver has run: one for the symmetric factorisations, one for
+    /// LU, each at most once per pattern and settings.
+    pub fn symbolic_analysis_count(&self) -> usize {
+        self.symbolic_analyses
+    }
+
+    /// Structural statistics of the symmetric factor `L` (`None` for pure LU, whose factor structure
+    /// faer 0.24 does not expose).
+    pub fn symmetric_stats(&self) -> Option<FactorStats> {
+        self.symmetric.as_ref().map(SymmetricFactor::stats)
+    }
+
+    /// The factorisation currently held, if any. After a solve in `Auto` mode this is the one that
+    /// produced the solution.
+    pub fn factorisation(&self) -> Option<Factorisation> {
+        self.current
+    }
+
+    /// The normwise backward error of the last solution.
+    pub fn last_backward_error(&self) -> Option<f64> {
+        self.last_backward_error
+    }
+
+    /// Factorises the symmetric matrix whose upper triangle (pattern order) is `values`, with the
+    /// unknowns marked in `fixed` eliminated.
+    ///
+    /// # Errors
+    /// - [`LinearSolveError::NonFiniteValue`] naming the first NaN or infinite value;
+    /// - [`LinearSolveError::NotPositiveDefinite`] for `Cholesky` on a matrix that is not positive
+    ///   definite;
+    /// - [`LinearSolveError::Singular`] if the last factorisation tried breaks down;
+    /// - [`LinearSolveError::Faer`] on allocation failure.
+    ///
+    /// # Panics
+    /// If `values.len() != self.nnz()` or `fixed` has a length other than `self.n()`.
+    #[track_caller]
+    pub fn factorise(&mut self, values: &[f64], fixed: Option<&[bool]>) -> Result<Factorisation, LinearSolveError> {
+        assert_eq!(
+            values.len(),
+            self.nnz(),
+            "values slice length differs from the pattern's entry count"
+        );
+        if let Some(f) = fixed {
+            assert_eq!(f.len(), self.n(), "fixed mask length differs from the dimension");
+        }
+        self.current = None;
+        self.pattern.check_finite(values)?;
+        self.pattern.eliminate_into(values, fixed, &mut self.values);
+        match fixed {
+            Some(f) => self.fixed.copy_from_slice(f),
+            None => self.fixed.fill(false),
+        }
+        self.norm_a = self.pattern.norm_inf(&self.values, &mut self.product);
+        let used = match self.settings.kind {
+            LinearSolverKind::Cholesky => self.factorise_llt()?,
+            LinearSolverKind::Ldlt => self.factorise_lblt()?,
+            LinearSolverKind::Lu => self.factorise_lu()?,
+            LinearSolverKind::Auto => match self.factorise_llt() {
+                Ok(f) => f,
+                Err(LinearSolveError::NotPositiveDefinite { .. }) => match self.factorise_lblt() {
+                    Ok(f) => f,
+                    Err(LinearSolveError::Singular { .. }) => self.factorise_lu()?,
+                    Err(e) => return Err(e),
+                },
+                Err(e) => return Err(e),
+            },
+        };
+        self.current = Some(used);
+        Ok(used)
+    }
+
+    fn factorise_llt(&mut self) -> Result<Factorisation, LinearSolveError> {
+        let sym = self.symmetric.as_mut().expect("symmetric analysis exists for this kind");
+        sym.factorise_llt(&self.pattern, &self.values)?;
+        Ok(Factorisation::Llt)
+    }
+
+    fn factorise_lblt(&mut self) -> Result<Factorisation, LinearSolveError> {
+        let sym = self.symmetric.as_mut().expect("symmetric analysis exists for this kind");
+        let lblt = self.lblt.as_mut().expect("pivot buffers exist for this kind");
+        lblt.factorise(sym, &self.pattern, &self.values)?;
+        Ok(Factorisation::Lblt)
+    }
+
+    fn factorise_lu(&mut self) -> Result<Factorisation, LinearSolveError> {
+        self.ensure_lu()?;
+        let lu = self.lu.as_mut().expect("the LU factor was just built");
+        lu.factorise(&self.values)?;
+        Ok(Factorisation::Lu)
+    }
+
+    /// Solves `A x = rhs` in place with the current factorisation; fixed unknowns get exactly zero.
+    /// Returns the factorisation that produced the solution: in `Auto` mode an inaccurate `L B Lᵀ`
+    /// solution triggers an LU factorisation of the same values and a second solve.
+    ///
+    /// # Errors
+    /// - [`LinearSolveError::NotFactorised`] without a successful [`factorise`](Self::factorise);
+    /// - [`LinearSolveError::NonFiniteRhs`] naming the first NaN or infinite entry;
+    /// - [`LinearSolveError::Singular`] if the solution is not finite;
+    /// - [`LinearSolveError::Inaccurate`] if its backward error exceeds the bound.
+    ///
+    /// # Panics
+    /// If `rhs.len() != self.n()`.
+    #[track_caller]
+    pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<Factorisation, LinearSolveError> {
+        assert_eq!(rhs.len(), self.n(), "right-hand side length differs from the dimension");
+        let Some(current) = self.current else {
+            return Err(LinearSolveError::NotFactorised);
+        };
+        if let Some(index) = rhs.iter().position(|v| !v.is_finite()) {
+            return Err(LinearSolveError::NonFiniteRhs {
+                index,
+                value: rhs[index],
+            });
+        }
+        for (r, &f) in rhs.iter_mut().zip(&self.fixed) {
+            if f {
+                *r = 0.0;
+            }
+        }
+        self.rhs_copy.copy_from_slice(rhs);
+        match self.solve_checked(current, rhs) {
+            Err(LinearSolveError::Singular { .. } | LinearSolveError::Inaccurate { .. })
+                if current == Factorisation::Lblt && self.settings.kind == LinearSolverKind::Auto =>
+            {
+                self.current = None;
+                self.factorise_lu()?;
+                self.current = Some(Factorisation::Lu);
+                rhs.copy_from_slice(&self.rhs_copy);
+                self.solve_checked(Factorisation::Lu, rhs)?;
+                Ok(Factorisation::Lu)
+            }
+            Err(e) => Err(e),
+            Ok(()) => Ok(current),
+        }
+    }
+
+    /// Solves with `factorisation`, zeroes the fixed entries and checks the solution against
+    /// `rhs_copy`.
+    fn solve_checked(&mut self, factorisation: Factorisation, rhs: &mut [f64]) -> Result<(), LinearSolveError> {
+        match factorisation {
+            Factorisation::Llt => self.symmetric.as_mut().expect("factorised").solve_llt_in_place(rhs),
+            Factorisation::Lblt => {
+                let sym = self.symmetric.as_mut().expect("factorised");
+                self.lblt.as_ref().expect("factorised").solve_in_place(sym, rhs);
+            }
+            Factorisation::Lu => self.lu.as_mut().expect("factorised").solve_in_place(rhs),
+        }
+        for (x, &f) in rhs.iter_mut().zip(&self.fixed) {
+            if f {
+                *x = 0.0;
+            }
+        }
+        self.pattern.symmetric_product_into(&self.values, rhs, &mut self.product);
+        let eta = backward_error(self.norm_a, &self.rhs_copy, rhs, &self.product);
+        self.last_backward_error = Some(eta);
+        if rhs.iter().any(|v| !v.is_finite()) {
+            return Err(LinearSolveError::Singular {
+                factorisation,
+                col: None,
+            });
+        }
+        if eta > self.settings.max_backward_error {
+            return Err(LinearSolveError::Inaccurate {
+                factorisation,
+                backward_error: eta,
+                bound: self.settings.max_backward_error,
+            });
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,228 @@
+//! The validated upper-triangular pattern of a symmetric system and the per-iteration value
+//! operations on it: elimination of fixed unknowns, the symmetric product `A x` and the norm `‖A‖∞`.
+//!
+//! The pattern is checked and copied once; every operation here is a single pass over the stored
+//! values, so nothing is allocated per Newton iteration.
+
+use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
+
+use crate::error::{LinearSolveError, LinearSolveStage};
+
+/// An owned, validated upper triangle (diagonal included) of a symmetric `n × n` pattern.
+#[derive(Debug, Clone)]
+pub(crate) struct UpperPattern {
+    symbolic: SymbolicSparseColMat<usize>,
+    /// Column of every stored entry, in pattern order.
+    col_of_entry: Vec<usize>,
+}
+
+impl UpperPattern {
+    /// Checks that `pattern` is square, compact, upper triangular, free of duplicates and stores every
+    /// diagonal entry, and copies it.
+    pub(crate) fn try_new(pattern: SymbolicSparseColMatRef<'_, usize>) -> Result<Self, LinearSolveError> {
+        let (nrows, ncols) = (pattern.nrows(), pattern.ncols());
+        if nrows != ncols {
+            return Err(LinearSolveError::NotSquare { nrows, ncols });
+        }
+        if pattern.col_nnz().is_some() {
+            return Err(LinearSolveError::NonCompactPattern);
+        }
+        let n = ncols;
+        let col_ptr = pattern.col_ptr();
+        let row_idx = pattern.row_idx();
+        let nnz = col_ptr[n];
+        // `seen[row] == col + 1` marks a row already met in column `col`.
+        let mut seen = vec![0usize; n];
+        let mut col_of_entry = Vec::with_capacity(nnz);
+        for col in 0..n {
+            let mut has_diagonal = false;
+            for &row in &row_idx[col_ptr[col]..col_ptr[col + 1]] {
+                if row > col {
+                    return Err(LinearSolveError::LowerTriangleEntry { row, col });
+                }
+                if seen[row] == col + 1 {
+                    return Err(LinearSolveError::DuplicateEntry { row, col });
+                }
+                seen[row] = col + 1;
+                has_diagonal |= row == col;
+                col_of_entry.push(col);
+            }
+            if !has_diagonal {
+                return Err(LinearSolveError::MissingDiagonal { col });
+            }
+        }
+        let symbolic = pattern.to_owned().map_err(|source| LinearSolveError::Faer {
+            stage: LinearSolveStage::Pattern,
+            source,
+        })?;
+        Ok(Self { symbolic, col_of_entry })
+    }
+
+    /// The dimension `n`.
+    pub(crate) fn n(&self) -> usize {
+        self.symbolic.ncols()
+    }
+
+    /// The number of stored entries.
+    pub(crate) fn nnz(&self) -> usize {
+        self.col_of_entry.len()
+    }
+
+    /// The faer view of the pattern.
+    pub(crate) fn as_ref(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.symbolic.as_ref()
+    }
+
+    /// Row indices of the stored entries, in pattern order.
+    pub(crate) fn row_idx(&self) -> &[usize] {
+        self.symbolic.row_idx()
+    }
+
+    /// Column indices of the stored entries, in pattern order.
+    pub(crate) fn col_idx(&self) -> &[usize] {
+        &self.col_of_entry
+    }
+
+    /// Whether `other` is the same pattern (same dimension, same entries in the same order).
+    pub(crate) fn same_as(&self, other: SymbolicSparseColMatRef<'_, usize>) -> bool {
+        other.nrows() == self.n()
+            && other.ncols() == self.n()
+            && other.col_nnz().is_none()
+            && other.col_ptr() == self.symbolic.col_ptr()
+            && other.row_idx() == self.symbolic.row_idx()
+    }
+
+    /// Checks `values` for NaN and infinity.
+    pub(crate) fn check_finite(&self, values: &[f64]) -> Result<(), LinearSolveError> {
+        match values.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(index) => Err(LinearSolveError::NonFiniteValue {
+                index,
+                row: self.row_idx()[index],
+                col: self.col_of_entry[index],
+                value: values[index],
+            }),
+        }
+    }
+
+    /// Copies `values` into `out`, replacing the rows and columns of fixed unknowns by those of the
+    /// identity. The system solved with `out` and a right-hand side whose fixed entries are zero has the
+    /// solution of the reduced (free × free) system on the free unknowns and zero on the fixed ones.
+    pub(crate) fn eliminate_into(&self, values: &[f64], fixed: Option<&[bool]>, out: &mut [f64]) {
+        out.copy_from_slice(values);
+        if let Some(fixed) = fixed {
+            for ((v, &row), &col) in out.iter_mut().zip(self.row_idx()).zip(&self.col_of_entry) {
+                if fixed[row] || fixed[col] {
+                    *v = if row == col { 1.0 } else { 0.0 };
+                }
+            }
+        }
+    }
+
+    /// `y = A x` for the symmetric matrix whose upper triangle holds `values`.
+    pub(crate) fn symmetric_product_into(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
+        y.fill(0.0);
+        for ((&v, &row), &col) in values.iter().zip(self.row_idx()).zip(&self.col_of_entry) {
+            y[row] += v * x[col];
+            if row != col {
+                y[col] += v * x[row];
+            }
+        }
+    }
+
+    /// `‖A‖∞`, the largest absolute row sum of the symmetric matrix whose upper triangle holds
+    /// `values`, using `scratch` (length `n`) as row-sum storage.
+    pub(crate) fn norm_inf(&self, values: &[f64], scratch: &mut [f64]) -> f64 {
+        scratch.fill(0.0);
+        for ((&v, &row), &col) in values.iter().zip(self.row_idx()).zip(&self.col_of_entry) {
+            scratch[row] += v.abs();
+            if row != col {
+                scratch[col] += v.abs();
+            }
+        }
+        scratch.iter().copied().fold(0.0, f64::max)
+    }
+}
+
+/// The normwise backward error `‖b − A x‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞)` given the product `ax = A x`; zero
+/// when `b = 0` and `x = 0`, infinite when anything is non-finite.
+pub(crate) fn backward_error(norm_a: f64, b: &[f64], x: &[f64], ax: &[f64]) -> f64 {
+    let max_abs = |v: &[f64]| {
+        v.iter().fold(
+            0.0_f64,
+            |m, e| if e.is_finite() { m.max(e.abs()) } else { f64::INFINITY },
+        )
+    };
+    let residual = b.iter().zip(ax).fold(0.0_f64, |m, (bi, ai)| {
+        let r = (bi - ai).abs();
+        if r.is_finite() { m.max(r) } else { f64::INFINITY }
+    });
+    let scale = norm_a * max_abs(x) + max_abs(b);
+    if residual == 0.0 {
+        return 0.0;
+    }
+    if !residual.is_finite() || !scale.is_finite() {
+        return f64::INFINITY;
+    }
+    residual / scale
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn pattern(n: usize, col_ptr: Vec<usize>, row_idx: Vec<usize>) -> SymbolicSparseColMat<usize> {
+        SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx)
+    }
+
+    #[test]
+    fn elimination_puts_identity_on_fixed_rows_and_columns() {
+        // Full upper triangle of a 3×3 matrix.
+        let p = pattern(3, vec![0, 1, 3, 6], vec![0, 0, 1, 0, 1, 2]);
+        let up = UpperPattern::try_new(p.as_ref()).unwrap();
+        let values = [4.0, 1.0, 5.0, 2.0, 3.0, 6.0];
+        let mut out = [0.0; 6];
+        up.eliminate_into(&values, Some(&[false, true, false]), &mut out);
+        assert_eq!(out, [4.0, 0.0, 1.0, 2.0, 0.0, 6.0]);
+    }
+
+    #[test]
+    fn symmetric_product_and_norm_match_the_full_matrix() {
+        // A = [[4, 1, 2], [1, 5, 3], [2, 3, 6]].
+        let p = pattern(3, vec![0, 1, 3, 6], vec![0, 0, 1, 0, 1, 2]);
+        let up = UpperPattern::try_new(p.as_ref()).unwrap();
+        let values = [4.0, 1.0, 5.0, 2.0, -3.0, 6.0];
+        let mut y = [0.0; 3];
+        up.symmetric_product_into(&values, &[1.0, 2.0, 3.0], &mut y);
+        assert_eq!(y, [4.0 + 2.0 + 6.0, 1.0 + 10.0 - 9.0, 2.0 - 6.0 + 18.0]);
+        let mut scratch = [0.0; 3];
+        assert_eq!(up.norm_inf(&values, &mut scratch), 11.0);
+    }
+
+    #[test]
+    fn backward_error_handles_zero_and_non_finite() {
+        assert_eq!(backward_error(1.0, &[0.0], &[0.0], &[0.0]), 0.0);
+        assert_eq!(backward_error(1.0, &[1.0], &[f64::NAN], &[f64::NAN]), f64::INFINITY);
+        // b = 2, x = 1, A x = 1.5: residual 0.5 over ‖A‖‖x‖ + ‖b‖ = 1.5 + 2.
+        assert_eq!(backward_error(1.5, &[2.0], &[1.0], &[1.5]), 0.5 / 3.5);
+    }
+
+    #[test]
+    fn malformed_patterns_are_rejected_with_their_entry() {
+        let lower = pattern(2, vec![0, 2, 3], vec![0, 1, 1]);
+        assert_eq!(
+            UpperPattern::try_new(lower.as_ref()).unwrap_err(),
+            LinearSolveError::LowerTriangleEntry { row: 1, col: 0 }
+        );
+        let no_diag = pattern(2, vec![0, 1, 2], vec![0, 0]);
+        assert_eq!(
+            UpperPattern::try_new(no_diag.as_ref()).unwrap_err(),
+            LinearSolveError::MissingDiagonal { col: 1 }
+        );
+        let rect = SymbolicSparseColMat::new_unsorted_checked(3, 2, vec![0, 1, 2], None, vec![0, 1]);
+        assert_eq!(
+            UpperPattern::try_new(rect.as_ref()).unwrap_err(),
+            LinearSolveError::NotSquare { nrows: 3, ncols: 2 }
+        );
+    }
+}

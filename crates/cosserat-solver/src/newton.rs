@@ -1,0 +1,667 @@
+//! Newton's method with a backtracking (noise-resistant) Armijo line search for a
+//! [`NewtonProblem`] on a fixed sparse Hessian pattern.
+//!
+//! The algorithm follows the reference code's `NewtonsMethod` (model.md §7.1) without its quirks:
+//! - convergence is tested wherever the gradient of an accepted iterate is known (the initial state,
+//!   the full feasible Newton step, a line-search point whose gradient was needed, or the start of the
+//!   next iteration, where the Hessian assembly returns the gradient anyway), not only after a full
+//!   step;
+//! - the Armijo bound carries the step length `α`;
+//! - `max_iterations` Newton steps are really allowed;
+//! - the residual ignores fixed unknowns, whose gradient entries are reaction forces.
+//!
+//! One iteration: assemble the Hessian and gradient; solve `H dx = −∇Π` with fixed unknowns
+//! eliminated; flip `dx` if it is not a descent direction (or fail); cap the step by the problem's
+//! feasible fraction and halve it until the state is valid; evaluate the gradient at the full feasible
+//! step and stop if the residual is below the tolerance; otherwise backtrack until the Armijo test
+//! passes. NaN or infinity in any returned quantity is an error, never an accepted state.
+
+use std::time::Instant;
+
+use faer::sparse::SymbolicSparseColMatRef;
+
+use crate::error::{Factorisation, NewtonError, NonFiniteQuantity, ProblemError, SettingName};
+use crate::line_search::ArmijoTest;
+use crate::linear::{LinearSolverSettings, SparseSolver};
+use crate::problem::NewtonProblem;
+
+/// Settings of Newton's method. Defaults are those of the paper's shell scenes (model.md §7.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Convergence tolerance on the residual `max_i |∂Π/∂x_i| / residual_scale` over free unknowns
+    /// (default 1e-7, in the residual's units; see `residual_scale`).
+    pub residual_tolerance: f64,
+    /// Divisor turning gradient entries into the residual (default 1). When the unknowns are
+    /// velocities and `Π` is the incremental potential of a step of length `Δt`, `∂Π/∂v = Δt · f`, so
+    /// `residual_scale = Δt` (in s) makes the residual a force in N for velocity unknowns and a torque
+    /// in N·m for angular-velocity unknowns, compared with one common tolerance.
+    pub residual_scale: f64,
+    /// Maximum number of Newton iterations (linear solves), default 100.
+    pub max_iterations: usize,
+    /// Maximum number of step reductions in one line search, default 20.
+    pub max_line_search_iterations: usize,
+    /// Armijo constant `c` of the sufficient-decrease test `ΔΠ ≤ c α dx·∇Π` (default 1e-4).
+    pub armijo_constant: f64,
+    /// Factor by which the line search shortens the step (default 0.5).
+    pub backtracking_factor: f64,
+    /// Use the noise-resistant line search of Longva et al. 2023 (default on): when the Armijo test
+    /// fails but `|ΔΠ| ≤ 0.1 |Π₀|`, estimate `ΔΠ` from gradients and accept if the estimate plus its
+    /// error bound passes the test.
+    pub noise_resistant_line_search: bool,
+    /// Negate the Newton direction when it is not a descent direction (default on); otherwise fail with
+    /// [`NewtonError::NotDescent`].
+    pub flip_on_non_descent: bool,
+    /// Smallest accepted fraction of the Newton step when the problem limits it or rejects states
+    /// (default 0.01); below it the iteration fails with [`NewtonError::InfeasibleStep`].
+    pub min_step_fraction: f64,
+    /// The sparse linear solver (default: `Auto`, AMD ordering, sequential).
+    pub linear_solver: LinearSolverSettings,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        Self {
+            residual_tolerance: 1e-7,
+            residual_scale: 1.0,
+            max_iterations: 100,
+            max_line_search_iterations: 20,
+            armijo_constant: 1e-4,
+            backtracking_factor: 0.5,
+            noise_resistant_line_search: true,
+            flip_on_non_descent: true,
+            min_step_fraction: 0.01,
+            linear_solver: LinearSolverSettings::default(),
+        }
+    }
+}
+
+impl NewtonSettings {
+    /// Checks the ranges of the numerical settings.
+    ///
+    /// # Errors
+    /// [`NewtonError::InvalidSetting`] naming the first setting out of range.
+    pub fn validate(&self) -> Result<(), NewtonError> {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        let open_unit = |v: f64| v > 0.0 && v < 1.0;
+        let checks = [
+            (
+                SettingName::ResidualTolerance,
+                self.residual_tolerance,
+                positive(self.residual_tolerance),
+            ),
+            (
+                SettingName::ResidualScale,
+                self.residual_scale,
+                positive(self.residual_scale),
+            ),
+            (
+                SettingName::ArmijoConstant,
+                self.armijo_constant,
+                open_unit(self.armijo_constant),
+            ),
+            (
+                SettingName::BacktrackingFactor,
+                self.backtracking_factor,
+                open_unit(self.backtracking_factor),
+            ),
+            (
+                SettingName::MinStepFraction,
+                self.min_step_fraction,
+                self.min_step_fraction > 0.0 && self.min_step_fraction <= 1.0,
+            ),
+            (
+                SettingName::MaxBackwardError,
+                self.linear_solver.max_backward_error,
+                self.linear_solver.max_backward_error > 0.0,
+            ),
+        ];
+        match checks.into_iter().find(|c| !c.2) {
+            Some((name, value, _)) => Err(NewtonError::InvalidSetting { name, value }),
+            None => Ok(()),
+        }
+    }
+}
+
+/// How often each factorisation produced a Newton step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FactorisationCounts {
+    /// Steps solved by Cholesky.
+    pub llt: usize,
+    /// Steps solved by the symmetric indefinite `L B Lᵀ`.
+    pub lblt: usize,
+    /// Steps solved by LU.
+    pub lu: usize,
+}
+
+impl FactorisationCounts {
+    fn record(&mut self, f: Factorisation) {
+        match f {
+            Factorisation::Llt => self.llt += 1,
+            Factorisation::Lblt => self.lblt += 1,
+            Factorisation::Lu => self.lu += 1,
+        }
+    }
+}
+
+/// The outcome of a converged Newton solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NewtonReport {
+    /// Number of Newton iterations (linear solves whose step was taken); 0 if the initial state had
+    /// already converged.
+    pub iterations: usize,
+    /// Residual history: `residuals[0]` at the initial state, `residuals[k]` after iteration `k`.
+    pub residuals: Vec<f64>,
+    /// The energy `Π` at the solution.
+    pub energy: f64,
+    /// Total number of step reductions in all line searches (not counting feasibility halvings).
+    pub line_search_backtracks: usize,
+    /// Total number of step halvings to reach a valid state.
+    pub feasibility_halvings: usize,
+    /// Number of Newton directions negated because they did not descend.
+    pub direction_flips: usize,
+    /// Which factorisation solved each step, counted.
+    pub factorisations: FactorisationCounts,
+    /// Wall-clock seconds in Hessian assembly (`NewtonProblem::hessian` calls).
+    pub assembly_seconds: f64,
+    /// Wall-clock seconds in energy and gradient evaluations (`value` and `gradient` calls).
+    pub evaluation_seconds: f64,
+    /// Wall-clock seconds in linear solves (numerical factorisation and triangular solves).
+    pub linear_solve_seconds: f64,
+}
+
+impl NewtonReport {
+    /// The final residual.
+    pub fn residual(&self) -> f64 {
+        self.residuals.last().copied().unwrap_or(f64::NAN)
+    }
+}
+
+/// Newton's method with all buffers and the symbolic factorisation of one Hessian pattern.
+///
+/// Build it once per pattern with [`try_new`](Self::try_new) or [`for_problem`](Self::for_problem)
+/// and call [`solve`](Self::solve) once per time step: the buffers of length `n` and `nnz` are reused
+/// and the symbolic analysis is never repeated.
+#[derive(Debug)]
+pub struct NewtonSolver {
+    settings: NewtonSettings,
+    linear: SparseSolver,
+    grad: Vec<f64>,
+    grad_trial: Vec<f64>,
+    hess_values: Vec<f64>,
+    dx: Vec<f64>,
+    x_trial: Vec<f64>,
+    fixed: Vec<bool>,
+    has_fixed: bool,
+}
+
+/// Counters of one solve, turned into a report or an error.
+struct Run {
+    residuals: Vec<f64>,
+    report: NewtonReport,
+}
+
+impl Run {
+    fn last_residual(&self) -> f64 {
+        self.residuals.last().copied().unwrap_or(f64::NAN)
+    }
+
+    fn finish(mut self, iterations: usize, energy: f64) -> NewtonReport {
+        self.report.iterations = iterations;
+        self.report.energy = energy;
+        self.report.residuals = self.residuals;
+        self.report
+    }
+}
+
+impl NewtonSolver {
+    /// Builds the solver for a Hessian pattern (upper triangle with every diagonal entry).
+    ///
+    /// # Errors
+    /// [`NewtonError::InvalidSetting`] or [`NewtonError::Setup`] if the pattern is malformed.
+    pub fn try_new(pattern: SymbolicSparseColMatRef<'_, usize>, settings: NewtonSettings) -> Result<Self, NewtonError> {
+        settings.validate()?;
+        let linear = SparseSolver::try_new(pattern, settings.linear_solver).map_err(NewtonError::Setup)?;
+        let n = linear.n();
+        let nnz = linear.nnz();
+        Ok(Self {
+            settings,
+            linear,
+            grad: vec![0.0; n],
+            grad_trial: vec![0.0; n],
+            hess_values: vec![0.0; nnz],
+            dx: vec![0.0; n],
+            x_trial: vec![0.0; n],
+            fixed: vec![false; n],
+            has_fixed: false,
+        })
+    }
+
+    /// Builds the solver for `problem`'s Hessian pattern.
+    ///
+    /// # Errors
+    /// As [`try_new`](Self::try_new), and [`NewtonError::DimensionMismatch`] if the pattern's
+    /// dimension differs from `problem.n_dofs()`.
+    pub fn for_problem<P: NewtonProblem + ?Sized>(problem: &P, settings: NewtonSettings) -> Result<Self, NewtonError> {
+        let solver = Self::try_new(problem.hessian_pattern(), settings)?;
+        if solver.linear.n() != problem.n_dofs() {
+            return Err(NewtonError::DimensionMismatch {
+                what: "Hessian pattern dimension",
+                expected: problem.n_dofs(),
+                found: solver.linear.n(),
+            });
+        }
+        Ok(solver)
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &NewtonSettings {
+        &self.settings
+    }
+
+    /// Mutable access to the settings; they are validated at the next [`solve`](Self::solve), and a
+    /// changed linear-solver ordering redoes the symbolic analysis there.
+    pub fn settings_mut(&mut self) -> &mut NewtonSettings {
+        &mut self.settings
+    }
+
+    /// The sparse linear solver (for its statistics).
+    pub fn linear_solver(&self) -> &SparseSolver {
+        &self.linear
+    }
+
+    /// Minimises `problem` starting from `x`, which holds the solution on success. On failure `x`
+    /// holds the last accepted iterate (always finite).
+    ///
+    /// # Errors
+    /// A [`NewtonError`] carrying the residual history; see its variants.
+    pub fn solve<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+    ) -> Result<NewtonReport, NewtonError> {
+        self.prepare(problem, x)?;
+        let s = self.settings;
+        let armijo = ArmijoTest {
+            c: s.armijo_constant,
+            noise_resistant: s.noise_resistant_line_search,
+        };
+        let mut run = Run {
+            residuals: Vec::with_capacity(s.max_iterations + 1),
+            report: NewtonReport {
+                iterations: 0,
+                residuals: Vec::new(),
+                energy: f64::NAN,
+                line_search_backtracks: 0,
+                feasibility_halvings: 0,
+                direction_flips: 0,
+                factorisations: FactorisationCounts::default(),
+                assembly_seconds: 0.0,
+                evaluation_seconds: 0.0,
+                linear_solve_seconds: 0.0,
+            },
+        };
+
+        let energy = self.eval_gradient(problem, x, 0, &mut run)?;
+        let r = self.residual(&self.grad);
+        run.residuals.push(r);
+        if r < s.residual_tolerance {
+            return Ok(run.finish(0, energy));
+        }
+        // Whether `grad` holds ∇Π(x) and the last residual belongs to `x`.
+        let mut grad_current = true;
+        let mut k = 0;
+        loop {
+            if k == s.max_iterations {
+                if !grad_current {
+                    let energy = self.eval_gradient(problem, x, k, &mut run)?;
+                    let r = self.residual(&self.grad);
+                    run.residuals.push(r);
+                    if r < s.residual_tolerance {
+                        return Ok(run.finish(k, energy));
+                    }
+                }
+                return Err(NewtonError::MaxIterations {
+                    iterations: k,
+                    residuals: run.residuals,
+                });
+            }
+            k += 1;
+
+            let e0 = self.eval_hessian(problem, x, k, &mut run)?;
+            if !grad_current {
+                let r = self.residual(&self.grad);
+                run.residuals.push(r);
+                grad_current = true;
+                if r < s.residual_tolerance {
+                    return Ok(run.finish(k - 1, e0));
+                }
+            }
+            let r0 = run.last_residual();
+
+            let slope = self.newton_direction(k, &mut run)?;
+            let mut alpha = self.feasible_fraction(problem, x, k, &mut run)?;
+
+            // The full feasible step, with its gradient: halve while the state is invalid.
+            let e1 = loop {
+                self.set_trial(x, alpha);
+                match self.eval_trial_gradient(problem, &mut run) {
+                    Ok(e) => break e,
+                    Err(ProblemError::InvalidState { .. }) => {
+                        alpha *= 0.5;
+                        run.report.feasibility_halvings += 1;
+                        if alpha < s.min_step_fraction {
+                            return Err(NewtonError::InfeasibleStep {
+                                iteration: k,
+                                step_fraction: alpha,
+                                residuals: run.residuals,
+                            });
+                        }
+                    }
+                    Err(source) => {
+                        return Err(NewtonError::Problem {
+                            iteration: k,
+                            source,
+                            residuals: run.residuals,
+                        });
+                    }
+                }
+            };
+            self.check_energy(e1, k, &run)?;
+            self.check_gradient(&self.grad_trial, k, &run)?;
+            let r1 = self.residual(&self.grad_trial);
+            if r1 < s.residual_tolerance
+                || armijo.accepts_with_gradient(e0, e1, alpha, slope, &self.dx, &self.grad, &self.grad_trial)
+            {
+                self.accept_with_gradient(x, &mut run, r1);
+                if r1 < s.residual_tolerance {
+                    return Ok(run.finish(k, e1));
+                }
+                continue;
+            }
+
+            // Backtracking.
+            let mut accepted = false;
+            for _ in 0..s.max_line_search_iterations {
+                alpha *= s.backtracking_factor;
+                run.report.line_search_backtracks += 1;
+                self.set_trial(x, alpha);
+                let e = match self.eval_trial_value(problem, &mut run) {
+                    Ok(e) => e,
+                    Err(ProblemError::InvalidState { .. }) => continue,
+                    Err(source) => {
+                        return Err(NewtonError::Problem {
+                            iteration: k,
+                            source,
+                            residuals: run.residuals,
+                        });
+                    }
+                };
+                self.check_energy(e, k, &run)?;
+                if armijo.sufficient_decrease(e0, e, alpha, slope) {
+                    x.copy_from_slice(&self.x_trial);
+                    grad_current = false;
+                    accepted = true;
+                    break;
+                }
+                if armijo.in_noise_regime(e0, e) {
+                    let e = match self.eval_trial_gradient(problem, &mut run) {
+                        Ok(e) => e,
+                        Err(ProblemError::InvalidState { .. }) => continue,
+                        Err(source) => {
+                            return Err(NewtonError::Problem {
+                                iteration: k,
+                                source,
+                                residuals: run.residuals,
+                            });
+                        }
+                    };
+                    self.check_energy(e, k, &run)?;
+                    self.check_gradient(&self.grad_trial, k, &run)?;
+                    if armijo.estimated_decrease(alpha, slope, &self.dx, &self.grad, &self.grad_trial) {
+                        let r = self.residual(&self.grad_trial);
+                        self.accept_with_gradient(x, &mut run, r);
+                        grad_current = true;
+                        accepted = true;
+                        if r < s.residual_tolerance {
+                            return Ok(run.finish(k, e));
+                        }
+                        break;
+                    }
+                }
+            }
+            if !accepted {
+                return Err(NewtonError::LineSearchFailed {
+                    iteration: k,
+                    residual: r0,
+                    residuals: run.residuals,
+                });
+            }
+        }
+    }
+
+    /// Validates settings, dimensions and pattern, and copies the fixed mask.
+    fn prepare<P: NewtonProblem + ?Sized>(&mut self, problem: &P, x: &[f64]) -> Result<(), NewtonError> {
+        self.settings.validate()?;
+        self.linear
+            .set_settings(self.settings.linear_solver)
+            .map_err(NewtonError::Setup)?;
+        let n = self.linear.n();
+        let mismatch = |what, found| NewtonError::DimensionMismatch {
+            what,
+            expected: n,
+            found,
+        };
+        if problem.n_dofs() != n {
+            return Err(mismatch("problem n_dofs", problem.n_dofs()));
+        }
+        if x.len() != n {
+            return Err(mismatch("state x", x.len()));
+        }
+        if !self.linear.pattern_matches(problem.hessian_pattern()) {
+            return Err(NewtonError::PatternChanged);
+        }
+        match problem.fixed_dofs() {
+            Some(mask) if mask.len() != n => return Err(mismatch("fixed-DOF mask", mask.len())),
+            Some(mask) => {
+                self.fixed.copy_from_slice(mask);
+                self.has_fixed = mask.iter().any(|&f| f);
+            }
+            None => {
+                self.fixed.fill(false);
+                self.has_fixed = false;
+            }
+        }
+        Ok(())
+    }
+
+    /// `max_i |g_i| / scale` over free unknowns.
+    fn residual(&self, g: &[f64]) -> f64 {
+        let max = g
+            .iter()
+            .zip(&self.fixed)
+            .filter(|(_, f)| !**f)
+            .fold(0.0_f64, |m, (v, _)| m.max(v.abs()));
+        max / self.settings.residual_scale
+    }
+
+    fn check_energy(&self, e: f64, iteration: usize, run: &Run) -> Result<(), NewtonError> {
+        if e.is_finite() {
+            Ok(())
+        } else {
+            Err(NewtonError::NonFinite {
+                iteration,
+                quantity: NonFiniteQuantity::Energy,
+                index: None,
+                residuals: run.residuals.clone(),
+            })
+        }
+    }
+
+    fn check_gradient(&self, g: &[f64], iteration: usize, run: &Run) -> Result<(), NewtonError> {
+        match g.iter().position(|v| !v.is_finite()) {
+            None => Ok(()),
+            Some(i) => Err(NewtonError::NonFinite {
+                iteration,
+                quantity: NonFiniteQuantity::Gradient,
+                index: Some(i),
+                residuals: run.residuals.clone(),
+            }),
+        }
+    }
+
+    /// Energy and gradient at `x` into `grad`, checked.
+    fn eval_gradient<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        iteration: usize,
+        run: &mut Run,
+    ) -> Result<f64, NewtonError> {
+        self.grad.fill(0.0);
+        let t = Instant::now();
+        let result = problem.gradient(x, &mut self.grad);
+        run.report.evaluation_seconds += t.elapsed().as_secs_f64();
+        let e = result.map_err(|source| NewtonError::Problem {
+            iteration,
+            source,
+            residuals: run.residuals.clone(),
+        })?;
+        self.check_energy(e, iteration, run)?;
+        self.check_gradient(&self.grad, iteration, run)?;
+        Ok(e)
+    }
+
+    /// Energy, gradient and Hessian at `x`, checked.
+    fn eval_hessian<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        iteration: usize,
+        run: &mut Run,
+    ) -> Result<f64, NewtonError> {
+        self.grad.fill(0.0);
+        self.hess_values.fill(0.0);
+        let t = Instant::now();
+        let result = problem.hessian(x, &mut self.grad, &mut self.hess_values);
+        run.report.assembly_seconds += t.elapsed().as_secs_f64();
+        let e = result.map_err(|source| NewtonError::Problem {
+            iteration,
+            source,
+            residuals: run.residuals.clone(),
+        })?;
+        self.check_energy(e, iteration, run)?;
+        self.check_gradient(&self.grad, iteration, run)?;
+        if let Some(i) = self.hess_values.iter().position(|v| !v.is_finite()) {
+            return Err(NewtonError::NonFinite {
+                iteration,
+                quantity: NonFiniteQuantity::Hessian,
+                index: Some(i),
+                residuals: run.residuals.clone(),
+            });
+        }
+        Ok(e)
+    }
+
+    /// Solves `H dx = −∇Π`, makes `dx` a descent direction and returns the slope `dx·∇Π < 0`.
+    fn newton_direction(&mut self, iteration: usize, run: &mut Run) -> Result<f64, NewtonError> {
+        for (d, g) in self.dx.iter_mut().zip(&self.grad) {
+            *d = -g;
+        }
+        let t = Instant::now();
+        let fixed = self.has_fixed.then_some(self.fixed.as_slice());
+        let result = self
+            .linear
+            .factorise(&self.hess_values, fixed)
+            .and_then(|_| self.linear.solve_in_place(&mut self.dx));
+        run.report.linear_solve_seconds += t.elapsed().as_secs_f64();
+        let used = result.map_err(|source| NewtonError::LinearSolve {
+            iteration,
+            source,
+            residuals: run.residuals.clone(),
+        })?;
+        run.report.factorisations.record(used);
+        let mut slope: f64 = self.dx.iter().zip(&self.grad).map(|(d, g)| d * g).sum();
+        if slope > 0.0 && self.settings.flip_on_non_descent {
+            self.dx.iter_mut().for_each(|d| *d = -*d);
+            slope = -slope;
+            run.report.direction_flips += 1;
+        }
+        // A zero slope (a direction orthogonal to a non-zero gradient) cannot decrease the energy.
+        if slope < 0.0 {
+            Ok(slope)
+        } else {
+            Err(NewtonError::NotDescent {
+                iteration,
+                slope,
+                residuals: run.residuals.clone(),
+            })
+        }
+    }
+
+    /// The problem's feasible step fraction, capped at 1 and checked against the minimum.
+    fn feasible_fraction<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        iteration: usize,
+        run: &mut Run,
+    ) -> Result<f64, NewtonError> {
+        let alpha = problem.max_step_fraction(x, &self.dx);
+        if alpha.is_nan() {
+            return Err(NewtonError::NonFinite {
+                iteration,
+                quantity: NonFiniteQuantity::StepFraction,
+                index: None,
+                residuals: run.residuals.clone(),
+            });
+        }
+        let alpha = alpha.min(1.0);
+        if alpha < self.settings.min_step_fraction {
+            return Err(NewtonError::InfeasibleStep {
+                iteration,
+                step_fraction: alpha,
+                residuals: run.residuals.clone(),
+            });
+        }
+        Ok(alpha)
+    }
+
+    /// `x_trial = x + α dx`.
+    fn set_trial(&mut self, x: &[f64], alpha: f64) {
+        for ((t, xi), d) in self.x_trial.iter_mut().zip(x).zip(&self.dx) {
+            *t = xi + alpha * d;
+        }
+    }
+
+    /// Energy and gradient at `x_trial` into `grad_trial`, unchecked.
+    fn eval_trial_gradient<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        run: &mut Run,
+    ) -> Result<f64, ProblemError> {
+        self.grad_trial.fill(0.0);
+        let t = Instant::now();
+        let result = problem.gradient(&self.x_trial, &mut self.grad_trial);
+        run.report.evaluation_seconds += t.elapsed().as_secs_f64();
+        result
+    }
+
+    /// Energy at `x_trial`, unchecked.
+    fn eval_trial_value<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        run: &mut Run,
+    ) -> Result<f64, ProblemError> {
+        let t = Instant::now();
+        let result = problem.value(&self.x_trial);
+        run.report.evaluation_seconds += t.elapsed().as_secs_f64();
+        result
+    }
+
+    /// Accepts `x_trial` together with its gradient and records its residual.
+    fn accept_with_gradient(&mut self, x: &mut [f64], run: &mut Run, residual: f64) {
+        x.copy_from_slice(&self.x_trial);
+        std::mem::swap(&mut self.grad, &mut self.grad_trial);
+        run.residuals.push(residual);
+    }
+}

@@ -1,0 +1,54 @@
+//! The incremental potential of `cosserat-assembly` seen as a [`NewtonProblem`].
+
+use crate::error::ProblemError;
+use crate::problem::NewtonProblem;
+use cosserat_assembly::{AssemblyError, IncrementalPotential};
+use faer::sparse::SymbolicSparseColMatRef;
+
+/// Adapts an [`IncrementalPotential`] (with its eliminated unknowns) to Newton's method.
+pub struct PotentialProblem<'a> {
+    potential: &'a mut IncrementalPotential,
+    fixed: Option<Vec<bool>>,
+}
+
+impl<'a> PotentialProblem<'a> {
+    /// Wraps a potential; `fixed` marks exactly eliminated unknowns.
+    pub fn new(potential: &'a mut IncrementalPotential, fixed: Option<Vec<bool>>) -> Self {
+        Self { potential, fixed }
+    }
+}
+
+fn map_error(e: AssemblyError) -> ProblemError {
+    match e {
+        AssemblyError::NonFinite { index, .. } => ProblemError::NonFiniteEnergy { index },
+        other => ProblemError::InvalidState {
+            reason: other.to_string(),
+        },
+    }
+}
+
+impl NewtonProblem for PotentialProblem<'_> {
+    fn n_dofs(&self) -> usize {
+        self.potential.n_dofs()
+    }
+
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.potential.pattern().symbolic()
+    }
+
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        self.potential.value(x).map_err(map_error)
+    }
+
+    fn gradient(&mut self, x: &[f64], grad: &mut [f64]) -> Result<f64, ProblemError> {
+        self.potential.gradient(x, grad).map_err(map_error)
+    }
+
+    fn hessian(&mut self, x: &[f64], grad: &mut [f64], hess_values: &mut [f64]) -> Result<f64, ProblemError> {
+        self.potential.hessian(x, grad, hess_values).map_err(map_error)
+    }
+
+    fn fixed_dofs(&self) -> Option<&[bool]> {
+        self.fixed.as_deref()
+    }
+}

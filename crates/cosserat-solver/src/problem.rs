@@ -1,0 +1,64 @@
+//! The interface between Newton's method and whatever it minimises.
+//!
+//! [`NewtonProblem`] is defined here, in the solver crate, rather than taken from the assembly layer:
+//! Newton's method only needs an energy, its gradient and its Hessian on a fixed sparsity pattern. That
+//! keeps the solver testable on toy problems (a quadratic, Rosenbrock, a spring chain) without any
+//! mesh, and lets the time stepper wrap the incremental potential in a thin adapter.
+
+use faer::sparse::SymbolicSparseColMatRef;
+
+use crate::error::ProblemError;
+
+/// A smooth minimisation problem `min Π(x)` over `x ∈ ℝⁿ` with a sparse symmetric Hessian.
+///
+/// All buffers passed to the methods have length [`n_dofs`](Self::n_dofs) (states, gradients) or the
+/// number of stored entries of [`hessian_pattern`](Self::hessian_pattern) (Hessian values). The
+/// solver zeroes the output buffers before each call, so implementations may accumulate into them.
+///
+/// Errors: return [`ProblemError::InvalidState`] for a state outside the problem's domain (the solver
+/// then shortens the step) and [`ProblemError::NonFiniteEnergy`] when a part of the energy cannot be
+/// evaluated. NaN or infinite values returned through `Ok` are detected by the solver and reported as
+/// [`NewtonError::NonFinite`](crate::NewtonError::NonFinite); they are never accepted.
+pub trait NewtonProblem {
+    /// Number of unknowns `n`.
+    fn n_dofs(&self) -> usize;
+
+    /// The sparsity pattern of the Hessian: the upper triangle including the full diagonal, in
+    /// compressed sparse column form, `n × n`. It must stay the same for the lifetime of a solver built
+    /// for the problem.
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize>;
+
+    /// The energy `Π(x)` alone, used by the line search.
+    ///
+    /// # Errors
+    /// A [`ProblemError`] if the state is invalid or the energy cannot be evaluated.
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError>;
+
+    /// The energy `Π(x)`, returned, and its gradient `∇Π(x)`, written into `grad`.
+    ///
+    /// # Errors
+    /// A [`ProblemError`] if the state is invalid or the energy cannot be evaluated.
+    fn gradient(&mut self, x: &[f64], grad: &mut [f64]) -> Result<f64, ProblemError>;
+
+    /// The energy `Π(x)`, returned, its gradient, written into `grad`, and the values of the Hessian's
+    /// upper triangle in the order of [`hessian_pattern`](Self::hessian_pattern), written into
+    /// `hess_values`.
+    ///
+    /// # Errors
+    /// A [`ProblemError`] if the state is invalid or the energy cannot be evaluated.
+    fn hessian(&mut self, x: &[f64], grad: &mut [f64], hess_values: &mut [f64]) -> Result<f64, ProblemError>;
+
+    /// A mask of unknowns that are eliminated exactly (`true` = fixed). Their Newton step is zero, they
+    /// keep their current values, and their gradient entries (reaction forces) do not count towards
+    /// the residual. `None` (the default) fixes nothing.
+    fn fixed_dofs(&self) -> Option<&[bool]> {
+        None
+    }
+
+    /// The largest fraction `α ∈ (0, 1]` of the step `dx` from `x` that keeps the state feasible, for
+    /// example from continuous collision detection. The default allows the full step.
+    fn max_step_fraction(&mut self, x: &[f64], dx: &[f64]) -> f64 {
+        let _ = (x, dx);
+        1.0
+    }
+}

@@ -1,0 +1,223 @@
+//! Time stepping: one Newton solve of the incremental potential per step (strong coupling of
+//! displacements and rotations), with step-size reduction on failure.
+//!
+//! Order of operations per step (model.md §1.7): scripts set targets, loads and rest fields for the step
+//! `tⁿ → tⁿ + Δt`; Newton minimises `Π(v, ω)`; on success the state is advanced (positions, velocities,
+//! nodal and quadrature-point rotations) and `t` grows; on failure nothing is committed, `Δt` is halved
+//! and the step is retried with the scripts re-run for the new `Δt`, up to a bounded number of times.
+//! A state is only ever committed from a converged, finite solution.
+
+use crate::error::NewtonError;
+use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
+use crate::potential_problem::PotentialProblem;
+use cosserat_assembly::IncrementalPotential;
+use thiserror::Error;
+
+/// Where Newton starts in each step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum InitialGuess {
+    /// `v = 0`, `ω = 0`, as the reference code does.
+    Zero,
+    /// The previous step's velocities and angular velocities: the exact answer for steady motion and
+    /// a good start for smooth motion. Default.
+    #[default]
+    PreviousVelocity,
+}
+
+/// Settings of the time stepper.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TimeStepSettings {
+    /// The (maximum) time step [s].
+    pub dt: f64,
+    /// Adaptive stepping: after a success `Δt ← min(dt, 1.05 Δt)`; without it, reduced steps stay
+    /// reduced only for the retried step.
+    pub adaptive: bool,
+    /// Smallest allowed time step [s].
+    pub min_dt: f64,
+    /// Maximum number of halvings of one step before the run stops.
+    pub max_reductions: usize,
+    /// Growth factor after a successful step (adaptive only).
+    pub growth: f64,
+    /// Newton settings (the residual scale is set to `Δt` so the residual is a force in N / torque in
+    /// N·m).
+    pub newton: NewtonSettings,
+    /// Newton's starting point.
+    pub initial_guess: InitialGuess,
+}
+
+impl TimeStepSettings {
+    /// Settings for a fixed time step `dt`, with up to 8 halvings on failure.
+    pub fn fixed(dt: f64) -> Self {
+        Self {
+            dt,
+            adaptive: false,
+            min_dt: 1e-6,
+            max_reductions: 8,
+            growth: 1.05,
+            newton: NewtonSettings::default(),
+            initial_guess: InitialGuess::default(),
+        }
+    }
+}
+
+/// One failed Newton attempt of a step.
+#[derive(Debug, Clone)]
+pub struct FailedAttempt {
+    /// The time step tried [s].
+    pub dt: f64,
+    /// Why Newton failed (with its residual history).
+    pub error: NewtonError,
+}
+
+/// A step that could not be completed.
+#[derive(Debug, Clone, Error)]
+#[error("time step from t = {t} failed after {} attempt(s); last: dt = {}: {}", attempts.len(), attempts.last().map_or(0.0, |a| a.dt), attempts.last().map_or_else(String::new, |a| a.error.to_string()))]
+pub struct StepError {
+    /// Start time of the step [s].
+    pub t: f64,
+    /// Every attempt, in order.
+    pub attempts: Vec<FailedAttempt>,
+}
+
+/// A completed step.
+#[derive(Debug, Clone)]
+pub struct StepReport {
+    /// Time at the end of the step [s].
+    pub t: f64,
+    /// The time step that succeeded [s].
+    pub dt: f64,
+    /// Newton's report of the successful attempt.
+    pub newton: NewtonReport,
+    /// Failed attempts before it (each halved `Δt`).
+    pub reductions: usize,
+    /// Newton iterations spent in failed attempts.
+    pub wasted_iterations: usize,
+}
+
+/// Advances an incremental potential in time.
+pub struct TimeStepper {
+    solver: NewtonSolver,
+    settings: TimeStepSettings,
+    t: f64,
+    dt: f64,
+    u: Vec<f64>,
+}
+
+impl TimeStepper {
+    /// A stepper for a potential, starting at `t = 0`.
+    ///
+    /// # Errors
+    /// Invalid settings, or a symbolic analysis failure of the pattern.
+    pub fn new(potential: &IncrementalPotential, settings: TimeStepSettings) -> Result<Self, NewtonError> {
+        let mut newton = settings.newton;
+        newton.residual_scale = settings.dt;
+        let solver = NewtonSolver::try_new(potential.pattern().symbolic(), newton)?;
+        Ok(Self {
+            solver,
+            settings,
+            t: 0.0,
+            dt: settings.dt,
+            u: vec![0.0; potential.n_dofs()],
+        })
+    }
+
+    /// The current time [s].
+    pub fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Sets the current time (e.g. to resume).
+    pub fn set_time(&mut self, t: f64) {
+        self.t = t;
+    }
+
+    /// The time step the next step will try [s].
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// The settings.
+    pub fn settings(&self) -> &TimeStepSettings {
+        &self.settings
+    }
+
+    /// The Newton solver (for linear-solver statistics).
+    pub fn solver(&self) -> &NewtonSolver {
+        &self.solver
+    }
+
+    /// Performs one step. `scripts(potential, t, dt)` is called before every attempt with the start
+    /// time and the time step of that attempt; it sets targets, loads and rest fields.
+    ///
+    /// # Errors
+    /// [`StepError`] when every allowed attempt failed; the potential's state is then unchanged.
+    pub fn step(
+        &mut self,
+        potential: &mut IncrementalPotential,
+        scripts: &mut dyn FnMut(&mut IncrementalPotential, f64, f64),
+    ) -> Result<StepReport, StepError> {
+        let mut attempts = Vec::new();
+        let mut wasted = 0;
+        let mut dt = self.dt;
+        loop {
+            potential.dt = dt;
+            scripts(potential, self.t, dt);
+            self.solver.settings_mut().residual_scale = dt;
+            self.initial_guess(potential);
+            let fixed = potential.fixed_dofs().map(|(mask, values)| {
+                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+                    self.u[i] = values[i];
+                }
+                mask
+            });
+            let result = {
+                let mut problem = PotentialProblem::new(potential, fixed);
+                self.solver.solve(&mut problem, &mut self.u)
+            };
+            match result {
+                Ok(newton) => {
+                    potential.commit(&self.u);
+                    self.t += dt;
+                    let reductions = attempts.len();
+                    self.dt = if self.settings.adaptive {
+                        (dt * self.settings.growth).min(self.settings.dt)
+                    } else {
+                        self.settings.dt
+                    };
+                    return Ok(StepReport {
+                        t: self.t,
+                        dt,
+                        newton,
+                        reductions,
+                        wasted_iterations: wasted,
+                    });
+                }
+                Err(error) => {
+                    wasted += error.residuals().len().saturating_sub(1);
+                    attempts.push(FailedAttempt { dt, error });
+                    let next = dt * 0.5;
+                    if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
+                        return Err(StepError { t: self.t, attempts });
+                    }
+                    dt = next;
+                }
+            }
+        }
+    }
+
+    fn initial_guess(&mut self, potential: &IncrementalPotential) {
+        match self.settings.initial_guess {
+            InitialGuess::Zero => self.u.fill(0.0),
+            InitialGuess::PreviousVelocity => {
+                let st = &potential.parts.state;
+                let layout = &potential.parts.layout;
+                for (i, v) in st.v.iter().enumerate() {
+                    self.u[3 * layout.disp_block(i)..3 * layout.disp_block(i) + 3].copy_from_slice(v.as_slice());
+                }
+                for (k, w) in st.omega.iter().enumerate() {
+                    self.u[3 * layout.rot_block(k)..3 * layout.rot_block(k) + 3].copy_from_slice(w.as_slice());
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,155 @@
+//! Time stepping: rest, free fall, free spin.
+
+use super::common::strip_system;
+use cosserat_assembly::ElementPair;
+use cosserat_material::MaterialParameters;
+use cosserat_solver::{InitialGuess, TimeStepSettings, TimeStepper};
+use nalgebra::Vector3;
+
+fn steel_like() -> MaterialParameters {
+    MaterialParameters::new(1e-3, 1e9, 0.3, 1000.0, 1e-4)
+}
+
+#[test]
+fn a_plate_at_rest_without_loads_stays_at_rest() {
+    let mut sys = strip_system(
+        ElementPair::Tri6Tri3,
+        (0.1, 0.02),
+        (10, 2),
+        steel_like(),
+        Vector3::zeros(),
+        true,
+        0.01,
+    );
+    let x0 = sys.potential.parts.state.x.clone();
+    let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(0.01)).unwrap();
+    for _ in 0..100 {
+        let report = stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap();
+        assert_eq!(report.newton.iterations, 0, "the rest state must already be converged");
+        // Round-off of the internal forces: E h L ≈ 1e4 N times a few ε.
+        assert!(
+            report.newton.residual() < 1e-9,
+            "residual {:e}",
+            report.newton.residual()
+        );
+    }
+    let drift = sys
+        .potential
+        .parts
+        .state
+        .x
+        .iter()
+        .zip(&x0)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    assert!(drift < 1e-15, "drift {drift:e} m after 100 steps");
+    assert!((stepper.time() - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn free_fall_follows_backward_euler_exactly() {
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3] {
+        // A soft material keeps M + Δt² K well conditioned, so the linear solves are exact to ~1e-12.
+        let soft = MaterialParameters::new(1e-3, 1e6, 0.3, 1000.0, 1e-4);
+        let mut sys = strip_system(pair, (0.1, 0.02), (6, 2), soft, g, true, 0.02);
+        let damping = 0.7;
+        sys.potential.parts.inertia.as_mut().unwrap().damping.fill(damping);
+        let x0 = sys.potential.parts.state.x.clone();
+        let mut settings = TimeStepSettings::fixed(0.02);
+        settings.initial_guess = InitialGuess::Zero;
+        let mut stepper = TimeStepper::new(&sys.potential, settings).unwrap();
+        // Closed form of backward Euler with mass-proportional damping for a rigid translation:
+        // v⁺ = (v + Δt g)/(1 + d Δt), x⁺ = x + Δt v⁺.
+        let (dt, mut v, mut dx) = (0.02, Vector3::zeros(), Vector3::zeros());
+        for _ in 0..50 {
+            stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap();
+            v = (v + g * dt) / (1.0 + damping * dt);
+            dx += v * dt;
+        }
+        let st = &sys.potential.parts.state;
+        for (i, x) in st.x.iter().enumerate() {
+            assert!(
+                (x - x0[i] - dx).norm() < 1e-9 * dx.norm(),
+                "{pair:?}: node {i} off the closed form by {:e} (of {:e})",
+                (x - x0[i] - dx).norm(),
+                dx.norm()
+            );
+            assert!((st.v[i] - v).norm() < 1e-9 * v.norm());
+        }
+    }
+}
+
+/// Angular velocity of a rigid rotor advanced by backward Euler (velocity form) with a rigid
+/// constraint: the step angles `a_n` obey `tan a₁ = Ω Δt` and `tan a_{n+1} = sin a_n / (2 − cos a_n)`
+/// (angular-momentum balance at the end of each step; derivation in docs/time-integration.md), and the
+/// discrete angular momentum is `I sin(a_n)/Δt`.
+fn rigid_rotor_step_angles(omega0: f64, dt: f64, n: usize) -> Vec<f64> {
+    let mut a = vec![(omega0 * dt).atan()];
+    while a.len() < n {
+        let b = *a.last().unwrap();
+        a.push((b.sin() / (2.0 - b.cos())).atan());
+    }
+    a
+}
+
+#[test]
+fn a_free_spinning_plate_keeps_its_shape_and_loses_momentum_like_backward_euler() {
+    let (omega0, dt, n) = (2.0 * std::f64::consts::PI, 0.01, 60);
+    let mut sys = strip_system(
+        ElementPair::Tri6Tri3,
+        (0.1, 0.1),
+        (4, 4),
+        steel_like(),
+        Vector3::zeros(),
+        true,
+        dt,
+    );
+    let spin = Vector3::new(0.0, 0.0, omega0);
+    {
+        let st = &mut sys.potential.parts.state;
+        for (x, v) in st.x.iter().zip(st.v.iter_mut()) {
+            *v = spin.cross(x);
+        }
+        st.omega.fill(spin);
+    }
+    let masses = sys.potential.parts.inertia.as_ref().unwrap().masses.clone();
+    let x0 = sys.potential.parts.state.x.clone();
+    let inertia: f64 = masses.iter().zip(&x0).map(|(m, x)| m * (x.x * x.x + x.y * x.y)).sum();
+    let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(dt)).unwrap();
+    let angles = rigid_rotor_step_angles(omega0, dt, n);
+    for step in 0..n {
+        stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap();
+        let st = &sys.potential.parts.state;
+        let l: f64 = masses
+            .iter()
+            .zip(st.x.iter().zip(&st.v))
+            .map(|(m, (x, v))| m * x.cross(v).z)
+            .sum();
+        let expected = inertia * angles[step].sin() / dt;
+        assert!(
+            (l - expected).abs() < 2e-4 * expected,
+            "step {step}: L = {l}, rigid backward Euler {expected}"
+        );
+    }
+    // Shape: all pairwise distances to the centre node are kept.
+    let st = &sys.potential.parts.state;
+    let centre = (0..x0.len()).min_by(|&a, &b| x0[a].norm().total_cmp(&x0[b].norm())).unwrap();
+    for i in 0..x0.len() {
+        let d0 = (x0[i] - x0[centre]).norm();
+        let d = (st.x[i] - st.x[centre]).norm();
+        assert!(
+            (d - d0).abs() <= 1e-6 * 0.1,
+            "node {i}: distance changed by {:e}",
+            d - d0
+        );
+        assert!(st.x[i].z.abs() < 1e-9, "the plate left its plane");
+    }
+    // The directors turned with the plate: the rotation nodes' d1 matches the turned body axis.
+    let turned: f64 = angles.iter().sum();
+    let d1 = cosserat_geometry::rotation::rotation_matrix(&st.q[0]).column(0).into_owned();
+    assert!(
+        (d1 - Vector3::new(turned.cos(), turned.sin(), 0.0)).norm() < 1e-3,
+        "directors lag the body: {d1:?}"
+    );
+}

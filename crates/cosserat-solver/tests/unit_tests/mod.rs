@@ -1,0 +1,7 @@
+//! Test modules mirroring `src/`, plus shared fixtures (sparse matrices and toy problems).
+
+mod error;
+mod fixtures;
+mod linear;
+mod newton;
+mod toy;
