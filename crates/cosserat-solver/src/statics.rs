@@ -18,6 +18,9 @@ pub struct QuasiStaticSettings {
     pub newton: NewtonSettings,
     /// How many times an increment may be bisected in total for one requested level.
     pub max_bisections: usize,
+    /// Start each solve from the previous increment scaled to the new load step (a secant predictor)
+    /// instead of from zero. Smooth loading paths then start close to the solution.
+    pub extrapolate: bool,
 }
 
 impl Default for QuasiStaticSettings {
@@ -25,6 +28,7 @@ impl Default for QuasiStaticSettings {
         Self {
             newton: NewtonSettings::default(),
             max_bisections: 10,
+            extrapolate: true,
         }
     }
 }
@@ -76,6 +80,8 @@ pub fn solve_quasi_static(
     })?;
     potential.dt = 1.0;
     let mut u = vec![0.0; potential.n_dofs()];
+    // The last converged increment and its load step, for the predictor.
+    let mut previous: Option<(Vec<f64>, f64)> = None;
     let mut current = 0.0;
     let mut reports = Vec::with_capacity(levels.len());
     for &target in levels {
@@ -85,7 +91,13 @@ pub fn solve_quasi_static(
         let mut last_report = None;
         while let Some(&lambda) = stack.last() {
             apply(potential, lambda);
-            u.fill(0.0);
+            match (&previous, settings.extrapolate) {
+                (Some((du, step)), true) if *step != 0.0 => {
+                    let scale = (lambda - current) / step;
+                    u.iter_mut().zip(du).for_each(|(u, d)| *u = d * scale);
+                }
+                _ => u.fill(0.0),
+            }
             let fixed = potential.fixed_dofs().map(|(mask, values)| {
                 for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
                     u[i] = values[i];
@@ -97,6 +109,7 @@ pub fn solve_quasi_static(
                 Ok(report) => {
                     total_iterations += report.iterations;
                     potential.commit(&u);
+                    previous = Some((u.clone(), lambda - current));
                     current = lambda;
                     stack.pop();
                     last_report = Some(report);
@@ -111,6 +124,8 @@ pub fn solve_quasi_static(
                         });
                     }
                     bisections += 1;
+                    // A failed predictor is not trusted for the bisected step.
+                    previous = None;
                     stack.push(0.5 * (current + lambda));
                 }
             }
