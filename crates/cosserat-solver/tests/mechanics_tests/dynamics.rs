@@ -153,3 +153,74 @@ fn a_free_spinning_plate_keeps_its_shape_and_loses_momentum_like_backward_euler(
         "directors lag the body: {d1:?}"
     );
 }
+
+/// A test term that refuses time steps above a threshold (as a non-finite energy would).
+struct FailsAbove(f64);
+
+impl cosserat_assembly::PotentialTerm for FailsAbove {
+    fn name(&self) -> String {
+        "fails_above".into()
+    }
+
+    fn value(&self, eval: &cosserat_assembly::term::Evaluation<'_>) -> Result<f64, cosserat_assembly::AssemblyError> {
+        if eval.dt > self.0 {
+            Err(cosserat_assembly::AssemblyError::NonFinite {
+                term: self.name(),
+                location: "term",
+                index: 0,
+            })
+        } else {
+            Ok(0.0)
+        }
+    }
+
+    fn gradient(
+        &self,
+        eval: &cosserat_assembly::term::Evaluation<'_>,
+        _: &mut [f64],
+    ) -> Result<f64, cosserat_assembly::AssemblyError> {
+        self.value(eval)
+    }
+
+    fn hessian(
+        &self,
+        eval: &cosserat_assembly::term::Evaluation<'_>,
+        _: &mut [f64],
+        _: &cosserat_assembly::SparsityPattern,
+        _: &mut [f64],
+    ) -> Result<f64, cosserat_assembly::AssemblyError> {
+        self.value(eval)
+    }
+}
+
+#[test]
+fn a_failed_step_is_retried_with_half_the_time_step_and_then_stops_with_a_diagnostic() {
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let mut sys = strip_system(ElementPair::Tri3Tri3, (0.1, 0.02), (4, 1), steel_like(), g, true, 0.04);
+    sys.potential.parts.extra.push(Box::new(FailsAbove(0.011)));
+    let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(0.04)).unwrap();
+    let report = stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap();
+    // 0.04 → 0.02 → 0.01: two reductions, and the step advanced by the reduced Δt only.
+    assert_eq!(report.reductions, 2);
+    assert!((report.dt - 0.01).abs() < 1e-15 && (stepper.time() - 0.01).abs() < 1e-15);
+
+    // A term that always fails: the run stops with every attempt listed and the state untouched.
+    let mut sys = strip_system(ElementPair::Tri3Tri3, (0.1, 0.02), (4, 1), steel_like(), g, true, 0.04);
+    sys.potential.parts.extra.push(Box::new(FailsAbove(0.0)));
+    let before = sys.potential.parts.state.clone();
+    let mut settings = TimeStepSettings::fixed(0.04);
+    settings.max_reductions = 3;
+    let mut stepper = TimeStepper::new(&sys.potential, settings).unwrap();
+    let err = stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap_err();
+    assert_eq!(err.attempts.len(), 4);
+    assert_eq!(
+        err.attempts.iter().map(|a| a.dt).collect::<Vec<_>>(),
+        [0.04, 0.02, 0.01, 0.005]
+    );
+    assert!(
+        err.to_string().contains("fails_above") || err.to_string().contains("non-finite"),
+        "{err}"
+    );
+    assert_eq!(sys.potential.parts.state, before);
+    assert_eq!(stepper.time(), 0.0);
+}
