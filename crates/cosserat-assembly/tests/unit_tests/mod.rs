@@ -1,3 +1,4 @@
 mod common;
+mod curved;
 mod pattern;
 mod potential;
