@@ -1,1 +1,42 @@
-//! Work in progress.
+//! Cosserat shell simulator: the [`Simulation`] facade and the command-line runner.
+//!
+//! Three-director Cosserat shells after Löschner et al., "Curved Three-Director Cosserat Shells with
+//! Strong Coupling" (CGF 2024): displacements and microrotations solved together in one Newton solve
+//! per time step.
+//!
+//! Entry points:
+//! - [`Simulation::new`] from a validated [`SceneSpec`](cosserat_scene::spec::SceneSpec) (read one with
+//!   `cosserat_scene`), then [`Simulation::run`] writes `summary.json`, `probes.csv` and VTU frames;
+//! - [`cli::run`]: the `cosserat` binary (`cosserat run <scene.toml> [--out DIR] [--set key=value]`,
+//!   `cosserat render <out dir>`);
+//! - the layers below are re-exported: [`geometry`], [`fem`], [`material`], [`assembly`], [`solver`],
+//!   [`scene`].
+//!
+//! Non-goals: no physics lives here; this crate composes the layers.
+//!
+//! Feature flags: none.
+//!
+//! ```no_run
+//! use cosserat::Simulation;
+//! use std::sync::atomic::AtomicBool;
+//! let spec = cosserat::scene::load_scene(std::path::Path::new("scenes/twisting_strip.toml"), &[]).unwrap();
+//! let mut sim = Simulation::new(spec).unwrap();
+//! let summary = sim.run(std::path::Path::new("out/twisting_strip"), &mut |_| {}, &AtomicBool::new(false)).unwrap();
+//! println!("{} steps, {:.1} Newton iterations per step", summary.n_steps, summary.avg_newton_iterations);
+//! ```
+
+pub mod cli;
+pub mod error;
+pub mod frames;
+pub mod probes;
+pub mod scripts;
+pub mod simulation;
+
+pub use cosserat_assembly as assembly;
+pub use cosserat_fem as fem;
+pub use cosserat_geometry as geometry;
+pub use cosserat_material as material;
+pub use cosserat_scene as scene;
+pub use cosserat_solver as solver;
+pub use error::SimulationError;
+pub use simulation::{Simulation, StepInfo};

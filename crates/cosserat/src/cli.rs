@@ -1,0 +1,234 @@
+//! The command-line interface: `cosserat run <scene.toml>` and `cosserat render <out dir>`.
+//!
+//! Output on a terminal is a progress bar (step, time, Newton iterations, residual); otherwise plain
+//! lines about once a second. Ctrl-C stops the run after the current step; the frames written so far
+//! stay and the summary says where the run stopped.
+
+use crate::simulation::{Simulation, StepInfo, write_setup_failure};
+use anyhow::Context;
+use clap::{Parser, Subcommand};
+use cosserat_scene::output::RunStatus;
+use cosserat_scene::render::{RenderOptions, render_png};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+/// Command-line arguments.
+#[derive(Debug, Parser)]
+#[command(name = "cosserat", version, about = "Three-director Cosserat shell simulator")]
+pub struct Cli {
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Run a scene and write summary.json, probes.csv and frames/ into the output directory.
+    Run(RunArgs),
+    /// Render frames of a finished run to PNG.
+    Render(RenderArgs),
+}
+
+/// Arguments of `run`.
+#[derive(Debug, clap::Args)]
+pub struct RunArgs {
+    /// The scene file (TOML).
+    pub scene: PathBuf,
+    /// Output directory (default: out/<scene name>/).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override a scene field, e.g. `--set mesh.ny=8` (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub overrides: Vec<String>,
+    /// Number of threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// A run's output directory.
+    pub dir: PathBuf,
+    /// Frame index (default: the last frame).
+    #[arg(long)]
+    pub frame: Option<usize>,
+    /// Output PNG (default: DIR/frame_NNNNN.png).
+    #[arg(long)]
+    pub output: Option<PathBuf>,
+    /// Colour by displacement magnitude.
+    #[arg(long)]
+    pub color_displacement: bool,
+}
+
+/// Parses arguments, runs, and returns the process exit code (0 on success).
+pub fn main_with_args<I, T>(args: I) -> i32
+where
+    I: IntoIterator<Item = T>,
+    T: Into<std::ffi::OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(c) => c,
+        Err(e) => {
+            let _ = e.print();
+            return if e.use_stderr() { 2 } else { 0 };
+        }
+    };
+    match run(cli) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            1
+        }
+    }
+}
+
+/// Executes a parsed command; returns the exit code (1 if the run ended with an error status).
+///
+/// # Errors
+/// Invalid scenes, I/O failures.
+pub fn run(cli: Cli) -> anyhow::Result<i32> {
+    match cli.command {
+        Command::Run(args) => run_scene(&args),
+        Command::Render(args) => render(&args).map(|_| 0),
+    }
+}
+
+/// Runs a scene file; returns the exit code.
+///
+/// # Errors
+/// I/O failures of the outputs.
+pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
+    let stem = args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let spec = match cosserat_scene::load_scene(&args.scene, &args.overrides) {
+        Ok(spec) => spec,
+        Err(e) => {
+            let dir = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
+            write_setup_failure(&dir, &stem, &e.to_string()).with_context(|| format!("writing {}", dir.display()))?;
+            eprintln!("error: {e}");
+            return Ok(1);
+        }
+    };
+    let dir = args.out.clone().unwrap_or_else(|| Path::new("out").join(&spec.name));
+    let name = spec.name.clone();
+    let mut sim = match Simulation::new(spec) {
+        Ok(sim) => sim,
+        Err(e) => {
+            write_setup_failure(&dir, &name, &e.to_string()).with_context(|| format!("writing {}", dir.display()))?;
+            eprintln!("error: {e}");
+            return Ok(1);
+        }
+    };
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = stop.clone();
+        // A second Ctrl-C while stopping falls through to the default handler only if this fails.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build().context("creating the thread pool")?;
+    let summary = pool.install(|| {
+        let mut reporter = Reporter::new(args.quiet);
+        sim.run(&dir, &mut |info| reporter.step(info), &stop)
+    })?;
+    match summary.status {
+        RunStatus::Ok => {
+            if !args.quiet {
+                eprintln!(
+                    "{}: {} steps, {:.2} Newton iterations per step, {:.1} ms per step, {:.2} s; outputs in {}",
+                    summary.scene,
+                    summary.n_steps,
+                    summary.avg_newton_iterations,
+                    summary.avg_step_ms,
+                    summary.wall_seconds,
+                    dir.display()
+                );
+            }
+            Ok(0)
+        }
+        RunStatus::Interrupted => {
+            eprintln!("interrupted at t = {}; outputs so far in {}", summary.stopped_at.unwrap_or(0.0), dir.display());
+            Ok(130)
+        }
+        RunStatus::Error => {
+            eprintln!("run failed: {}", summary.reason.as_deref().unwrap_or("unknown reason"));
+            Ok(1)
+        }
+    }
+}
+
+/// Progress display: a bar on a terminal, plain lines otherwise.
+struct Reporter {
+    bar: Option<ProgressBar>,
+    plain: bool,
+    last: Instant,
+}
+
+impl Reporter {
+    fn new(quiet: bool) -> Self {
+        let terminal = std::io::stderr().is_terminal();
+        let bar = (!quiet && terminal).then(|| {
+            let bar = ProgressBar::new(1000);
+            bar.set_style(
+                ProgressStyle::with_template("{bar:30} {msg} [{elapsed_precise}]").unwrap_or_else(|_| ProgressStyle::default_bar()),
+            );
+            bar
+        });
+        Self { bar, plain: !quiet && !terminal, last: Instant::now() }
+    }
+
+    fn step(&mut self, info: &StepInfo) {
+        let msg = format!(
+            "step {} t = {:.4}/{:.4} Newton {} residual {:.2e}",
+            info.step, info.t, info.end, info.newton_iterations, info.residual
+        );
+        if let Some(bar) = &self.bar {
+            bar.set_position(((info.t / info.end.max(1e-300)) * 1000.0) as u64);
+            bar.set_message(msg);
+        } else if self.plain && (self.last.elapsed().as_secs_f64() > 1.0 || info.t >= info.end) {
+            eprintln!("{msg}");
+            self.last = Instant::now();
+        }
+    }
+}
+
+impl Drop for Reporter {
+    fn drop(&mut self) {
+        if let Some(bar) = &self.bar {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+/// Renders a frame of a run directory to PNG.
+///
+/// # Errors
+/// Missing or unreadable frames, PNG encoding failures.
+pub fn render(args: &RenderArgs) -> anyhow::Result<PathBuf> {
+    use cosserat_scene::output::run::{FRAMES_DIR, PVD_FILE};
+    use cosserat_scene::output::{read_pvd, read_pvd_frame};
+    let pvd = args.dir.join(FRAMES_DIR).join(PVD_FILE);
+    let entries = read_pvd(&pvd).with_context(|| format!("reading {}", pvd.display()))?;
+    anyhow::ensure!(!entries.is_empty(), "{} lists no frames", pvd.display());
+    let idx = args.frame.unwrap_or(entries.len() - 1);
+    anyhow::ensure!(idx < entries.len(), "frame {idx} does not exist ({} frames)", entries.len());
+    let frame = read_pvd_frame(&pvd, idx).with_context(|| format!("reading frame {idx}"))?;
+    let mut options = RenderOptions::default();
+    if args.color_displacement {
+        options.colouring = cosserat_scene::render::Colouring::PointScalar {
+            array: "displacement".into(),
+            mode: cosserat_scene::render::ScalarMode::Magnitude,
+            range: None,
+        };
+    }
+    let out = args.output.clone().unwrap_or_else(|| args.dir.join(format!("frame_{idx:05}.png")));
+    render_png(&frame, &options, &out).with_context(|| format!("writing {}", out.display()))?;
+    Ok(out)
+}

@@ -1,0 +1,25 @@
+//! Errors of the facade.
+
+use thiserror::Error;
+
+/// A failure to set up or write a simulation. Physics failures during a run (Newton not converging)
+/// are not errors: they end the run with status `error` in its summary.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum SimulationError {
+    /// The scene file is invalid.
+    #[error(transparent)]
+    Scene(#[from] cosserat_scene::SceneError),
+    /// The system could not be built (mesh or material).
+    #[error(transparent)]
+    Build(#[from] cosserat_assembly::BuildError),
+    /// A scene item cannot be set up.
+    #[error("{0}")]
+    Setup(String),
+    /// The solver could not be set up.
+    #[error(transparent)]
+    Solver(#[from] cosserat_solver::NewtonError),
+    /// Writing outputs failed.
+    #[error(transparent)]
+    Output(#[from] cosserat_scene::output::OutputError),
+}
