@@ -22,12 +22,16 @@ use rayon::prelude::*;
 pub trait ShellEnergy: PotentialTerm {
     /// Number of quadrature points.
     fn n_points(&self) -> usize;
-    /// Sets the rest metric and rest curvature per point (world-frame tensors; `None` = default).
-    fn set_rest_fields_dyn(&mut self, fields: &mut dyn FnMut(usize) -> (Option<Matrix3<f64>>, Option<Matrix3<f64>>));
+    /// Sets the rest-metric growth factor and the rest curvature (world frame) per point; `None` = default.
+    fn set_rest_fields_dyn(&mut self, fields: &mut dyn FnMut(usize) -> (Option<f64>, Option<Matrix3<f64>>));
     /// Clears prescribed rest fields.
     fn clear_rest_fields_dyn(&mut self);
     /// Projects element Hessians onto the positive semi-definite cone when set.
     fn set_project_pd(&mut self, on: bool);
+    /// The smallest signed area ratio over all quadrature points in a state: the current area element
+    /// over the rest one, negative where the element is folded over relative to its directors
+    /// (`(F̂₁ × F̂₂) · R n₀`). Below zero means an inverted element.
+    fn min_area_ratio(&self, state: &SystemState) -> f64;
 }
 
 impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellEnergy
@@ -37,7 +41,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         self.discretization().rest.shapes.len()
     }
 
-    fn set_rest_fields_dyn(&mut self, fields: &mut dyn FnMut(usize) -> (Option<Matrix3<f64>>, Option<Matrix3<f64>>)) {
+    fn set_rest_fields_dyn(&mut self, fields: &mut dyn FnMut(usize) -> (Option<f64>, Option<Matrix3<f64>>)) {
         self.set_rest_fields(fields);
     }
 
@@ -47,6 +51,10 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn set_project_pd(&mut self, on: bool) {
         self.project_pd = on;
+    }
+
+    fn min_area_ratio(&self, state: &SystemState) -> f64 {
+        self.min_area_ratio(state)
     }
 }
 

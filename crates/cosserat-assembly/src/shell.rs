@@ -79,9 +79,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         self.disc.disp_elements.len()
     }
 
-    /// Sets the rest metric `A` (growth; `None` = the rest tangent projector `a`) and the rest curvature
-    /// `Γ_rest` (`None` = 0), both world-frame 3×3 tensors, at every quadrature point.
-    pub fn set_rest_fields(&mut self, mut fields: impl FnMut(usize) -> (Option<Matrix3<f64>>, Option<Matrix3<f64>>)) {
+    /// Sets, at every quadrature point `p`, the rest-metric growth factor `g` (the rest metric becomes
+    /// `g a₀`, `None` = 1) and the rest curvature `Γ_rest` (a world-frame 3×3 tensor, `None` = 0).
+    pub fn set_rest_fields(&mut self, mut fields: impl FnMut(usize) -> (Option<f64>, Option<Matrix3<f64>>)) {
         let offsets = self
             .disc
             .rest
@@ -89,11 +89,34 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             .iter()
             .enumerate()
             .map(|(p, s)| {
-                let (a, g) = fields(p);
-                strain_offset(&s.frame, a.as_ref(), g.as_ref())
+                let (growth, curvature) = fields(p);
+                let metric = growth.map(|g| {
+                    let n = s.frame.column(2);
+                    (Matrix3::identity() - n * n.transpose()) * g
+                });
+                strain_offset(&s.frame, metric.as_ref(), curvature.as_ref())
             })
             .collect();
         self.offsets = Some(offsets);
+    }
+
+    /// The smallest signed area ratio `(F̂₁ × F̂₂) · R n₀` over all points of a state (see
+    /// [`crate::ShellEnergy::min_area_ratio`]).
+    pub fn min_area_ratio(&self, state: &SystemState) -> f64 {
+        let n_qp = self.disc.rest.points_per_element;
+        let mut min = f64::INFINITY;
+        for (e, d) in self.disc.disp_elements.iter().enumerate() {
+            let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
+            for g in 0..n_qp {
+                let p = e * n_qp + g;
+                let shape = &self.disc.rest.shapes[p];
+                let f = f_hat(shape, &x);
+                let r = rotation_matrix(&state.q_points[self.disc.first_point + p]);
+                let normal = r * shape.frame.column(2);
+                min = min.min(f[0].cross(&f[1]).dot(&normal));
+            }
+        }
+        min
     }
 
     /// Clears prescribed rest fields.

@@ -21,7 +21,7 @@
 //! use cosserat_geometry::surface::{SurfaceMetric, second_fundamental_tensor, mean_curvature, gaussian_curvature};
 //! use nalgebra::{Matrix3x2, Vector3};
 //! // A sphere of radius 2 parametrised around its north pole: x(u, v) = (u, v, sqrt(4 - u² - v²)).
-//! let tangent = Matrix3x2::new(1.0, 0.0, 0.0, 1.0, 0.0, 0.0);
+//! let tangent: Matrix3x2<f64> = Matrix3x2::new(1.0, 0.0, 0.0, 1.0, 0.0, 0.0);
 //! // Outward normal n = x / 2, so ∂n/∂u = (1/2, 0, 0) and ∂n/∂v = (0, 1/2, 0) at the pole.
 //! let normal_gradient = Matrix3x2::new(0.5, 0.0, 0.0, 0.5, 0.0, 0.0);
 //! let metric = SurfaceMetric::try_new(&tangent).unwrap();

@@ -55,7 +55,7 @@ fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
     parts.loads.forces[3] = Vector3::new(0.1, -0.2, 0.3);
     parts.loads.torques[2] = Vector3::new(0.03, -0.01, 0.02);
     let g: Vec<Matrix3<f64>> = (0..p.parts.shells[0].n_points()).map(|_| Matrix3::from_fn(|_, _| rng.random_range(-5.0..5.0))).collect();
-    p.parts.shells[0].set_rest_fields_dyn(&mut |i| (Some(Matrix3::from_diagonal(&Vector3::new(1.05, 1.05, 0.0))), Some(g[i])));
+    p.parts.shells[0].set_rest_fields_dyn(&mut |i| (Some(1.05), Some(g[i])));
 }
 
 fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {

@@ -1,0 +1,64 @@
+//! Assembly benchmarks: energy, gradient and Hessian of the whole incremental potential per element,
+//! for each element pair and model, on a bent state of a plate (so every term is active).
+
+// `criterion_group!` generates undocumented items.
+#![allow(missing_docs)]
+
+use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
+use cosserat_fem::mesh::procedural;
+use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
+use cosserat_material::rest::RestOptions;
+use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use nalgebra::Vector3;
+use std::hint::black_box;
+use std::time::Duration;
+
+fn system(pair: ElementPair, model: ShellModel, nx: usize, ny: usize) -> System {
+    // A quarter cylinder for the shell model (every point curved), a flat strip for the plate.
+    let generated = match model {
+        ShellModel::Plate => procedural::rectangle_grid(0.1, 0.1 * ny as f64 / nx as f64, nx, ny).unwrap(),
+        ShellModel::Shell => procedural::cylinder(0.05, 0.1, nx, ny).unwrap(),
+    };
+    let input = ShellInput {
+        name: "bench".into(),
+        mesh: ShellMesh::from_tri3(generated.mesh.clone(), pair, |n| generated.place(n)),
+        pair,
+        material: MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6),
+        rest: RestOptions::new(ModelOptions::new(model)),
+        quadrature: None,
+        damping: 0.0,
+        angular_inertia_density: 0.0,
+    };
+    let mut sys = build_system(&[input], Vec::new(), &SystemOptions { gravity: Vector3::zeros(), dynamic: true, dt: 0.01 }).unwrap();
+    let st = &mut sys.potential.parts.state;
+    for (k, q) in st.q.iter_mut().enumerate() {
+        *q = quaternion_from_matrix(&exp_map(&Vector3::new(0.1 * (k as f64).sin(), 0.2, 0.05)));
+    }
+    sys
+}
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("assembly_per_element");
+    group.sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(2));
+    for (pair, label) in [(ElementPair::Tri3Tri3, "tri3_tri3"), (ElementPair::Tri6Tri3, "tri6_tri3"), (ElementPair::Tri6Tri6, "tri6_tri6")] {
+        for (model, m) in [(ShellModel::Plate, "plate"), (ShellModel::Shell, "shell")] {
+            let mut sys = system(pair, model, 40, 8);
+            let n_el = sys.shells[0].disp_elements.len() as u64;
+            let u: Vec<f64> = (0..sys.potential.n_dofs()).map(|i| 0.01 * ((i as f64) * 0.37).sin()).collect();
+            let mut g = vec![0.0; u.len()];
+            let mut values = vec![0.0; sys.potential.pattern().nnz()];
+            group.throughput(Throughput::Elements(n_el));
+            let id = format!("{label}_{m}");
+            group.bench_function(BenchmarkId::new("energy", &id), |b| b.iter(|| black_box(sys.potential.value(&u).unwrap())));
+            group.bench_function(BenchmarkId::new("gradient", &id), |b| b.iter(|| black_box(sys.potential.gradient(&u, &mut g).unwrap())));
+            group.bench_function(BenchmarkId::new("hessian", &id), |b| {
+                b.iter(|| black_box(sys.potential.hessian(&u, &mut g, &mut values).unwrap()))
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
