@@ -30,7 +30,16 @@ fn system(pair: ElementPair, model: ShellModel, nx: usize, ny: usize) -> System 
         damping: 0.0,
         angular_inertia_density: 0.0,
     };
-    let mut sys = build_system(&[input], Vec::new(), &SystemOptions { gravity: Vector3::zeros(), dynamic: true, dt: 0.01 }).unwrap();
+    let mut sys = build_system(
+        &[input],
+        Vec::new(),
+        &SystemOptions {
+            gravity: Vector3::zeros(),
+            dynamic: true,
+            dt: 0.01,
+        },
+    )
+    .unwrap();
     let st = &mut sys.potential.parts.state;
     for (k, q) in st.q.iter_mut().enumerate() {
         *q = quaternion_from_matrix(&exp_map(&Vector3::new(0.1 * (k as f64).sin(), 0.2, 0.05)));
@@ -40,8 +49,15 @@ fn system(pair: ElementPair, model: ShellModel, nx: usize, ny: usize) -> System 
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("assembly_per_element");
-    group.sample_size(10).warm_up_time(Duration::from_millis(300)).measurement_time(Duration::from_secs(2));
-    for (pair, label) in [(ElementPair::Tri3Tri3, "tri3_tri3"), (ElementPair::Tri6Tri3, "tri6_tri3"), (ElementPair::Tri6Tri6, "tri6_tri6")] {
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(2));
+    for (pair, label) in [
+        (ElementPair::Tri3Tri3, "tri3_tri3"),
+        (ElementPair::Tri6Tri3, "tri6_tri3"),
+        (ElementPair::Tri6Tri6, "tri6_tri6"),
+    ] {
         for (model, m) in [(ShellModel::Plate, "plate"), (ShellModel::Shell, "shell")] {
             let mut sys = system(pair, model, 40, 8);
             let n_el = sys.shells[0].disp_elements.len() as u64;
@@ -50,8 +66,12 @@ fn bench(c: &mut Criterion) {
             let mut values = vec![0.0; sys.potential.pattern().nnz()];
             group.throughput(Throughput::Elements(n_el));
             let id = format!("{label}_{m}");
-            group.bench_function(BenchmarkId::new("energy", &id), |b| b.iter(|| black_box(sys.potential.value(&u).unwrap())));
-            group.bench_function(BenchmarkId::new("gradient", &id), |b| b.iter(|| black_box(sys.potential.gradient(&u, &mut g).unwrap())));
+            group.bench_function(BenchmarkId::new("energy", &id), |b| {
+                b.iter(|| black_box(sys.potential.value(&u).unwrap()))
+            });
+            group.bench_function(BenchmarkId::new("gradient", &id), |b| {
+                b.iter(|| black_box(sys.potential.gradient(&u, &mut g).unwrap()))
+            });
             group.bench_function(BenchmarkId::new("hessian", &id), |b| {
                 b.iter(|| black_box(sys.potential.hessian(&u, &mut g, &mut values).unwrap()))
             });

@@ -4,7 +4,7 @@
 //! coordinates, rotations relative to the rest pose in world axes.
 
 use crate::error::AssemblyError;
-use crate::inertia::{add3, add_diagonal};
+use crate::inertia::{add_diagonal, add3};
 use crate::pattern::SparsityPattern;
 use crate::term::{Evaluation, PotentialTerm, finite};
 use nalgebra::{Matrix3, Vector3};
@@ -25,14 +25,22 @@ pub struct PositionPenalty {
 }
 
 impl PositionPenalty {
-    fn evaluate(&self, eval: &Evaluation<'_>, mut sink: impl FnMut(usize, Vector3<f64>, [f64; 3])) -> Result<f64, AssemblyError> {
+    fn evaluate(
+        &self,
+        eval: &Evaluation<'_>,
+        mut sink: impl FnMut(usize, Vector3<f64>, [f64; 3]),
+    ) -> Result<f64, AssemblyError> {
         let (k, dt) = (self.stiffness, eval.dt);
         let mask = Vector3::from_fn(|c, _| if self.active[c] { 1.0 } else { 0.0 });
         let mut total = 0.0;
         for (n, &i) in self.nodes.iter().enumerate() {
             let d = (eval.state.x[i] + eval.layout.velocity(eval.u, i) * dt - self.targets[n]).component_mul(&mask);
             total += finite(0.5 * k * d.norm_squared(), &|| self.name(), "node", i)?;
-            sink(eval.layout.disp_block(i), d * (k * dt), [mask.x * k * dt * dt, mask.y * k * dt * dt, mask.z * k * dt * dt]);
+            sink(
+                eval.layout.disp_block(i),
+                d * (k * dt),
+                [mask.x * k * dt * dt, mask.y * k * dt * dt, mask.z * k * dt * dt],
+            );
         }
         Ok(total)
     }
@@ -51,7 +59,13 @@ impl PotentialTerm for PositionPenalty {
         self.evaluate(eval, |b, g, _| add3(grad, b, &g))
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+    fn hessian(
+        &self,
+        eval: &Evaluation<'_>,
+        grad: &mut [f64],
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) -> Result<f64, AssemblyError> {
         self.evaluate(eval, |b, g, h| {
             add3(grad, b, &g);
             add_diagonal(pattern, values, b, h);
@@ -103,7 +117,13 @@ impl PotentialTerm for RotationPenalty {
         Ok(total)
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+    fn hessian(
+        &self,
+        eval: &Evaluation<'_>,
+        grad: &mut [f64],
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) -> Result<f64, AssemblyError> {
         let mut total = 0.0;
         for (n, &k) in self.nodes.iter().enumerate() {
             let (e, g, h) = self.node(eval, n, k, true);
@@ -128,7 +148,8 @@ impl RotationPenalty {
                 g[a] += s * d.dot(&jet.d1[a].column(j));
                 if with_hessian {
                     for b in 0..3 {
-                        h[(a, b)] += s * (jet.d1[a].column(j).dot(&jet.d1[b].column(j)) + d.dot(&jet.d2[a][b].column(j)));
+                        h[(a, b)] +=
+                            s * (jet.d1[a].column(j).dot(&jet.d1[b].column(j)) + d.dot(&jet.d2[a][b].column(j)));
                     }
                 }
             }
@@ -153,13 +174,30 @@ pub struct AngularVelocityPenalty {
 }
 
 impl AngularVelocityPenalty {
-    fn evaluate(&self, eval: &Evaluation<'_>, mut sink: impl FnMut(usize, Vector3<f64>, [f64; 3])) -> Result<f64, AssemblyError> {
+    fn evaluate(
+        &self,
+        eval: &Evaluation<'_>,
+        mut sink: impl FnMut(usize, Vector3<f64>, [f64; 3]),
+    ) -> Result<f64, AssemblyError> {
         let mask = Vector3::from_fn(|c, _| if self.active[c] { 1.0 } else { 0.0 });
         let mut total = 0.0;
         for &k in &self.nodes {
             let d = (eval.layout.omega(eval.u, k) - self.target).component_mul(&mask);
-            total += finite(0.5 * self.stiffness * d.norm_squared(), &|| self.name(), "rotation node", k)?;
-            sink(eval.layout.rot_block(k), d * self.stiffness, [mask.x * self.stiffness, mask.y * self.stiffness, mask.z * self.stiffness]);
+            total += finite(
+                0.5 * self.stiffness * d.norm_squared(),
+                &|| self.name(),
+                "rotation node",
+                k,
+            )?;
+            sink(
+                eval.layout.rot_block(k),
+                d * self.stiffness,
+                [
+                    mask.x * self.stiffness,
+                    mask.y * self.stiffness,
+                    mask.z * self.stiffness,
+                ],
+            );
         }
         Ok(total)
     }
@@ -178,7 +216,13 @@ impl PotentialTerm for AngularVelocityPenalty {
         self.evaluate(eval, |b, g, _| add3(grad, b, &g))
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+    fn hessian(
+        &self,
+        eval: &Evaluation<'_>,
+        grad: &mut [f64],
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) -> Result<f64, AssemblyError> {
         self.evaluate(eval, |b, g, h| {
             add3(grad, b, &g);
             add_diagonal(pattern, values, b, h);
@@ -202,7 +246,9 @@ pub struct PositionConstraint {
 
 /// Adds a full 3×3 block (symmetric) onto a diagonal block of the upper-triangular values.
 pub(crate) fn add_block(pattern: &SparsityPattern, values: &mut [f64], block: usize, h: &Matrix3<f64>) {
-    let k = pattern.block_position(block, block).expect("diagonal block is always in the pattern");
+    let k = pattern
+        .block_position(block, block)
+        .expect("diagonal block is always in the pattern");
     for c in 0..3 {
         let start = pattern.col_start(3 * block + c) + 3 * k;
         for r in 0..=c {

@@ -27,7 +27,11 @@ impl InertiaTerm {
         let v = eval.layout.velocity(eval.u, i);
         let dv = v - eval.state.v[i];
         let c = m * self.damping[i] * eval.dt;
-        (0.5 * m * dv.norm_squared() + 0.5 * c * v.norm_squared(), dv * m + v * c, m + c)
+        (
+            0.5 * m * dv.norm_squared() + 0.5 * c * v.norm_squared(),
+            dv * m + v * c,
+            m + c,
+        )
     }
 
     fn rot_energy(&self, eval: &Evaluation<'_>, k: usize) -> (f64, Vector3<f64>, f64) {
@@ -36,7 +40,11 @@ impl InertiaTerm {
         (0.5 * inertia * dw.norm_squared(), dw * inertia, inertia)
     }
 
-    fn evaluate(&self, eval: &Evaluation<'_>, mut sink: impl FnMut(usize, Vector3<f64>, f64)) -> Result<f64, AssemblyError> {
+    fn evaluate(
+        &self,
+        eval: &Evaluation<'_>,
+        mut sink: impl FnMut(usize, Vector3<f64>, f64),
+    ) -> Result<f64, AssemblyError> {
         let name = || self.name();
         let mut total = 0.0;
         for i in 0..self.masses.len() {
@@ -68,7 +76,13 @@ impl PotentialTerm for InertiaTerm {
         self.evaluate(eval, |b, g, _| add3(grad, b, &g))
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+    fn hessian(
+        &self,
+        eval: &Evaluation<'_>,
+        grad: &mut [f64],
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) -> Result<f64, AssemblyError> {
         self.evaluate(eval, |b, g, h| {
             add3(grad, b, &g);
             add_diagonal(pattern, values, b, [h; 3]);
@@ -160,7 +174,13 @@ impl PotentialTerm for LoadTerm {
         finite(v, &|| self.name(), "term", 0)
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+    fn hessian(
+        &self,
+        eval: &Evaluation<'_>,
+        grad: &mut [f64],
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) -> Result<f64, AssemblyError> {
         let v = self.evaluate(eval, |b, g, h| {
             add3(grad, b, &g);
             if let Some(h) = h {
@@ -189,7 +209,11 @@ pub(crate) fn add_diagonal(pattern: &SparsityPattern, values: &mut [f64], block:
 }
 
 /// Lumped masses: each element's rest area split equally over its `n` displacement nodes.
-pub fn lumped_masses(n_nodes: usize, elements: impl IntoIterator<Item = (Vec<usize>, f64)>, areal_density: f64) -> Vec<f64> {
+pub fn lumped_masses(
+    n_nodes: usize,
+    elements: impl IntoIterator<Item = (Vec<usize>, f64)>,
+    areal_density: f64,
+) -> Vec<f64> {
     let mut m = vec![0.0; n_nodes];
     for (nodes, area) in elements {
         let share = areal_density * area / nodes.len() as f64;

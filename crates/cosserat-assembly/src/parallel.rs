@@ -3,7 +3,8 @@
 //!
 //! Consuming in a fixed order makes every sum (energy, gradient entries, Hessian values) bit-identical
 //! for any number of threads, without locks or unsafe shared writes: only the element kernels run in
-//! parallel, and while one chunk is being scattered the next one is already being computed.
+//! parallel, and while one chunk is being scattered the next one is already being computed. Results are
+//! written in place into two reusable chunk buffers, so an evaluation allocates nothing.
 
 use rayon::prelude::*;
 
@@ -18,49 +19,101 @@ pub enum Parallelism {
 }
 
 /// Elements per chunk: large enough to amortise scheduling, small enough to keep buffers in cache.
-pub const CHUNK: usize = 512;
+pub const CHUNK: usize = 256;
 
-/// Computes `compute(i)` for `i in 0..n` and passes each result to `consume` in increasing `i`.
+/// Two reusable chunk buffers for [`ordered_map`].
+#[derive(Debug, Default)]
+pub struct ChunkBuffers<T> {
+    front: Vec<T>,
+    back: Vec<T>,
+}
+
+impl<T> ChunkBuffers<T> {
+    /// Empty buffers (they grow to [`CHUNK`] entries on first use).
+    pub fn new() -> Self {
+        Self {
+            front: Vec::new(),
+            back: Vec::new(),
+        }
+    }
+}
+
+fn fill<T: Send, F: Fn(usize, &mut T) + Sync>(buf: &mut [T], start: usize, par: Parallelism, compute: &F) {
+    match par {
+        Parallelism::Sequential => buf.iter_mut().enumerate().for_each(|(i, slot)| compute(start + i, slot)),
+        Parallelism::Rayon => buf
+            .par_iter_mut()
+            .with_min_len(4)
+            .enumerate()
+            .for_each(|(i, slot)| compute(start + i, slot)),
+    }
+}
+
+/// Computes `compute(i, &mut slot)` for `i in 0..n` and passes each result to `consume(i, &slot)` in
+/// increasing `i`. `init` creates a buffer slot.
 ///
 /// # Errors
 /// The first error returned by `consume`; later results are not consumed.
-pub fn ordered_map<T, E, F, C>(n: usize, par: Parallelism, compute: F, mut consume: C) -> Result<(), E>
+pub fn ordered_map<T, E, I, F, C>(
+    n: usize,
+    par: Parallelism,
+    buffers: &mut ChunkBuffers<T>,
+    init: I,
+    compute: F,
+    mut consume: C,
+) -> Result<(), E>
 where
-    T: Send,
-    F: Fn(usize) -> T + Sync,
-    C: FnMut(usize, T) -> Result<(), E> + Send,
+    T: Send + Sync,
+    I: Fn() -> T,
+    F: Fn(usize, &mut T) + Sync,
+    C: FnMut(usize, &T) -> Result<(), E> + Send,
     E: Send,
 {
-    let run = |range: std::ops::Range<usize>| -> Vec<T> {
-        match par {
-            Parallelism::Sequential => range.map(&compute).collect(),
-            Parallelism::Rayon => range.into_par_iter().with_min_len(8).map(&compute).collect(),
+    let len = n.min(CHUNK);
+    for buf in [&mut buffers.front, &mut buffers.back] {
+        if buf.len() < len {
+            buf.resize_with(len, &init);
         }
-    };
-    let chunks: Vec<std::ops::Range<usize>> = (0..n.div_ceil(CHUNK)).map(|c| c * CHUNK..((c + 1) * CHUNK).min(n)).collect();
-    let Some(first) = chunks.first() else { return Ok(()) };
-    let mut current = run(first.clone());
-    for (c, range) in chunks.iter().enumerate() {
-        let next_range = chunks.get(c + 1).cloned();
-        let start = range.start;
-        let mut consume_current = |items: Vec<T>| -> Result<(), E> {
-            for (offset, item) in items.into_iter().enumerate() {
-                consume(start + offset, item)?;
+    }
+    let n_chunks = n.div_ceil(CHUNK);
+    if n_chunks == 0 {
+        return Ok(());
+    }
+    let range = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(n);
+    let ChunkBuffers { front, back } = buffers;
+    let (mut current, mut next) = (front, back);
+    let r0 = range(0);
+    fill(&mut current[..r0.len()], r0.start, par, &compute);
+    for c in 0..n_chunks {
+        let r = range(c);
+        let mut consume_current = |items: &[T]| -> Result<(), E> {
+            for (offset, item) in items.iter().enumerate() {
+                consume(r.start + offset, item)?;
             }
             Ok(())
         };
-        match (par, next_range) {
-            (Parallelism::Rayon, Some(next)) => {
-                let (next_items, result) = rayon::join(|| run(next), || consume_current(std::mem::take(&mut current)));
-                result?;
-                current = next_items;
-            }
-            (_, next) => {
-                consume_current(std::mem::take(&mut current))?;
-                if let Some(next) = next {
-                    current = run(next);
+        if c + 1 < n_chunks {
+            let rn = range(c + 1);
+            let next_slice = &mut next[..rn.len()];
+            let current_slice = &current[..r.len()];
+            let result = match par {
+                Parallelism::Rayon => {
+                    rayon::join(
+                        || fill(next_slice, rn.start, par, &compute),
+                        || consume_current(current_slice),
+                    )
+                    .1
                 }
-            }
+                Parallelism::Sequential => {
+                    let result = consume_current(current_slice);
+                    fill(next_slice, rn.start, par, &compute);
+                    result
+                }
+            };
+            result?;
+            std::mem::swap(&mut current, &mut next);
+        } else {
+            consume_current(&current[..r.len()])?;
         }
     }
     Ok(())

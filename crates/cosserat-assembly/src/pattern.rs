@@ -59,7 +59,12 @@ impl SparsityPattern {
             }
         }
         let symbolic = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        Self { n_blocks, block_col_ptr, block_rows, symbolic }
+        Self {
+            n_blocks,
+            block_col_ptr,
+            block_rows,
+            symbolic,
+        }
     }
 
     /// Number of 3×3 blocks per row and column.

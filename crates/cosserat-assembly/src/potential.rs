@@ -113,7 +113,13 @@ impl IncrementalPotential {
             t.bind(&pattern);
         }
         let n_rot = parts.layout.n_rot_nodes;
-        Self { parts, dt, parallelism: Parallelism::Rayon, pattern, rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]) }
+        Self {
+            parts,
+            dt,
+            parallelism: Parallelism::Rayon,
+            pattern,
+            rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]),
+        }
     }
 
     /// The Hessian's sparsity pattern (upper triangle).
@@ -143,7 +149,9 @@ impl IncrementalPotential {
     pub fn active_terms(&self) -> Vec<String> {
         let mut names: Vec<String> = Vec::new();
         for t in self.terms() {
-            if std::ptr::addr_eq(t as *const dyn PotentialTerm, &self.parts.loads as *const LoadTerm) && !self.parts.loads.is_active() {
+            if std::ptr::addr_eq(t as *const dyn PotentialTerm, &self.parts.loads as *const LoadTerm)
+                && !self.parts.loads.is_active()
+            {
                 continue;
             }
             for n in t.active_energy_terms() {
@@ -161,7 +169,9 @@ impl IncrementalPotential {
         let omega = |k: usize| layout.omega(u, k);
         match (jets, &mut self.rotations) {
             (true, NodeRotations::Jets(buf)) => fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt)),
-            (false, NodeRotations::Matrices(buf)) => fill(buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt))),
+            (false, NodeRotations::Matrices(buf)) => {
+                fill(buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt)))
+            }
             (true, slot) => {
                 let mut buf = vec![RotationJet::constant(Matrix3::identity()); q.len()];
                 fill(&mut buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
@@ -169,14 +179,23 @@ impl IncrementalPotential {
             }
             (false, slot) => {
                 let mut buf = vec![Matrix3::identity(); q.len()];
-                fill(&mut buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt)));
+                fill(&mut buf, par, |k| {
+                    rotation_matrix(&quaternion_update(&q[k], &omega(k), dt))
+                });
                 *slot = NodeRotations::Matrices(buf);
             }
         }
     }
 
     fn check_len(&self, u: &[f64]) -> Result<(), AssemblyError> {
-        if u.len() == self.n_dofs() { Ok(()) } else { Err(AssemblyError::WrongLength { expected: self.n_dofs(), got: u.len() }) }
+        if u.len() == self.n_dofs() {
+            Ok(())
+        } else {
+            Err(AssemblyError::WrongLength {
+                expected: self.n_dofs(),
+                got: u.len(),
+            })
+        }
     }
 
     /// `Π(u)`.
@@ -213,7 +232,8 @@ impl IncrementalPotential {
         values.fill(0.0);
         let eval = self.evaluation(u);
         let pattern = &self.pattern;
-        self.terms().try_fold(0.0, |acc, t| Ok(acc + t.hessian(&eval, grad, pattern, values)?))
+        self.terms()
+            .try_fold(0.0, |acc, t| Ok(acc + t.hessian(&eval, grad, pattern, values)?))
     }
 
     fn evaluation<'a>(&'a self, u: &'a [f64]) -> Evaluation<'a> {

@@ -31,7 +31,10 @@ impl<const N: usize> ElementScatter<N> {
                 for i in 0..N {
                     for j in 0..N {
                         let (a, b) = if el[i] <= el[j] { (el[i], el[j]) } else { (el[j], el[i]) };
-                        p[i][j] = pattern.block_position(a, b).expect("element block pair missing from the pattern") as u32;
+                        p[i][j] = pattern
+                            .block_position(a, b)
+                            .expect("element block pair missing from the pattern")
+                            as u32;
                     }
                 }
                 p
@@ -68,7 +71,13 @@ impl<const N: usize> ElementScatter<N> {
 
     /// Adds an element Hessian (`3N × 3N`, symmetric) into the global upper-triangular values.
     #[inline]
-    pub fn add_hessian<const NE: usize>(&self, e: usize, h: &SMatrix<f64, NE, NE>, pattern: &SparsityPattern, values: &mut [f64]) {
+    pub fn add_hessian<const NE: usize>(
+        &self,
+        e: usize,
+        h: &SMatrix<f64, NE, NE>,
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) {
         debug_assert_eq!(NE, 3 * N);
         let el = &self.blocks[e];
         let pos = &self.positions[e];

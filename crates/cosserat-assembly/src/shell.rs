@@ -8,7 +8,7 @@
 
 use crate::dofs::DofLayout;
 use crate::error::AssemblyError;
-use crate::parallel::ordered_map;
+use crate::parallel::{ChunkBuffers, ordered_map};
 use crate::pattern::SparsityPattern;
 use crate::scatter::ElementScatter;
 use crate::state::SystemState;
@@ -16,11 +16,12 @@ use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
 use cosserat_material::element::{ElementDerivatives, accumulate, accumulate_gradient, f_hat, point_omega};
 use cosserat_material::kernel::{PointInput, point_gradient, point_hessian, point_value};
+use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{StrainVector, strain_offset};
 use cosserat_material::volume::{volume_density, volume_hessian};
-use cosserat_material::rest::ShellRest;
 use cosserat_material::{AxlVariant, Moduli};
 use nalgebra::{Matrix3, SMatrix, Vector3};
+use std::sync::Mutex;
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
 /// in the global system.
@@ -42,7 +43,7 @@ pub struct ShellDiscretization<const NU: usize, const NR: usize> {
 
 /// The elastic energy of one shell with `NU`-node displacement and `NR`-node rotation elements.
 /// `NL = 6 + 3 NR` locals per point, `NE = 3 (NU + NR)` unknowns and `NB = NU + NR` blocks per element.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> {
     disc: ShellDiscretization<NU, NR>,
     /// Strain offsets per point when a rest metric or rest curvature is prescribed.
@@ -52,6 +53,9 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
     layout: DofLayout,
     /// Project each element Hessian onto the positive semi-definite cone.
     pub project_pd: bool,
+    /// Reusable chunk buffers of element results (values; derivatives).
+    values: Mutex<ChunkBuffers<f64>>,
+    derivatives: Mutex<ChunkBuffers<ElementDerivatives<NE>>>,
 }
 
 /// Linear displacement and rotation elements.
@@ -61,12 +65,28 @@ pub type Tri6Tri3Shell = ShellTerm<6, 3, 15, 27, 9>;
 /// Quadratic displacement and rotation elements.
 pub type Tri6Tri6Shell = ShellTerm<6, 6, 24, 36, 12>;
 
-impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellTerm<NU, NR, NL, NE, NB> {
+impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize>
+    ShellTerm<NU, NR, NL, NE, NB>
+{
     /// The term of a discretised shell within a system of the given layout.
     pub fn new(disc: ShellDiscretization<NU, NR>, layout: DofLayout) -> Self {
-        const { assert!(NL == 6 + 3 * NR && NE == 3 * (NU + NR) && NB == NU + NR, "inconsistent element sizes") };
+        const {
+            assert!(
+                NL == 6 + 3 * NR && NE == 3 * (NU + NR) && NB == NU + NR,
+                "inconsistent element sizes"
+            )
+        };
         let default_offsets = disc.rest.shapes.iter().map(|s| strain_offset(&s.frame, None, None)).collect();
-        Self { disc, offsets: None, default_offsets, scatter: None, layout, project_pd: false }
+        Self {
+            disc,
+            offsets: None,
+            default_offsets,
+            scatter: None,
+            layout,
+            project_pd: false,
+            values: Mutex::new(ChunkBuffers::new()),
+            derivatives: Mutex::new(ChunkBuffers::new()),
+        }
     }
 
     /// The discretisation.
@@ -135,7 +155,13 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     fn blocks(&self, e: usize) -> [usize; NB] {
         let d = &self.disc.disp_elements[e];
         let r = &self.disc.rot_elements[e];
-        std::array::from_fn(|i| if i < NU { self.layout.disp_block(d[i]) } else { self.layout.rot_block(r[i - NU]) })
+        std::array::from_fn(|i| {
+            if i < NU {
+                self.layout.disp_block(d[i])
+            } else {
+                self.layout.rot_block(r[i - NU])
+            }
+        })
     }
 
     fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NU] {
@@ -160,7 +186,15 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             let q = &eval.state.q_points[self.disc.first_point + p];
             let rp = rotation_matrix(&quaternion_update(q, &point_omega(shape, &omega), eval.dt));
             let f = f_hat(shape, &x);
-            let mut psi = point_value(shape, &f, &rp, node_r, self.offset(p), self.disc.rest.densities.get(p), self.disc.axl);
+            let mut psi = point_value(
+                shape,
+                &f,
+                &rp,
+                node_r,
+                self.offset(p),
+                self.disc.rest.densities.get(p),
+                self.disc.axl,
+            );
             if let Some(m) = &self.disc.volume {
                 psi += volume_density(&f, m);
             }
@@ -169,18 +203,33 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         value
     }
 
-    fn element_derivatives(&self, e: usize, eval: &Evaluation<'_>, with_hessian: bool) -> ElementDerivatives<NE> {
+    fn element_derivatives(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        with_hessian: bool,
+        out: &mut ElementDerivatives<NE>,
+    ) {
         let x = self.positions(e, eval);
         let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
         let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
-        let mut out = ElementDerivatives::<NE>::zeros();
+        out.value = 0.0;
+        out.gradient.fill(0.0);
+        if with_hessian {
+            out.hessian.fill(0.0);
+        }
         for g in 0..self.disc.rest.points_per_element {
             let p = e * self.disc.rest.points_per_element + g;
             let shape = &self.disc.rest.shapes[p];
             let q = &eval.state.q_points[self.disc.first_point + p];
             let point_jet = RotationJet::of_update(q, &point_omega(shape, &omega), eval.dt);
-            let input = PointInput { f_hat: f_hat(shape, &x), point_jet: &point_jet, node_jets, offset: self.offset(p) };
+            let input = PointInput {
+                f_hat: f_hat(shape, &x),
+                point_jet: &point_jet,
+                node_jets,
+                offset: self.offset(p),
+            };
             let d = self.disc.rest.densities.get(p);
             if with_hessian {
                 let mut local = point_hessian::<NU, NR, NL>(shape, &input, d, self.disc.axl);
@@ -192,7 +241,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                     let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
                     hl += hv;
                 }
-                accumulate(shape, &local, eval.dt, shape.weight, &mut out);
+                accumulate(shape, &local, eval.dt, shape.weight, out);
             } else {
                 let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, &input, d, self.disc.axl);
                 if let Some(m) = &self.disc.volume {
@@ -208,12 +257,21 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         if with_hessian && self.project_pd {
             out.hessian = project_positive_semidefinite(&out.hessian);
         }
-        out
     }
 
     fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
-        let ok = d.value.is_finite() && d.gradient.iter().all(|x| x.is_finite()) && (!with_hessian || d.hessian.iter().all(|x| x.is_finite()));
-        if ok { Ok(()) } else { Err(AssemblyError::NonFinite { term: self.name(), location: "element", index: e }) }
+        let ok = d.value.is_finite()
+            && d.gradient.iter().all(|x| x.is_finite())
+            && (!with_hessian || d.hessian.iter().all(|x| x.is_finite()));
+        if ok {
+            Ok(())
+        } else {
+            Err(AssemblyError::NonFinite {
+                term: self.name(),
+                location: "element",
+                index: e,
+            })
+        }
     }
 }
 
@@ -229,7 +287,9 @@ pub fn project_positive_semidefinite<const N: usize>(h: &SMatrix<f64, N, N>) -> 
     SMatrix::<f64, N, N>::from_column_slice(p.as_slice())
 }
 
-impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> PotentialTerm for ShellTerm<NU, NR, NL, NE, NB> {
+impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> PotentialTerm
+    for ShellTerm<NU, NR, NL, NE, NB>
+{
     fn name(&self) -> String {
         format!("shell_tri{NU}_tri{NR}")
     }
@@ -245,13 +305,20 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
         let mut total = 0.0;
+        let mut buffers = self.values.lock().unwrap_or_else(|e| e.into_inner());
         ordered_map(
             self.n_elements(),
             eval.parallelism,
-            |e| self.element_value(e, eval),
-            |e, v: f64| {
+            &mut buffers,
+            || 0.0,
+            |e, slot| *slot = self.element_value(e, eval),
+            |e, &v: &f64| {
                 if !v.is_finite() {
-                    return Err(AssemblyError::NonFinite { term: self.name(), location: "element", index: e });
+                    return Err(AssemblyError::NonFinite {
+                        term: self.name(),
+                        location: "element",
+                        index: e,
+                    });
                 }
                 total += v;
                 Ok(())
@@ -263,12 +330,15 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
         let scatter = self.scatter.as_ref().expect("term used before bind()");
         let mut total = 0.0;
+        let mut buffers = self.derivatives.lock().unwrap_or_else(|e| e.into_inner());
         ordered_map(
             self.n_elements(),
             eval.parallelism,
-            |e| self.element_derivatives(e, eval, false),
+            &mut buffers,
+            ElementDerivatives::zeros,
+            |e, slot| self.element_derivatives(e, eval, false, slot),
             |e, d| {
-                self.check(&d, e, false)?;
+                self.check(d, e, false)?;
                 total += d.value;
                 scatter.add_gradient(e, &d.gradient, grad);
                 Ok(())
@@ -277,15 +347,24 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         Ok(total)
     }
 
-    fn hessian(&self, eval: &Evaluation<'_>, grad: &mut [f64], pattern: &SparsityPattern, values: &mut [f64]) -> Result<f64, AssemblyError> {
+    fn hessian(
+        &self,
+        eval: &Evaluation<'_>,
+        grad: &mut [f64],
+        pattern: &SparsityPattern,
+        values: &mut [f64],
+    ) -> Result<f64, AssemblyError> {
         let scatter = self.scatter.as_ref().expect("term used before bind()");
         let mut total = 0.0;
+        let mut buffers = self.derivatives.lock().unwrap_or_else(|e| e.into_inner());
         ordered_map(
             self.n_elements(),
             eval.parallelism,
-            |e| Box::new(self.element_derivatives(e, eval, true)),
+            &mut buffers,
+            ElementDerivatives::zeros,
+            |e, slot| self.element_derivatives(e, eval, true, slot),
             |e, d| {
-                self.check(&d, e, true)?;
+                self.check(d, e, true)?;
                 total += d.value;
                 scatter.add_gradient(e, &d.gradient, grad);
                 scatter.add_hessian(e, &d.hessian, pattern, values);

@@ -66,13 +66,21 @@ impl ShellMesh {
     pub fn from_tri3(corners: Tri3Mesh, pair: ElementPair, place: impl FnMut(NewNode) -> Vector3<f64>) -> Self {
         let tri6 = (pair.displacement() == ElementKind::Tri6).then(|| corners.to_tri6_with(place));
         let corner_nodes = (0..corners.n_nodes()).collect();
-        Self { corners, tri6, corner_nodes }
+        Self {
+            corners,
+            tri6,
+            corner_nodes,
+        }
     }
 
     /// A shell mesh from a Tri6 mesh (e.g. read from a file); its corner mesh is extracted.
     pub fn from_tri6(tri6: Tri6Mesh) -> Self {
         let (corners, corner_nodes) = tri6.corner_mesh();
-        Self { corners, tri6: Some(tri6), corner_nodes }
+        Self {
+            corners,
+            tri6: Some(tri6),
+            corner_nodes,
+        }
     }
 }
 
@@ -217,10 +225,15 @@ where
     let rule = input
         .quadrature
         .unwrap_or_else(|| QuadratureRule::for_element_pair(input.pair.displacement(), input.pair.rotation()));
-    let moduli =
-        input.material.moduli().map_err(|e| BuildError::Rest { shell: input.name.clone(), source: e.into() })?;
-    let rest = shell_rest(disp, rot, &input.mesh.corners, &rule, &input.rest, &moduli)
-        .map_err(|e| BuildError::Rest { shell: input.name.clone(), source: e })?;
+    let moduli = input.material.moduli().map_err(|e| BuildError::Rest {
+        shell: input.name.clone(),
+        source: e.into(),
+    })?;
+    let rest =
+        shell_rest(disp, rot, &input.mesh.corners, &rule, &input.rest, &moduli).map_err(|e| BuildError::Rest {
+            shell: input.name.clone(),
+            source: e,
+        })?;
     let disp_elements: Vec<[usize; NU]> = disp.elements.iter().map(|el| el.map(|i| i + offsets.disp)).collect();
     let rot_elements: Vec<[usize; NR]> = rot.elements.iter().map(|el| el.map(|k| k + offsets.rot)).collect();
     let areal_density = input.material.density * input.material.thickness;
@@ -261,7 +274,13 @@ where
         axl: input.rest.model.axl,
     };
     let energy: Box<dyn ShellEnergy> = Box::new(ShellTerm::<NU, NR, NL, NE, NB>::new(disc, *layout_of));
-    Ok(BuiltShell { energy, layout, masses, rotational_inertia, damping: input.damping })
+    Ok(BuiltShell {
+        energy,
+        layout,
+        masses,
+        rotational_inertia,
+        damping: input.damping,
+    })
 }
 
 fn node_counts(input: &ShellInput) -> Result<(usize, usize), BuildError> {
@@ -269,12 +288,15 @@ fn node_counts(input: &ShellInput) -> Result<(usize, usize), BuildError> {
     match input.pair {
         ElementPair::Tri3Tri3 => Ok((n_corner, n_corner)),
         ElementPair::Tri6Tri3 | ElementPair::Tri6Tri6 => {
-            let tri6 = input
-                .mesh
-                .tri6
-                .as_ref()
-                .ok_or_else(|| BuildError::MissingTri6 { shell: input.name.clone(), pair: input.pair })?;
-            let n_rot = if input.pair == ElementPair::Tri6Tri3 { n_corner } else { tri6.n_nodes() };
+            let tri6 = input.mesh.tri6.as_ref().ok_or_else(|| BuildError::MissingTri6 {
+                shell: input.name.clone(),
+                pair: input.pair,
+            })?;
+            let n_rot = if input.pair == ElementPair::Tri6Tri3 {
+                n_corner
+            } else {
+                tri6.n_nodes()
+            };
             Ok((tri6.n_nodes(), n_rot))
         }
     }
@@ -293,16 +315,29 @@ pub fn build_system(
     let mut n_disp = 0;
     let mut n_rot = 0;
     for input in inputs {
-        input.mesh.corners.validate().map_err(|e| BuildError::Mesh { shell: input.name.clone(), source: e })?;
+        input.mesh.corners.validate().map_err(|e| BuildError::Mesh {
+            shell: input.name.clone(),
+            source: e,
+        })?;
         if let Some(t6) = &input.mesh.tri6 {
-            t6.validate().map_err(|e| BuildError::Mesh { shell: input.name.clone(), source: e })?;
+            t6.validate().map_err(|e| BuildError::Mesh {
+                shell: input.name.clone(),
+                source: e,
+            })?;
         }
         let (d, r) = node_counts(input)?;
         n_disp += d;
         n_rot += r;
     }
-    let layout = DofLayout { n_disp_nodes: n_disp, n_rot_nodes: n_rot };
-    let mut counts = Counts { disp: 0, rot: 0, points: 0 };
+    let layout = DofLayout {
+        n_disp_nodes: n_disp,
+        n_rot_nodes: n_rot,
+    };
+    let mut counts = Counts {
+        disp: 0,
+        rot: 0,
+        points: 0,
+    };
     let mut built = Vec::with_capacity(inputs.len());
     for input in inputs {
         let b = match input.pair {
@@ -312,7 +347,14 @@ pub fn build_system(
             }
             ElementPair::Tri6Tri3 => {
                 let t6 = input.mesh.tri6.as_ref().expect("checked in node_counts");
-                build_pair::<6, 3, 15, 27, 9>(input, t6, &input.mesh.corners, input.mesh.corner_nodes.clone(), &counts, &layout)?
+                build_pair::<6, 3, 15, 27, 9>(
+                    input,
+                    t6,
+                    &input.mesh.corners,
+                    input.mesh.corner_nodes.clone(),
+                    &counts,
+                    &layout,
+                )?
             }
             ElementPair::Tri6Tri6 => {
                 let t6 = input.mesh.tri6.as_ref().expect("checked in node_counts");
@@ -339,8 +381,17 @@ pub fn build_system(
         layouts.push(b.layout);
     }
     let state = SystemState::at_rest(x, n_rot, counts.points);
-    let inertia = options.dynamic.then(|| InertiaTerm { masses: masses.clone(), rotational_inertia, damping });
-    let loads = LoadTerm { masses, gravity: options.gravity, forces: vec![Vector3::zeros(); n_disp], torques: vec![Vector3::zeros(); n_rot] };
+    let inertia = options.dynamic.then(|| InertiaTerm {
+        masses: masses.clone(),
+        rotational_inertia,
+        damping,
+    });
+    let loads = LoadTerm {
+        masses,
+        gravity: options.gravity,
+        forces: vec![Vector3::zeros(); n_disp],
+        torques: vec![Vector3::zeros(); n_rot],
+    };
     let parts = PotentialParts {
         layout,
         state,
@@ -353,5 +404,8 @@ pub fn build_system(
         position_constraints: Vec::new(),
         extra,
     };
-    Ok(System { potential: IncrementalPotential::new(parts, options.dt), shells: layouts })
+    Ok(System {
+        potential: IncrementalPotential::new(parts, options.dt),
+        shells: layouts,
+    })
 }

@@ -115,6 +115,19 @@ pub trait PotentialTerm: Send + Sync {
 
 /// Returns an error unless `x` is finite.
 #[inline]
-pub(crate) fn finite(x: f64, term: &dyn Fn() -> String, location: &'static str, index: usize) -> Result<f64, AssemblyError> {
-    if x.is_finite() { Ok(x) } else { Err(AssemblyError::NonFinite { term: term(), location, index }) }
+pub(crate) fn finite(
+    x: f64,
+    term: &dyn Fn() -> String,
+    location: &'static str,
+    index: usize,
+) -> Result<f64, AssemblyError> {
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(AssemblyError::NonFinite {
+            term: term(),
+            location,
+            index,
+        })
+    }
 }

@@ -199,8 +199,41 @@ pub struct RotationJet {
 }
 
 impl RotationJet {
-    /// Evaluates the jet of `ω ↦ R(Φ(q, ω, Δt))`.
+    /// Evaluates the jet of `ω ↦ R(Φ(q, ω, Δt))` in closed form.
+    ///
+    /// Uses `R(Φ(q, ω, Δt)) = cay(v) R(q)` with `v = Δt ω` and
+    /// `cay(v) = I + s ([v]× + ½ [v]×²)`, `s = 4/(4 + |v|²)`, whose first and second derivatives are
+    /// short matrix polynomials. Agrees with [`RotationJet::of_update_dual`] (num-dual through the
+    /// quaternion update) to round-off and costs a fraction of it.
     pub fn of_update(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {
+        let r0 = rotation_matrix(q);
+        let v = omega * dt;
+        let s = 4.0 / (4.0 + v.norm_squared());
+        let k = skew(&v);
+        let k2 = k * k;
+        let a = k + k2 * 0.5;
+        let e: [Matrix3<f64>; 3] = std::array::from_fn(|i| skew(&Vector3::ith(i, 1.0)));
+        // B_i = ∂a/∂v_i = E_i + ½ (E_i K + K E_i).
+        let b: [Matrix3<f64>; 3] = std::array::from_fn(|i| e[i] + (e[i] * k + k * e[i]) * 0.5);
+        // ∂s/∂v_i = −s²/2 v_i; ∂²s/∂v_i∂v_j = −s²/2 δ_ij + s³/2 v_i v_j.
+        let ds: [f64; 3] = std::array::from_fn(|i| -0.5 * s * s * v[i]);
+        let d1: [Matrix3<f64>; 3] = std::array::from_fn(|i| (a * ds[i] + b[i] * s) * r0 * dt);
+        let d2: [[Matrix3<f64>; 3]; 3] = std::array::from_fn(|i| {
+            std::array::from_fn(|j| {
+                let dds = 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 };
+                (a * dds + b[j] * ds[i] + b[i] * ds[j] + (e[i] * e[j] + e[j] * e[i]) * (0.5 * s)) * r0 * (dt * dt)
+            })
+        });
+        Self {
+            r: (Matrix3::identity() + a * s) * r0,
+            d1,
+            d2,
+        }
+    }
+
+    /// The same jet as [`RotationJet::of_update`], computed with a three-direction second-order dual
+    /// number through [`quaternion_update`] and [`rotation_matrix`] (the reference for tests).
+    pub fn of_update_dual(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {
         type D = Dual2SVec64<3>;
         let w: Vector3<D> = Vector3::from_fn(|i, _| {
             let mut d = D::from_re(omega[i]);
@@ -240,6 +273,26 @@ impl RotationJet {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn closed_form_jet_matches_the_dual_jet() {
+        let q = Quaternion::new(0.8, -0.3, 0.4, 0.1).normalize();
+        for (omega, dt) in [
+            (Vector3::new(0.3, -2.0, 1.1), 0.05),
+            (Vector3::zeros(), 0.01),
+            (Vector3::new(1.0, 2.0, -3.0), 1.0),
+        ] {
+            let a = RotationJet::of_update(&q, &omega, dt);
+            let b = RotationJet::of_update_dual(&q, &omega, dt);
+            assert!((a.r - b.r).amax() < 1e-14);
+            for i in 0..3 {
+                assert!((a.d1[i] - b.d1[i]).amax() < 1e-14 * (1.0 + dt), "d1 {i}");
+                for j in 0..3 {
+                    assert!((a.d2[i][j] - b.d2[i][j]).amax() < 1e-14 * (1.0 + dt * dt), "d2 {i} {j}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn axl_variants_agree_on_skew_matrices() {

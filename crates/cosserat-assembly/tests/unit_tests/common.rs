@@ -20,6 +20,10 @@ pub fn strip(pair: ElementPair, nx: usize, ny: usize, model: ShellModel, dynamic
         damping: 0.5,
         angular_inertia_density: 0.0,
     };
-    let options = SystemOptions { gravity: Vector3::new(0.0, 0.0, -9.81), dynamic, dt: 0.01 };
+    let options = SystemOptions {
+        gravity: Vector3::new(0.0, 0.0, -9.81),
+        dynamic,
+        dt: 0.01,
+    };
     build_system(&[input], Vec::new(), &options).unwrap()
 }

@@ -24,7 +24,16 @@ fn build(generated: &GeneratedMesh, pair: ElementPair, on_surface: bool) -> Syst
         damping: 0.0,
         angular_inertia_density: 0.0,
     };
-    build_system(&[input], Vec::new(), &SystemOptions { gravity: Vector3::zeros(), dynamic: true, dt: 0.01 }).unwrap()
+    build_system(
+        &[input],
+        Vec::new(),
+        &SystemOptions {
+            gravity: Vector3::zeros(),
+            dynamic: true,
+            dt: 0.01,
+        },
+    )
+    .unwrap()
 }
 
 #[test]
@@ -32,13 +41,24 @@ fn faceted_and_curved_meshes_carry_curvature_and_rest_at_zero_energy() {
     let sphere = procedural::icosphere(1.0, 2).unwrap();
     let cylinder = procedural::cylinder(0.5, 2.0, 24, 8).unwrap();
     for (label, generated) in [("sphere", &sphere), ("cylinder", &cylinder)] {
-        for (pair, on_surface) in [(ElementPair::Tri3Tri3, false), (ElementPair::Tri6Tri3, false), (ElementPair::Tri6Tri3, true)] {
+        for (pair, on_surface) in [
+            (ElementPair::Tri3Tri3, false),
+            (ElementPair::Tri6Tri3, false),
+            (ElementPair::Tri6Tri3, true),
+        ] {
             let mut sys = build(generated, pair, on_surface);
             let shell = &sys.shells[0];
             let n_points = shell.points.len();
             // Every point of a sphere or cylinder is curved, whether the elements are flat or not.
-            assert_eq!(shell.n_curved_points, n_points, "{label} {pair:?} on_surface={on_surface}");
-            assert!(shell.active_terms.iter().any(|t| t == "curved_bending_2"), "{:?}", shell.active_terms);
+            assert_eq!(
+                shell.n_curved_points, n_points,
+                "{label} {pair:?} on_surface={on_surface}"
+            );
+            assert!(
+                shell.active_terms.iter().any(|t| t == "curved_bending_2"),
+                "{:?}",
+                shell.active_terms
+            );
             let u = vec![0.0; sys.potential.n_dofs()];
             let mut g = vec![0.0; u.len()];
             let e = sys.potential.gradient(&u, &mut g).unwrap();

@@ -54,7 +54,9 @@ fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
     });
     parts.loads.forces[3] = Vector3::new(0.1, -0.2, 0.3);
     parts.loads.torques[2] = Vector3::new(0.03, -0.01, 0.02);
-    let g: Vec<Matrix3<f64>> = (0..p.parts.shells[0].n_points()).map(|_| Matrix3::from_fn(|_, _| rng.random_range(-5.0..5.0))).collect();
+    let g: Vec<Matrix3<f64>> = (0..p.parts.shells[0].n_points())
+        .map(|_| Matrix3::from_fn(|_, _| rng.random_range(-5.0..5.0)))
+        .collect();
     p.parts.shells[0].set_rest_fields_dyn(&mut |i| (Some(1.05), Some(g[i])));
 }
 
@@ -101,7 +103,11 @@ fn check_derivatives(pair: ElementPair, model: ShellModel, seed: u64) {
         for j in 0..n {
             let fd = (gp[j] - gm[j]) / (2.0 * step);
             let scale = (row_max[i] * row_max[j]).sqrt();
-            assert!((fd - h[(j, i)]).abs() <= 1e-6 * scale, "hessian ({j}, {i}): {} vs {fd}", h[(j, i)]);
+            assert!(
+                (fd - h[(j, i)]).abs() <= 1e-6 * scale,
+                "hessian ({j}, {i}): {} vs {fd}",
+                h[(j, i)]
+            );
         }
     }
 }
@@ -144,7 +150,12 @@ fn assembly_is_bit_identical_for_one_and_two_threads() {
             let mut values = vec![0.0; p.pattern().nnz()];
             let e = p.hessian(&u, &mut g, &mut values).unwrap();
             let v = p.value(&u).unwrap();
-            (e.to_bits(), v.to_bits(), g.iter().map(|x| x.to_bits()).collect::<Vec<_>>(), values.iter().map(|x| x.to_bits()).collect::<Vec<_>>())
+            (
+                e.to_bits(),
+                v.to_bits(),
+                g.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+                values.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+            )
         })
     };
     let seq = run(1, Parallelism::Sequential);
