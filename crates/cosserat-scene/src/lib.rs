@@ -1,13 +1,21 @@
 //! Scenes and run outputs of the Cosserat shell simulator.
 //!
 //! Entry points:
+//! - [`spec::SceneSpec::from_file`] and [`spec::SceneSpec::from_str`]: a TOML scene (format in
+//!   [`schema`]) with `--set key=value` overrides ([`overrides`]) checked into a [`spec::SceneSpec`],
+//!   the typed description the simulator runs; errors ([`error::SceneError`]) name the file, the line,
+//!   the field and the reason;
+//! - the building blocks of that: [`expr`] (scripted formulas compiled once), [`region`] (node
+//!   selections), [`mesh_source`] (generators, OBJ input via [`obj`], refinement, projections and
+//!   transforms);
 //! - [`output`]: the files of a run (VTU frames with a `.pvd` collection, `probes.csv`, `summary.json`),
 //!   all written atomically and owned by [`output::RunWriter`];
 //! - [`render`]: a small software rasteriser that turns a frame into a PNG image for quick looks and
 //!   reports.
 //!
-//! Non-goals: this crate does no physics; the outputs and the renderer take plain data (points,
-//! triangles, named arrays) and know no simulation type. There are no feature flags.
+//! Non-goals: this crate does no physics. Scene loading builds meshes, resolves regions and compiles
+//! scripts, but computes no rest state or energy; the outputs and the renderer take plain data
+//! (points, triangles, named arrays) and know no simulation type. There are no feature flags.
 //!
 //! ```
 //! use cosserat_scene::output::{DataArray, VtuFrame, vtu::to_vtu_string};
@@ -23,5 +31,14 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod error;
+pub mod expr;
+pub mod mesh_source;
+pub mod obj;
 pub mod output;
+pub mod overrides;
+pub mod region;
 pub mod render;
+pub mod schema;
+pub mod spec;
+mod validate;

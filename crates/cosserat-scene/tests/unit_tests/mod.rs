@@ -9,6 +9,13 @@ mod output_run;
 mod output_summary;
 mod output_vtu;
 mod render;
+mod scene_errors;
+mod scene_expr;
+mod scene_files;
+mod scene_mesh_source;
+mod scene_obj;
+mod scene_overrides;
+mod scene_region;
 
 /// A fresh, empty directory for test `name` under Cargo's target temporary directory.
 pub fn test_dir(name: &str) -> PathBuf {

@@ -1,0 +1,315 @@
+//! Regions: how a scene names nodes, resolved against a shell's rest positions.
+//!
+//! A [`Region`] is resolved twice, once against the displacement nodes and once against the rotation
+//! nodes, each by their own rest positions ([`ShellNodes`]); the caller decides which of the two sets
+//! it needs and reports an empty one as an error. Kinds:
+//! - [`Region::Box`]: an axis-aligned box given by centre and full size; faces included, as in the
+//!   paper's scenes (`|p − c| ≤ size/2` per axis, computed as `c − size/2 ≤ p ≤ c + size/2`);
+//! - [`Region::Predicate`]: a boolean expression of `x, y, z` ([`crate::expr::Predicate`]);
+//! - [`Region::Vertices`]: corner vertices by index (the order of the generator or OBJ file), with the
+//!   displacement and rotation nodes at those vertices;
+//! - [`Region::BoundaryLoop`]: the nodes on boundary loop `k` (corner vertices and, for quadratic
+//!   elements, the mid-edge nodes of its edges); loops are numbered as
+//!   [`cosserat_fem::mesh::Topology::boundary_loops`] returns them (by their first edge in the sorted
+//!   edge list);
+//! - [`Region::Nearest`]: the single displacement node and the single rotation node nearest to a point
+//!   (ties go to the lower index); the point must lie within the shell's bounding box grown by 1 % of
+//!   its diagonal, so a mistyped point is reported instead of snapping to a far node;
+//! - [`Region::All`]: every node.
+
+use crate::error::RegionError;
+use crate::expr::Predicate;
+use crate::mesh_source::{bounding_box, tri6_edge_nodes};
+use cosserat_assembly::{ElementPair, ShellMesh};
+use cosserat_fem::mesh::Topology;
+use cosserat_fem::{ElementKind, MeshError};
+use nalgebra::Vector3;
+
+/// The nodes of one shell, as regions see them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ShellNodes {
+    name: String,
+    disp_positions: Vec<Vector3<f64>>,
+    rot_positions: Vec<Vector3<f64>>,
+    vertex_disp: Vec<usize>,
+    vertex_rot: Vec<usize>,
+    /// Per boundary loop: its displacement and rotation nodes (sorted).
+    loops: Vec<(Vec<usize>, Vec<usize>)>,
+    /// Boundary edges as corner-vertex pairs.
+    boundary_edges: Vec<[usize; 2]>,
+    bbox: (Vector3<f64>, Vector3<f64>),
+}
+
+impl ShellNodes {
+    /// The nodes of a shell mesh for the given element pair.
+    ///
+    /// # Errors
+    /// [`RegionError::Topology`] if the boundary cannot be traced (non-manifold edges), or if the mesh
+    /// is inconsistent: indices out of range, a missing Tri6 mesh for a quadratic pair, or a Tri6 mesh
+    /// whose elements or corner nodes do not match the corner mesh.
+    pub fn new(name: &str, mesh: &ShellMesh, pair: ElementPair) -> Result<Self, RegionError> {
+        let topology_error = |source: MeshError| RegionError::Topology {
+            shell: name.to_string(),
+            source,
+        };
+        let mismatch = |reason: &str| {
+            topology_error(MeshError::CornerMeshMismatch {
+                reason: reason.to_string(),
+            })
+        };
+        mesh.corners.check_indices().map_err(topology_error)?;
+        let n_vertices = mesh.corners.n_nodes();
+        let tri6 = match (pair.displacement(), &mesh.tri6) {
+            (ElementKind::Tri6, Some(t)) => {
+                t.check_indices().map_err(topology_error)?;
+                if t.n_elements() != mesh.corners.n_elements() {
+                    return Err(mismatch("the Tri6 and corner meshes have different element counts"));
+                }
+                if mesh.corner_nodes.len() != n_vertices || mesh.corner_nodes.iter().any(|&i| i >= t.n_nodes()) {
+                    return Err(mismatch("the corner-node map does not fit the meshes"));
+                }
+                Some(t)
+            }
+            (ElementKind::Tri6, None) => return Err(mismatch("the element pair needs a Tri6 mesh")),
+            _ => None,
+        };
+        let (disp_positions, vertex_disp) = match tri6 {
+            Some(t) => (t.nodes.clone(), mesh.corner_nodes.clone()),
+            None => (mesh.corners.nodes.clone(), (0..n_vertices).collect()),
+        };
+        let rot_is_tri6 = pair.rotation() == ElementKind::Tri6;
+        let (rot_positions, vertex_rot) = if rot_is_tri6 {
+            (disp_positions.clone(), vertex_disp.clone())
+        } else {
+            (mesh.corners.nodes.clone(), (0..n_vertices).collect())
+        };
+        let topology = Topology::new(&mesh.corners);
+        let vertex_loops = topology.boundary_loops().map_err(|source| RegionError::Topology {
+            shell: name.to_string(),
+            source,
+        })?;
+        let edge_nodes = tri6.map(|t| tri6_edge_nodes(&topology, t));
+        let loops = vertex_loops
+            .iter()
+            .map(|cycle| {
+                let mut disp: Vec<usize> = cycle.iter().map(|&v| vertex_disp[v]).collect();
+                let mut rot: Vec<usize> = cycle.iter().map(|&v| vertex_rot[v]).collect();
+                if let Some(edge_nodes) = &edge_nodes {
+                    for k in 0..cycle.len() {
+                        let (a, b) = (cycle[k], cycle[(k + 1) % cycle.len()]);
+                        if let Some(e) = topology.find_edge(a, b) {
+                            disp.push(edge_nodes[e]);
+                            if rot_is_tri6 {
+                                rot.push(edge_nodes[e]);
+                            }
+                        }
+                    }
+                }
+                sort_unique(&mut disp);
+                sort_unique(&mut rot);
+                (disp, rot)
+            })
+            .collect();
+        let bbox = bounding_box(&disp_positions);
+        let boundary_edges = topology.boundary_edges().into_iter().map(|e| topology.edges()[e]).collect();
+        Ok(Self {
+            name: name.to_string(),
+            disp_positions,
+            rot_positions,
+            vertex_disp,
+            vertex_rot,
+            loops,
+            boundary_edges,
+            bbox,
+        })
+    }
+
+    /// The number of boundary edges whose two end nodes are both in `selected` (displacement nodes, or
+    /// rotation nodes if `rotation`); a line load needs at least one.
+    pub fn count_boundary_edges(&self, selected: &[usize], rotation: bool) -> usize {
+        let map = if rotation { &self.vertex_rot } else { &self.vertex_disp };
+        let has = |node: usize| selected.binary_search(&node).is_ok();
+        self.boundary_edges.iter().filter(|[a, b]| has(map[*a]) && has(map[*b])).count()
+    }
+
+    /// The shell's name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Rest positions of the displacement nodes.
+    pub fn disp_positions(&self) -> &[Vector3<f64>] {
+        &self.disp_positions
+    }
+
+    /// Rest positions of the rotation nodes.
+    pub fn rot_positions(&self) -> &[Vector3<f64>] {
+        &self.rot_positions
+    }
+
+    /// Number of boundary loops.
+    pub fn n_boundary_loops(&self) -> usize {
+        self.loops.len()
+    }
+
+    /// The bounding box `(min, max)` of the displacement nodes.
+    pub fn bounding_box(&self) -> (Vector3<f64>, Vector3<f64>) {
+        self.bbox
+    }
+
+    /// Checks that `p` lies in the bounding box grown by 1 % of its diagonal.
+    ///
+    /// # Errors
+    /// [`RegionError::PointOutsideMesh`] otherwise.
+    pub fn check_inside(&self, p: &Vector3<f64>) -> Result<(), RegionError> {
+        let (min, max) = self.bbox;
+        let margin = 0.01 * (max - min).norm();
+        let inside = (0..3).all(|i| p[i] >= min[i] - margin && p[i] <= max[i] + margin);
+        if inside {
+            Ok(())
+        } else {
+            Err(RegionError::PointOutsideMesh {
+                point: [p.x, p.y, p.z],
+                shell: self.name.clone(),
+                min: [min.x, min.y, min.z],
+                max: [max.x, max.y, max.z],
+            })
+        }
+    }
+}
+
+/// A set of nodes named by a scene.
+#[derive(Debug, Clone)]
+pub enum Region {
+    /// An axis-aligned box, faces included.
+    Box {
+        /// Centre \[m\].
+        center: Vector3<f64>,
+        /// Full size per axis \[m\] (non-negative).
+        size: Vector3<f64>,
+    },
+    /// The nodes where a predicate holds.
+    Predicate(Predicate),
+    /// The nodes at these corner vertices.
+    Vertices(Vec<usize>),
+    /// The nodes of one boundary loop.
+    BoundaryLoop(usize),
+    /// The nearest displacement node and the nearest rotation node to a point.
+    Nearest(Vector3<f64>),
+    /// Every node.
+    All,
+}
+
+/// The nodes a region selects (local indices, sorted, unique).
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct Selected {
+    /// Displacement nodes.
+    pub disp_nodes: Vec<usize>,
+    /// Rotation nodes.
+    pub rot_nodes: Vec<usize>,
+}
+
+impl Region {
+    /// A short description for messages, e.g. `box centre (0, 0, 0) size (1, 1, 1)`.
+    pub fn describe(&self) -> String {
+        let v = |p: &Vector3<f64>| format!("({}, {}, {})", p.x, p.y, p.z);
+        match self {
+            Region::Box { center, size } => format!("box centre {} size {}", v(center), v(size)),
+            Region::Predicate(p) => format!("predicate `{}`", p.text()),
+            Region::Vertices(list) => format!("{} listed vertices", list.len()),
+            Region::BoundaryLoop(k) => format!("boundary loop {k}"),
+            Region::Nearest(p) => format!("nearest to {}", v(p)),
+            Region::All => "all nodes".into(),
+        }
+    }
+
+    /// The displacement and rotation nodes of `nodes` that the region selects.
+    ///
+    /// # Errors
+    /// [`RegionError::VertexOutOfRange`], [`RegionError::LoopOutOfRange`],
+    /// [`RegionError::PointOutsideMesh`] (nearest) and [`RegionError::Predicate`] for a predicate that
+    /// is not boolean at some node. An empty selection is not an error here.
+    pub fn select(&self, nodes: &ShellNodes) -> Result<Selected, RegionError> {
+        let filter = |positions: &[Vector3<f64>], test: &dyn Fn(&Vector3<f64>) -> Result<bool, RegionError>| {
+            let mut out = Vec::new();
+            for (i, p) in positions.iter().enumerate() {
+                if test(p)? {
+                    out.push(i);
+                }
+            }
+            Ok::<_, RegionError>(out)
+        };
+        match self {
+            Region::Box { center, size } => {
+                let lo = center - size * 0.5;
+                let hi = center + size * 0.5;
+                let inside = |p: &Vector3<f64>| Ok((0..3).all(|i| lo[i] <= p[i] && p[i] <= hi[i]));
+                Ok(Selected {
+                    disp_nodes: filter(&nodes.disp_positions, &inside)?,
+                    rot_nodes: filter(&nodes.rot_positions, &inside)?,
+                })
+            }
+            Region::Predicate(predicate) => {
+                let test = |p: &Vector3<f64>| predicate.test(p).map_err(RegionError::from);
+                Ok(Selected {
+                    disp_nodes: filter(&nodes.disp_positions, &test)?,
+                    rot_nodes: filter(&nodes.rot_positions, &test)?,
+                })
+            }
+            Region::Vertices(list) => {
+                let n_vertices = nodes.vertex_disp.len();
+                if let Some(&vertex) = list.iter().find(|&&v| v >= n_vertices) {
+                    return Err(RegionError::VertexOutOfRange {
+                        vertex,
+                        shell: nodes.name.clone(),
+                        n_vertices,
+                    });
+                }
+                let mut disp_nodes: Vec<usize> = list.iter().map(|&v| nodes.vertex_disp[v]).collect();
+                let mut rot_nodes: Vec<usize> = list.iter().map(|&v| nodes.vertex_rot[v]).collect();
+                sort_unique(&mut disp_nodes);
+                sort_unique(&mut rot_nodes);
+                Ok(Selected { disp_nodes, rot_nodes })
+            }
+            Region::BoundaryLoop(k) => {
+                let (disp, rot) = nodes.loops.get(*k).ok_or_else(|| RegionError::LoopOutOfRange {
+                    index: *k,
+                    shell: nodes.name.clone(),
+                    n_loops: nodes.loops.len(),
+                })?;
+                Ok(Selected {
+                    disp_nodes: disp.clone(),
+                    rot_nodes: rot.clone(),
+                })
+            }
+            Region::Nearest(point) => {
+                nodes.check_inside(point)?;
+                Ok(Selected {
+                    disp_nodes: nearest(&nodes.disp_positions, point).into_iter().collect(),
+                    rot_nodes: nearest(&nodes.rot_positions, point).into_iter().collect(),
+                })
+            }
+            Region::All => Ok(Selected {
+                disp_nodes: (0..nodes.disp_positions.len()).collect(),
+                rot_nodes: (0..nodes.rot_positions.len()).collect(),
+            }),
+        }
+    }
+}
+
+/// The index of the point nearest to `p` (the lowest index among ties), `None` for no points.
+fn nearest(points: &[Vector3<f64>], p: &Vector3<f64>) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for (i, q) in points.iter().enumerate() {
+        let d = (q - p).norm_squared();
+        if best.is_none_or(|(_, b)| d < b) {
+            best = Some((i, d));
+        }
+    }
+    best.map(|(i, _)| i)
+}
+
+fn sort_unique(v: &mut Vec<usize>) {
+    v.sort_unstable();
+    v.dedup();
+}

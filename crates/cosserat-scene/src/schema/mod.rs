@@ -1,0 +1,703 @@
+//! The TOML scene format: serde types mirroring the file, and the only place that knows TOML.
+//!
+//! These types say what a scene file may contain; [`crate::spec::SceneSpec::from_str`] checks the
+//! values and turns them into a [`crate::spec::SceneSpec`]. Every table rejects unknown keys, so a
+//! misspelled key is an error that lists the expected names, and every choice is a `snake_case`
+//! string. Optional values are `Option`s here; their defaults are applied in validation and listed
+//! on each field below.
+//!
+//! A minimal scene:
+//! ```toml
+//! name = "strip"
+//!
+//! [time]
+//! dt = 0.01
+//! end = 1.0
+//!
+//! [mesh]
+//! generator = "rectangle"
+//! lx = 0.1
+//! ly = 0.01
+//! nx = 20
+//! ny = 2
+//! element = "tri6"
+//!
+//! [material]
+//! model = "plate"
+//! thickness = 1e-3
+//! youngs_modulus = 1e6
+//! poisson_ratio = 0.3
+//! density = 1000.0
+//! length_scale = 1e-6
+//!
+//! [[boundary]]
+//! region = { predicate = "x <= -0.05 + 1e-9" }
+//! position = { stiffness = 1e6 }
+//! rotation = { stiffness = 1e4, directors = [3] }
+//! ```
+//!
+//! Shells: either one shell from top-level `[mesh]` + `[material]`, or several `[[shell]]` tables, each
+//! with its own `name`, `[shell.mesh]` and `[shell.material]`. Boundary conditions, loads, rest fields
+//! and probes name their shell with `shell = "name"` or `shell = 0` (index); with a single shell the
+//! key may be omitted.
+//!
+//! Expressions: wherever a scripted value is allowed ([`ExprValue`]), write a number or a string with
+//! a formula (see [`crate::expr`] for the syntax). Time functions use the variable `t` (seconds; in
+//! quasi-static runs the load factor), rest fields `x, y, z, t` (the rest position of the quadrature
+//! point), region predicates `x, y, z` (the rest position of the node). Named helper functions can be
+//! declared in `[functions]`.
+
+mod value;
+
+pub use value::{AxisName, AxisValue, ExprValue, ShellRef};
+
+use serde::Deserialize;
+use std::collections::BTreeMap;
+
+/// The whole scene file.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// The scene's name (default output directory `out/<name>/`).
+    pub name: String,
+    /// Free text describing the scene (ignored by the simulator).
+    pub description: Option<String>,
+    /// Time integration or quasi-static loading.
+    pub time: TimeSection,
+    /// Newton and linear solver settings (all optional).
+    pub solver: Option<SolverSection>,
+    /// Gravitational acceleration `[gx, gy, gz]` [m/s²]. Default `[0, 0, 0]`: no gravity unless asked
+    /// for (most of the paper's scenes switch it off).
+    pub gravity: Option<[f64; 3]>,
+    /// Named helper functions for expressions: `name = { args = ["u"], body = "…" }`.
+    pub functions: Option<BTreeMap<String, FunctionSection>>,
+    /// The mesh of the single shell (with `[material]`).
+    pub mesh: Option<MeshSection>,
+    /// The material of the single shell (with `[mesh]`).
+    pub material: Option<MaterialSection>,
+    /// Several shells (instead of `[mesh]` + `[material]`).
+    pub shell: Option<Vec<ShellSection>>,
+    /// Boundary conditions.
+    pub boundary: Option<Vec<BoundarySection>>,
+    /// External loads.
+    pub load: Option<Vec<LoadSection>>,
+    /// Prescribed rest curvature and rest-metric growth.
+    pub rest_field: Option<Vec<RestFieldSection>>,
+    /// Probes written to `probes.csv`.
+    pub probe: Option<Vec<ProbeSection>>,
+    /// Output settings.
+    pub output: Option<OutputSection>,
+}
+
+/// A user function for expressions.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FunctionSection {
+    /// Parameter names.
+    pub args: Vec<String>,
+    /// The body, an expression of the parameters.
+    pub body: String,
+}
+
+/// Dynamic or quasi-static.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TimeMode {
+    /// Backward Euler in time (default).
+    Dynamic,
+    /// A sequence of equilibria at increasing load factors.
+    QuasiStatic,
+}
+
+/// `[time]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSection {
+    /// `"dynamic"` (default) or `"quasi_static"`.
+    pub mode: Option<TimeMode>,
+    /// (Maximum) time step \[s\]; required in dynamic mode.
+    pub dt: Option<f64>,
+    /// End time \[s\]; required in dynamic mode.
+    pub end: Option<f64>,
+    /// Output frames per second (default 30, the reference code's default).
+    pub output_fps: Option<f64>,
+    /// Interval between output frames \[s\] (instead of `output_fps`).
+    pub output_interval: Option<f64>,
+    /// Adaptive time stepping: halve `dt` after a failed step, grow by 1.05 after a success up to
+    /// `dt`. Default `true` (the reference code's baseline); fixed-step scenes set `false`.
+    pub adaptive: Option<bool>,
+    /// Quasi-static load factors (increasing, in `(0, 1]`, ending at 1).
+    pub levels: Option<Vec<f64>>,
+    /// Quasi-static: `n` equal load steps `1/n, 2/n, …, 1` (instead of `levels`).
+    pub n_levels: Option<usize>,
+}
+
+/// Linear solver names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LinearSolverName {
+    /// Cholesky, then LDLᵀ, then LU as needed.
+    Auto,
+    /// Sparse Cholesky.
+    Cholesky,
+    /// Sparse symmetric indefinite LDLᵀ.
+    Ldlt,
+    /// Sparse LU.
+    Lu,
+}
+
+/// Newton start names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum InitialGuessName {
+    /// The previous step's velocities.
+    PreviousVelocity,
+    /// Zero velocities (the reference code).
+    Zero,
+}
+
+/// `[solver]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverSection {
+    /// Residual tolerance in N and N·m (default 1e-7, the paper's).
+    pub tolerance: Option<f64>,
+    /// Maximum Newton iterations per step (default 100).
+    pub max_newton_iterations: Option<usize>,
+    /// Maximum line-search halvings (default 20).
+    pub max_line_search_iterations: Option<usize>,
+    /// Linear solver (default `"auto"`).
+    pub linear_solver: Option<LinearSolverName>,
+    /// Newton's starting point (default `"previous_velocity"`).
+    pub initial_guess: Option<InitialGuessName>,
+    /// Project element Hessians onto the PSD cone (default `false`).
+    pub project_pd: Option<bool>,
+    /// Maximum halvings of one step before the run stops (default 8).
+    pub max_step_reductions: Option<usize>,
+}
+
+/// Mesh generator names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GeneratorName {
+    /// `lx, ly, nx, ny`.
+    Rectangle,
+    /// `radius, n_radial, n_angular`.
+    Disk,
+    /// `inner_radius, radius, n_radial, n_angular`, optional `slit`.
+    Annulus,
+    /// `radius, length, n_around, n_along`.
+    Cylinder,
+    /// `radius, level`.
+    Icosphere,
+    /// `radius, frequency, min_z`.
+    IcosphereCap,
+    /// `radius, n_lon, n_lat`.
+    UvSphere,
+    /// `radius, n_lon, n_lat`, optional `polar_hole_degrees`.
+    Hemisphere,
+    /// `radius, width, n_along, n_across`.
+    Mobius,
+}
+
+impl GeneratorName {
+    /// The name in the scene file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            GeneratorName::Rectangle => "rectangle",
+            GeneratorName::Disk => "disk",
+            GeneratorName::Annulus => "annulus",
+            GeneratorName::Cylinder => "cylinder",
+            GeneratorName::Icosphere => "icosphere",
+            GeneratorName::IcosphereCap => "icosphere_cap",
+            GeneratorName::UvSphere => "uv_sphere",
+            GeneratorName::Hemisphere => "hemisphere",
+            GeneratorName::Mobius => "mobius",
+        }
+    }
+}
+
+/// Element names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ElementName {
+    /// Linear triangle.
+    Tri3,
+    /// Quadratic triangle.
+    Tri6,
+}
+
+/// `[mesh]`: a generator with its parameters, or an OBJ file, plus element choice and shaping steps
+/// (see [`crate::mesh_source`] for the order in which they apply).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSection {
+    /// A procedural mesh (exclusive with `path`).
+    pub generator: Option<GeneratorName>,
+    /// An OBJ file, relative to the scene file's directory or absolute (exclusive with `generator`).
+    pub path: Option<String>,
+    /// Displacement element (default `"tri6"`, the paper's).
+    pub element: Option<ElementName>,
+    /// Rotation element (default `"tri3"`, the paper's).
+    pub rotation_element: Option<ElementName>,
+    /// Quadrature degree override (default: the model's pairing).
+    pub quadrature_degree: Option<usize>,
+    /// Rectangle size along x \[m\].
+    pub lx: Option<f64>,
+    /// Rectangle size along y \[m\].
+    pub ly: Option<f64>,
+    /// Rectangle quads along x.
+    pub nx: Option<usize>,
+    /// Rectangle quads along y.
+    pub ny: Option<usize>,
+    /// Radius \[m\] (outer radius of an annulus; centre-line radius of a Möbius band).
+    pub radius: Option<f64>,
+    /// Annulus inner radius \[m\].
+    pub inner_radius: Option<f64>,
+    /// Disk/annulus rings.
+    pub n_radial: Option<usize>,
+    /// Disk/annulus vertices per ring.
+    pub n_angular: Option<usize>,
+    /// Annulus cut open along +x.
+    pub slit: Option<bool>,
+    /// Cylinder length \[m\].
+    pub length: Option<f64>,
+    /// Cylinder vertices per ring.
+    pub n_around: Option<usize>,
+    /// Cylinder rings / Möbius vertex columns.
+    pub n_along: Option<usize>,
+    /// Icosphere subdivision level.
+    pub level: Option<usize>,
+    /// Icosphere-cap subdivision frequency.
+    pub frequency: Option<usize>,
+    /// Icosphere-cap lowest corner height \[m\].
+    pub min_z: Option<f64>,
+    /// UV sphere/hemisphere vertices per ring.
+    pub n_lon: Option<usize>,
+    /// UV sphere/hemisphere latitude bands.
+    pub n_lat: Option<usize>,
+    /// Hemisphere polar hole angle \[degrees\].
+    pub polar_hole_degrees: Option<f64>,
+    /// Möbius band width \[m\].
+    pub width: Option<f64>,
+    /// Möbius band quads across.
+    pub n_across: Option<usize>,
+    /// Uniform refinements (default 0).
+    pub refine: Option<usize>,
+    /// Project every node radially onto a sphere.
+    pub project_to_sphere: Option<SphereSection>,
+    /// Flatten a spherical cap into a disk with curved boundary edges.
+    pub flatten_cap: Option<FlattenCapSection>,
+    /// Rotate, centre, scale and translate the rest mesh.
+    pub transform: Option<TransformSection>,
+    /// Initial positions as a rigid motion of the rest positions.
+    pub initial: Option<InitialSection>,
+}
+
+/// `project_to_sphere = { center, radius }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SphereSection {
+    /// Centre \[m\] (default the origin).
+    pub center: Option<[f64; 3]>,
+    /// Radius \[m\].
+    pub radius: f64,
+}
+
+/// `flatten_cap = { radius }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FlattenCapSection {
+    /// Radius of the sphere and of the final disk \[m\].
+    pub radius: f64,
+}
+
+/// One rotation step: `{ axis = "x", degrees = 90 }` or `{ axis = [1, 1, 0], degrees = 30 }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationStep {
+    /// The axis (through the origin, or through the transform's fixed point).
+    pub axis: AxisValue,
+    /// The angle \[degrees\], right-handed about the axis.
+    pub degrees: f64,
+}
+
+/// `transform = { rotate, center, height, scale, translate }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TransformSection {
+    /// Rotations about the origin, applied in order.
+    pub rotate: Option<Vec<RotationStep>>,
+    /// Move the bounding-box centre (after rotation) to the origin.
+    pub center: Option<bool>,
+    /// Scale uniformly to this extent along z \[m\] (exclusive with `scale`).
+    pub height: Option<f64>,
+    /// Scale uniformly by this factor (exclusive with `height`).
+    pub scale: Option<f64>,
+    /// Translation after scaling \[m\].
+    pub translate: Option<[f64; 3]>,
+}
+
+/// `initial = { rotate, about, translate }`: initial positions `R (X − p) + p + d`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct InitialSection {
+    /// Rotations about `about`, applied in order.
+    pub rotate: Option<Vec<RotationStep>>,
+    /// Fixed point of the rotation \[m\] (default the origin).
+    pub about: Option<[f64; 3]>,
+    /// Translation \[m\].
+    pub translate: Option<[f64; 3]>,
+}
+
+/// Model names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelName {
+    /// The flat-reference plate energy.
+    Plate,
+    /// The curved-shell energy.
+    Shell,
+}
+
+/// Curved-term counting names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CurvedTermsName {
+    /// The supplement's energy (default).
+    Supplement,
+    /// The reference code's term registration.
+    ReferenceCompatibility,
+}
+
+/// Membrane volume names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MembraneVolumeName {
+    /// Quadratic trace term (default).
+    Quadratic,
+    /// Nonlinear area-ratio term (plate only).
+    Nonlinear,
+}
+
+/// Axial-vector variant names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AxlName {
+    /// `axl(skew M)` (default).
+    SkewPart,
+    /// The reference code's negated upper triangle.
+    UpperTriangle,
+}
+
+/// Rest-curvature source names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CurvatureSourceName {
+    /// Exact normals on curved elements, averaged elsewhere (default).
+    Auto,
+    /// Exact element normals.
+    Exact,
+    /// Averaged nodal normals.
+    Averaged,
+}
+
+/// Normal weighting names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NormalWeightingName {
+    /// Max (1999) weights (default).
+    Max,
+    /// Angle weights.
+    Angle,
+    /// Area weights.
+    Area,
+    /// Equal weights.
+    Uniform,
+}
+
+/// `[material]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialSection {
+    /// `"plate"` or `"shell"`.
+    pub model: ModelName,
+    /// Thickness `h` \[m\].
+    pub thickness: f64,
+    /// Young's modulus `E` \[Pa\].
+    pub youngs_modulus: f64,
+    /// Poisson ratio `ν` in (−1, 0.5).
+    pub poisson_ratio: f64,
+    /// Volumetric density `ρ` [kg/m³].
+    pub density: f64,
+    /// Internal length `L_c` \[m\].
+    pub length_scale: f64,
+    /// `μ_c / μ` (default 1).
+    pub mu_c_factor: Option<f64>,
+    /// `(b₁, b₂, b₃)` of the curvature energy (default `[1, 1, 0]`).
+    pub curvature_coefficients: Option<[f64; 3]>,
+    /// `κ_b` (default 1).
+    pub bending_correction: Option<f64>,
+    /// Mass-proportional damping [1/s] (default 0).
+    pub damping: Option<f64>,
+    /// Angular inertia density `ρ_θ` [kg/m] (default 0).
+    pub angular_inertia_density: Option<f64>,
+    /// Curved-term counting (default `"supplement"`).
+    pub curved_terms: Option<CurvedTermsName>,
+    /// Membrane volume term (default `"quadratic"`).
+    pub membrane_volume: Option<MembraneVolumeName>,
+    /// Axial vector (default `"skew_part"`).
+    pub axl: Option<AxlName>,
+    /// Rest-curvature normal field (default `"auto"`).
+    pub curvature_source: Option<CurvatureSourceName>,
+    /// Weighting of averaged normals (default `"max"`).
+    pub normal_weighting: Option<NormalWeightingName>,
+}
+
+/// `[[shell]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ShellSection {
+    /// Name (default `shell<k>`), unique.
+    pub name: Option<String>,
+    /// The mesh.
+    pub mesh: MeshSection,
+    /// The material.
+    pub material: MaterialSection,
+}
+
+/// `region = { … }`: exactly one of the keys.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RegionSection {
+    /// `box = { center, size }`.
+    #[serde(rename = "box")]
+    pub aabb: Option<BoxSection>,
+    /// A boolean expression of `x, y, z`.
+    pub predicate: Option<String>,
+    /// Corner vertex indices (0-based, file or generator order).
+    pub nodes: Option<Vec<usize>>,
+    /// Boundary loop index.
+    pub boundary_loop: Option<usize>,
+    /// The nearest node to a point.
+    pub nearest: Option<[f64; 3]>,
+    /// Every node (`all = true`).
+    pub all: Option<bool>,
+}
+
+/// `box = { center, size }` (full size, faces included).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoxSection {
+    /// Centre \[m\].
+    pub center: [f64; 3],
+    /// Full size per axis \[m\].
+    pub size: [f64; 3],
+}
+
+/// Timing names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum TimingName {
+    /// Evaluate at the start of the step.
+    StartOfStep,
+    /// Evaluate at the end of the step.
+    EndOfStep,
+}
+
+/// `position = { stiffness, exact, axes }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PositionSection {
+    /// Penalty stiffness [N/m] (exclusive with `exact`).
+    pub stiffness: Option<f64>,
+    /// Exact elimination (`exact = true`).
+    pub exact: Option<bool>,
+    /// Constrained world axes (default all).
+    pub axes: Option<Vec<AxisName>>,
+}
+
+/// `rotation = { stiffness, directors }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RotationSection {
+    /// Penalty stiffness [N·m].
+    pub stiffness: f64,
+    /// Constrained directors (columns of the rotation), 1-based (default `[1, 2, 3]`; `[3]` is the
+    /// paper's "d3 clamp").
+    pub directors: Option<Vec<usize>>,
+}
+
+/// `angular_velocity = { stiffness, axes, target }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AngularVelocitySection {
+    /// Penalty stiffness.
+    pub stiffness: f64,
+    /// Constrained components (default all).
+    pub axes: Option<Vec<AxisName>>,
+    /// Target angular velocity [rad/s] per component, functions of `t` (default zero).
+    pub target: Option<[ExprValue; 3]>,
+}
+
+/// `motion = { rotate = { axis, center, angle }, translate = [..] }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionSection {
+    /// Rotation about a fixed axis.
+    pub rotate: Option<MotionRotation>,
+    /// Translation \[m\] per component, functions of `t`.
+    pub translate: Option<[ExprValue; 3]>,
+}
+
+/// `rotate = { axis, center, angle }` of a motion.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MotionRotation {
+    /// The axis direction.
+    pub axis: AxisValue,
+    /// A point on the axis \[m\] (default the origin).
+    pub center: Option<[f64; 3]>,
+    /// The angle \[rad\] as a function of `t`.
+    pub angle: ExprValue,
+}
+
+/// `[[boundary]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BoundarySection {
+    /// Name (default `boundary<k>`).
+    pub name: Option<String>,
+    /// The shell (default the only one).
+    pub shell: Option<ShellRef>,
+    /// The constrained nodes.
+    pub region: RegionSection,
+    /// Prescribed positions.
+    pub position: Option<PositionSection>,
+    /// Prescribed rotations.
+    pub rotation: Option<RotationSection>,
+    /// Prescribed angular velocity.
+    pub angular_velocity: Option<AngularVelocitySection>,
+    /// Motion of the targets (default fixed).
+    pub motion: Option<MotionSection>,
+    /// When the motion is evaluated (default `"end_of_step"`).
+    pub timing: Option<TimingName>,
+    /// Active interval `[t0, t1)` (default always).
+    pub active: Option<[f64; 2]>,
+}
+
+/// Force distribution names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DistributionName {
+    /// Equal shares of the total (default).
+    Equal,
+    /// The vector on every node.
+    PerNode,
+    /// A line load per unit length along the selected boundary edges.
+    PerLength,
+    /// A line load along the selected boundary edges with the given total.
+    TotalOverLength,
+}
+
+/// `[[load]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSection {
+    /// Name (default `load<k>`).
+    pub name: Option<String>,
+    /// The shell (default the only one).
+    pub shell: Option<ShellRef>,
+    /// The loaded nodes.
+    pub region: RegionSection,
+    /// A force \[N\] (exclusive with `torque`).
+    pub force: Option<[f64; 3]>,
+    /// A torque [N·m] (exclusive with `force`).
+    pub torque: Option<[f64; 3]>,
+    /// Distribution (default `"equal"`).
+    pub distribution: Option<DistributionName>,
+    /// Scale over time (default 1).
+    pub scale: Option<ExprValue>,
+    /// When the scale is evaluated (default `"start_of_step"`).
+    pub timing: Option<TimingName>,
+}
+
+/// One prescribed rest-curvature entry `Γ_rest[row, col]` (1-based, as in the paper's `Γ_ij`).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CurvatureEntrySection {
+    /// Row `i` (1–3): the world axis of the rotation.
+    pub row: usize,
+    /// Column `j` (1–3): the world direction along which it accumulates.
+    pub col: usize,
+    /// The value [rad/m], a function of `x, y, z, t`.
+    pub value: ExprValue,
+}
+
+/// `[[rest_field]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RestFieldSection {
+    /// The shell (default the only one).
+    pub shell: Option<ShellRef>,
+    /// Rest-curvature entries.
+    pub curvature: Option<Vec<CurvatureEntrySection>>,
+    /// The frame rotation `Q` of `Γ_rest ← Qᵀ Γ_rest Q`, as rotation steps.
+    pub frame: Option<Vec<RotationStep>>,
+    /// Growth `s(x, y, z, t)`: the rest metric becomes `e^{2s} a₀`.
+    pub growth: Option<ExprValue>,
+    /// When the fields are evaluated (default `"start_of_step"`).
+    pub timing: Option<TimingName>,
+}
+
+/// Probe quantity names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum QuantityName {
+    /// `ux, uy, uz` (default).
+    Displacement,
+    /// `x, y, z`.
+    Position,
+    /// `vx, vy, vz`.
+    Velocity,
+    /// `d3x, d3y, d3z`.
+    Director,
+}
+
+/// Probe reduction names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReductionName {
+    /// The nearest node.
+    Nearest,
+    /// The mean over the region.
+    Mean,
+}
+
+/// `[[probe]]`: `point = [..]` (nearest node) or `region = { … }` (mean).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSection {
+    /// Name: CSV columns are `<name>.<component>`.
+    pub name: String,
+    /// The shell (default the only one).
+    pub shell: Option<ShellRef>,
+    /// A point: the nearest node is probed.
+    pub point: Option<[f64; 3]>,
+    /// A region: its nodes are averaged.
+    pub region: Option<RegionSection>,
+    /// The quantity (default `"displacement"`).
+    pub quantity: Option<QuantityName>,
+    /// The reduction (default `"nearest"` with `point`, `"mean"` with `region`).
+    pub reduction: Option<ReductionName>,
+}
+
+/// `[output]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSection {
+    /// Write VTU frames (default `true`).
+    pub frames: Option<bool>,
+    /// Subdivision level of quadratic elements in frames (default 1).
+    pub subdivision: Option<usize>,
+}

@@ -1,0 +1,497 @@
+//! Checks of the shells: the single `[mesh]` + `[material]` form or the `[[shell]]` list, each mesh
+//! section (generator parameters, OBJ path, shaping steps) and each material.
+
+use super::Ctx;
+use crate::error::{MeshSourceError, SceneError};
+use crate::mesh_source::{
+    Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh,
+};
+use crate::region::ShellNodes;
+use crate::schema::{
+    AxlName, CurvatureSourceName, CurvedTermsName, ElementName, GeneratorName, MaterialSection, MembraneVolumeName,
+    MeshSection, ModelName, NormalWeightingName, SceneFile,
+};
+use crate::spec::ShellSpec;
+use cosserat_assembly::ElementPair;
+use cosserat_fem::mesh::procedural::AnnulusSettings;
+use cosserat_fem::mesh::{CurvatureSource, NormalWeighting};
+use cosserat_fem::{MeshError, QuadratureRule};
+use cosserat_material::rest::RestOptions;
+use cosserat_material::{
+    AxlVariant, CurvedTerms, MaterialError, MaterialParameters, MembraneVolume, ModelOptions, ShellModel,
+};
+use nalgebra::{Matrix3, Vector3};
+
+/// The most uniform refinements a scene may ask for (each multiplies the elements by 4).
+const MAX_REFINE: usize = 8;
+
+/// A checked shell with what later checks need.
+pub(crate) struct ValidShell {
+    /// The spec.
+    pub spec: ShellSpec,
+    /// The nodes as regions see them.
+    pub nodes: ShellNodes,
+    /// Points at which rest fields are checked: displacement nodes and element centroids.
+    pub sample_points: Vec<Vector3<f64>>,
+}
+
+impl Ctx<'_> {
+    pub(super) fn shells(&self, file: &SceneFile) -> Result<Vec<ValidShell>, SceneError> {
+        let sections: Vec<(String, String, &MeshSection, &MaterialSection)> =
+            match (&file.mesh, &file.material, &file.shell) {
+                (Some(mesh), Some(material), None) => vec![("shell".into(), String::new(), mesh, material)],
+                (None, None, Some(list)) if !list.is_empty() => list
+                    .iter()
+                    .enumerate()
+                    .map(|(k, s)| {
+                        let name = s.name.clone().unwrap_or_else(|| format!("shell{k}"));
+                        (name, format!("shell.{k}."), &s.mesh, &s.material)
+                    })
+                    .collect(),
+                (None, None, Some(_)) => return Err(self.invalid("shell", "the list of shells is empty")),
+                (None, None, None) => {
+                    return Err(self.invalid(
+                        "",
+                        "the scene has no shell: add `[mesh]` and `[material]`, or `[[shell]]` tables",
+                    ));
+                }
+                (_, _, Some(_)) => {
+                    let field = if file.mesh.is_some() { "mesh" } else { "material" };
+                    return Err(self.invalid(
+                        field,
+                        "a scene has either one shell (`[mesh]` + `[material]`) or `[[shell]]` tables, not both",
+                    ));
+                }
+                (Some(_), None, None) => return Err(self.invalid("mesh", "`[mesh]` needs a `[material]` table")),
+                (None, Some(_), None) => return Err(self.invalid("material", "`[material]` needs a `[mesh]` table")),
+            };
+        let mut shells = Vec::with_capacity(sections.len());
+        for (k, (name, prefix, mesh, material)) in sections.iter().enumerate() {
+            if name.trim().is_empty() {
+                return Err(self.invalid(&format!("shell.{k}.name"), "must not be empty"));
+            }
+            if sections[..k].iter().any(|(other, ..)| other == name) {
+                return Err(self.invalid(&format!("shell.{k}.name"), format!("the name `{name}` is used twice")));
+            }
+            shells.push(self.shell(name, prefix, mesh, material)?);
+        }
+        Ok(shells)
+    }
+
+    fn shell(
+        &self,
+        name: &str,
+        prefix: &str,
+        mesh: &MeshSection,
+        material: &MaterialSection,
+    ) -> Result<ValidShell, SceneError> {
+        let m = format!("{prefix}mesh");
+        let pair = match (
+            mesh.element.unwrap_or(ElementName::Tri6),
+            mesh.rotation_element.unwrap_or(ElementName::Tri3),
+        ) {
+            (ElementName::Tri3, ElementName::Tri3) => ElementPair::Tri3Tri3,
+            (ElementName::Tri6, ElementName::Tri3) => ElementPair::Tri6Tri3,
+            (ElementName::Tri6, ElementName::Tri6) => ElementPair::Tri6Tri6,
+            (ElementName::Tri3, ElementName::Tri6) => {
+                return Err(self.invalid(
+                    &format!("{m}.rotation_element"),
+                    "quadratic rotations need quadratic displacements (`element = \"tri6\"`)",
+                ));
+            }
+        };
+        let recipe = self.recipe(&m, mesh, pair)?;
+        let built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(&m, e))?;
+        let quadrature = match mesh.quadrature_degree {
+            None => None,
+            Some(d) => Some(QuadratureRule::for_degree(d).ok_or_else(|| {
+                self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!("no quadrature rule of degree {d} is available"),
+                )
+            })?),
+        };
+        let (params, rest, damping, angular_inertia_density) = self.material(&format!("{prefix}material"), material)?;
+        let nodes = ShellNodes::new(name, &built.mesh, pair).map_err(|source| SceneError::Region {
+            location: self.location(&m),
+            field: m.clone(),
+            source: Box::new(source),
+        })?;
+        let mut sample_points = nodes.disp_positions().to_vec();
+        let corners = &built.mesh.corners;
+        sample_points.extend((0..corners.n_elements()).map(|e| {
+            let x = corners.element_nodes(e);
+            (x[0] + x[1] + x[2]) / 3.0
+        }));
+        Ok(ValidShell {
+            spec: ShellSpec {
+                name: name.to_string(),
+                mesh: built.mesh,
+                pair,
+                material: params,
+                rest,
+                quadrature,
+                damping,
+                angular_inertia_density,
+                initial_positions: built.initial_positions,
+            },
+            nodes,
+            sample_points,
+        })
+    }
+
+    fn mesh_source_error(&self, m: &str, error: MeshSourceError) -> SceneError {
+        match error {
+            MeshSourceError::Generator(source) => {
+                let field = match &source {
+                    MeshError::InvalidParameter { parameter, .. } => {
+                        let key = match *parameter {
+                            "outer_radius" => "radius",
+                            "polar_angle" => "polar_hole_degrees",
+                            p => p,
+                        };
+                        format!("{m}.{key}")
+                    }
+                    _ => format!("{m}.generator"),
+                };
+                SceneError::Mesh {
+                    location: self.location(&field),
+                    field,
+                    source: Box::new(source),
+                }
+            }
+            MeshSourceError::Obj(source) => {
+                let field = format!("{m}.path");
+                SceneError::Obj {
+                    location: self.location(&field),
+                    field,
+                    source: Box::new(source),
+                }
+            }
+            MeshSourceError::Invalid { step, reason } => {
+                let field = format!("{m}.{step}");
+                self.invalid(&field, reason)
+            }
+            MeshSourceError::Result(source) => SceneError::Mesh {
+                location: self.location(m),
+                field: m.to_string(),
+                source: Box::new(source),
+            },
+        }
+    }
+
+    fn recipe(&self, m: &str, mesh: &MeshSection, pair: ElementPair) -> Result<MeshRecipe, SceneError> {
+        let given = given_parameters(mesh);
+        let source = match (mesh.generator, &mesh.path) {
+            (Some(_), Some(_)) => {
+                return Err(self.invalid(&format!("{m}.path"), "give `generator` or `path`, not both"));
+            }
+            (None, None) => {
+                return Err(self.invalid(m, "needs a `generator` or a `path` to an OBJ file"));
+            }
+            (None, Some(path)) => {
+                if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                    return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
+                }
+                let path = std::path::Path::new(path);
+                MeshSource::Obj(if path.is_absolute() {
+                    path.to_path_buf()
+                } else {
+                    self.base_dir.join(path)
+                })
+            }
+            (Some(generator), None) => MeshSource::Generator(self.generator(m, generator, mesh, &given)?),
+        };
+        let refine = mesh.refine.unwrap_or(0);
+        if refine > MAX_REFINE {
+            return Err(self.invalid(
+                &format!("{m}.refine"),
+                format!("must be at most {MAX_REFINE} (got {refine})"),
+            ));
+        }
+        let project_to_sphere = match &mesh.project_to_sphere {
+            None => None,
+            Some(s) => Some(SphereProjection {
+                center: match s.center {
+                    Some(c) => self.vector(&format!("{m}.project_to_sphere.center"), c)?,
+                    None => Vector3::zeros(),
+                },
+                radius: self.positive(&format!("{m}.project_to_sphere.radius"), s.radius)?,
+            }),
+        };
+        let flatten_cap = match &mesh.flatten_cap {
+            None => None,
+            Some(f) => Some(self.positive(&format!("{m}.flatten_cap.radius"), f.radius)?),
+        };
+        let transform = match &mesh.transform {
+            None => None,
+            Some(t) => {
+                let f = format!("{m}.transform");
+                let scaling = match (t.height, t.scale) {
+                    (Some(_), Some(_)) => {
+                        return Err(self.invalid(&format!("{f}.scale"), "give `height` or `scale`, not both"));
+                    }
+                    (Some(h), None) => Some(Scaling::Height(self.positive(&format!("{f}.height"), h)?)),
+                    (None, Some(s)) => Some(Scaling::Factor(self.positive(&format!("{f}.scale"), s)?)),
+                    (None, None) => None,
+                };
+                Some(Transform {
+                    rotation: match &t.rotate {
+                        Some(steps) => self.rotation(&format!("{f}.rotate"), steps)?,
+                        None => Matrix3::identity(),
+                    },
+                    center: t.center.unwrap_or(false),
+                    scaling,
+                    translation: match t.translate {
+                        Some(d) => self.vector(&format!("{f}.translate"), d)?,
+                        None => Vector3::zeros(),
+                    },
+                })
+            }
+        };
+        let initial = match &mesh.initial {
+            None => None,
+            Some(i) => {
+                let f = format!("{m}.initial");
+                Some(RigidMotion {
+                    rotation: match &i.rotate {
+                        Some(steps) => self.rotation(&format!("{f}.rotate"), steps)?,
+                        None => Matrix3::identity(),
+                    },
+                    about: match i.about {
+                        Some(p) => self.vector(&format!("{f}.about"), p)?,
+                        None => Vector3::zeros(),
+                    },
+                    translation: match i.translate {
+                        Some(d) => self.vector(&format!("{f}.translate"), d)?,
+                        None => Vector3::zeros(),
+                    },
+                })
+            }
+        };
+        Ok(MeshRecipe {
+            source,
+            pair,
+            refine,
+            project_to_sphere,
+            flatten_cap,
+            transform,
+            initial,
+        })
+    }
+
+    fn generator(
+        &self,
+        m: &str,
+        generator: GeneratorName,
+        mesh: &MeshSection,
+        given: &[(&'static str, bool)],
+    ) -> Result<Generator, SceneError> {
+        let (required, optional): (&[&str], &[&str]) = match generator {
+            GeneratorName::Rectangle => (&["lx", "ly", "nx", "ny"], &[]),
+            GeneratorName::Disk => (&["radius", "n_radial", "n_angular"], &[]),
+            GeneratorName::Annulus => (&["inner_radius", "radius", "n_radial", "n_angular"], &["slit"]),
+            GeneratorName::Cylinder => (&["radius", "length", "n_around", "n_along"], &[]),
+            GeneratorName::Icosphere => (&["radius", "level"], &[]),
+            GeneratorName::IcosphereCap => (&["radius", "frequency", "min_z"], &[]),
+            GeneratorName::UvSphere => (&["radius", "n_lon", "n_lat"], &[]),
+            GeneratorName::Hemisphere => (&["radius", "n_lon", "n_lat"], &["polar_hole_degrees"]),
+            GeneratorName::Mobius => (&["radius", "width", "n_along", "n_across"], &[]),
+        };
+        let name = generator.as_str();
+        let all: Vec<&str> = required.iter().chain(optional).copied().collect();
+        for (key, is_given) in given {
+            if *is_given && !all.contains(key) {
+                return Err(self.invalid(
+                    &format!("{m}.{key}"),
+                    format!(
+                        "not a parameter of the `{name}` generator (its parameters: {})",
+                        all.join(", ")
+                    ),
+                ));
+            }
+        }
+        for key in required {
+            if !given.iter().any(|(k, g)| k == key && *g) {
+                return Err(self.invalid(
+                    &format!("{m}.{key}"),
+                    format!(
+                        "required by the `{name}` generator (its parameters: {})",
+                        all.join(", ")
+                    ),
+                ));
+            }
+        }
+        // Presence of every required parameter was checked above.
+        let f = |v: Option<f64>| v.unwrap_or(f64::NAN);
+        let n = |v: Option<usize>| v.unwrap_or(0);
+        Ok(match generator {
+            GeneratorName::Rectangle => Generator::Rectangle {
+                lx: f(mesh.lx),
+                ly: f(mesh.ly),
+                nx: n(mesh.nx),
+                ny: n(mesh.ny),
+            },
+            GeneratorName::Disk => Generator::Annulus(AnnulusSettings {
+                inner_radius: 0.0,
+                outer_radius: f(mesh.radius),
+                n_radial: n(mesh.n_radial),
+                n_angular: n(mesh.n_angular),
+                slit: false,
+            }),
+            GeneratorName::Annulus => Generator::Annulus(AnnulusSettings {
+                inner_radius: f(mesh.inner_radius),
+                outer_radius: f(mesh.radius),
+                n_radial: n(mesh.n_radial),
+                n_angular: n(mesh.n_angular),
+                slit: mesh.slit.unwrap_or(false),
+            }),
+            GeneratorName::Cylinder => Generator::Cylinder {
+                radius: f(mesh.radius),
+                length: f(mesh.length),
+                n_around: n(mesh.n_around),
+                n_along: n(mesh.n_along),
+            },
+            GeneratorName::Icosphere => Generator::Icosphere {
+                radius: f(mesh.radius),
+                level: n(mesh.level),
+            },
+            GeneratorName::IcosphereCap => Generator::IcosphereCap {
+                radius: f(mesh.radius),
+                frequency: n(mesh.frequency),
+                min_z: f(mesh.min_z),
+            },
+            GeneratorName::UvSphere => Generator::UvSphere {
+                radius: f(mesh.radius),
+                n_lon: n(mesh.n_lon),
+                n_lat: n(mesh.n_lat),
+            },
+            GeneratorName::Hemisphere => Generator::Hemisphere {
+                radius: f(mesh.radius),
+                n_lon: n(mesh.n_lon),
+                n_lat: n(mesh.n_lat),
+                polar_hole: match mesh.polar_hole_degrees {
+                    Some(d) if d.is_finite() => Some(d.to_radians()),
+                    Some(d) => {
+                        return Err(
+                            self.invalid(&format!("{m}.polar_hole_degrees"), format!("must be finite (got {d})"))
+                        );
+                    }
+                    None => None,
+                },
+            },
+            GeneratorName::Mobius => Generator::Mobius {
+                radius: f(mesh.radius),
+                width: f(mesh.width),
+                n_along: n(mesh.n_along),
+                n_across: n(mesh.n_across),
+            },
+        })
+    }
+
+    /// Material parameters, rest options, damping and angular inertia density.
+    fn material(
+        &self,
+        p: &str,
+        m: &MaterialSection,
+    ) -> Result<(MaterialParameters, RestOptions, f64, f64), SceneError> {
+        let mut params = MaterialParameters::new(
+            m.thickness,
+            m.youngs_modulus,
+            m.poisson_ratio,
+            m.density,
+            m.length_scale,
+        );
+        if let Some(v) = m.mu_c_factor {
+            params.mu_c_factor = v;
+        }
+        if let Some(v) = m.curvature_coefficients {
+            params.curvature_coefficients = v;
+        }
+        if let Some(v) = m.bending_correction {
+            params.bending_correction = v;
+        }
+        params.validate().map_err(|e| match e {
+            MaterialError::InvalidParameter { name, value, reason } => {
+                let (key, detail) = match name.split_once('[') {
+                    Some((key, index)) => (key, format!(" (entry {})", index.trim_end_matches(']'))),
+                    None => (name, String::new()),
+                };
+                self.invalid(&format!("{p}.{key}"), format!("{reason}{detail} (got {value})"))
+            }
+            other => self.invalid(p, other.to_string()),
+        })?;
+        let damping = self.non_negative(&format!("{p}.damping"), m.damping.unwrap_or(0.0))?;
+        let angular_inertia_density = self.non_negative(
+            &format!("{p}.angular_inertia_density"),
+            m.angular_inertia_density.unwrap_or(0.0),
+        )?;
+        let model = ModelOptions {
+            model: match m.model {
+                ModelName::Plate => ShellModel::Plate,
+                ModelName::Shell => ShellModel::Shell,
+            },
+            curved_terms: match m.curved_terms {
+                None | Some(CurvedTermsName::Supplement) => CurvedTerms::Supplement,
+                Some(CurvedTermsName::ReferenceCompatibility) => CurvedTerms::ReferenceCompatibility,
+            },
+            membrane_volume: match m.membrane_volume {
+                None | Some(MembraneVolumeName::Quadratic) => MembraneVolume::Quadratic,
+                Some(MembraneVolumeName::Nonlinear) => MembraneVolume::Nonlinear,
+            },
+            axl: match m.axl {
+                None | Some(AxlName::SkewPart) => AxlVariant::SkewPart,
+                Some(AxlName::UpperTriangle) => AxlVariant::UpperTriangle,
+            },
+        };
+        if model.model == ShellModel::Shell && model.membrane_volume == MembraneVolume::Nonlinear {
+            return Err(self.invalid(
+                &format!("{p}.membrane_volume"),
+                "the nonlinear volume term is defined for the plate model only",
+            ));
+        }
+        let mut rest = RestOptions::new(model);
+        if let Some(source) = m.curvature_source {
+            rest.curvature.source = match source {
+                CurvatureSourceName::Auto => CurvatureSource::Auto,
+                CurvatureSourceName::Exact => CurvatureSource::ExactElement,
+                CurvatureSourceName::Averaged => CurvatureSource::AveragedNodalNormals,
+            };
+        }
+        if let Some(weighting) = m.normal_weighting {
+            rest.curvature.weighting = match weighting {
+                NormalWeightingName::Max => NormalWeighting::Max,
+                NormalWeightingName::Angle => NormalWeighting::Angle,
+                NormalWeightingName::Area => NormalWeighting::Area,
+                NormalWeightingName::Uniform => NormalWeighting::Uniform,
+            };
+        }
+        Ok((params, rest, damping, angular_inertia_density))
+    }
+}
+
+/// Every generator parameter of the mesh section and whether it is given.
+fn given_parameters(m: &MeshSection) -> Vec<(&'static str, bool)> {
+    vec![
+        ("lx", m.lx.is_some()),
+        ("ly", m.ly.is_some()),
+        ("nx", m.nx.is_some()),
+        ("ny", m.ny.is_some()),
+        ("radius", m.radius.is_some()),
+        ("inner_radius", m.inner_radius.is_some()),
+        ("n_radial", m.n_radial.is_some()),
+        ("n_angular", m.n_angular.is_some()),
+        ("slit", m.slit.is_some()),
+        ("length", m.length.is_some()),
+        ("n_around", m.n_around.is_some()),
+        ("n_along", m.n_along.is_some()),
+        ("level", m.level.is_some()),
+        ("frequency", m.frequency.is_some()),
+        ("min_z", m.min_z.is_some()),
+        ("n_lon", m.n_lon.is_some()),
+        ("n_lat", m.n_lat.is_some()),
+        ("polar_hole_degrees", m.polar_hole_degrees.is_some()),
+        ("width", m.width.is_some()),
+        ("n_across", m.n_across.is_some()),
+    ]
+}

@@ -1,0 +1,155 @@
+//! Checks of `[time]`, `[solver]` and `[output]`.
+
+use super::Ctx;
+use crate::error::SceneError;
+use crate::schema::{InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode, TimeSection};
+use crate::spec::{OutputSpec, SolverSpec, TimeSpec};
+use cosserat_solver::linear::LinearSolverKind;
+use cosserat_solver::time_step::InitialGuess;
+
+/// Output rate when a dynamic scene gives none: the reference code's 30 frames per second.
+const DEFAULT_OUTPUT_FPS: f64 = 30.0;
+
+/// Number of equally spaced times at which scripted functions are checked (plus the end points).
+const N_SAMPLE_TIMES: usize = 200;
+
+/// Highest allowed frame subdivision level (each level multiplies the output triangles by 4).
+const MAX_SUBDIVISION: usize = 4;
+
+impl Ctx<'_> {
+    pub(super) fn time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
+        match time.mode.unwrap_or(TimeMode::Dynamic) {
+            TimeMode::Dynamic => {
+                for (key, given) in [("levels", time.levels.is_some()), ("n_levels", time.n_levels.is_some())] {
+                    if given {
+                        return Err(self.invalid(&format!("time.{key}"), "only used in `quasi_static` mode"));
+                    }
+                }
+                let dt = time.dt.ok_or_else(|| self.invalid("time.dt", "required in dynamic mode"))?;
+                let dt = self.positive("time.dt", dt)?;
+                let end = time.end.ok_or_else(|| self.invalid("time.end", "required in dynamic mode"))?;
+                if !(end.is_finite() && end >= 0.0) {
+                    return Err(self.invalid("time.end", format!("must be finite and non-negative (got {end})")));
+                }
+                let output_interval = match (time.output_fps, time.output_interval) {
+                    (Some(_), Some(_)) => {
+                        return Err(self.invalid(
+                            "time.output_interval",
+                            "give `output_fps` or `output_interval`, not both",
+                        ));
+                    }
+                    (Some(fps), None) => 1.0 / self.positive("time.output_fps", fps)?,
+                    (None, Some(interval)) => self.positive("time.output_interval", interval)?,
+                    (None, None) => 1.0 / DEFAULT_OUTPUT_FPS,
+                };
+                // Scripts are evaluated at tⁿ or tⁿ + Δt, and the last step may pass the end by up to Δt.
+                let last = end + dt;
+                self.sample_times = (0..=N_SAMPLE_TIMES).map(|k| last * k as f64 / N_SAMPLE_TIMES as f64).collect();
+                Ok(TimeSpec::Dynamic {
+                    dt,
+                    end,
+                    adaptive: time.adaptive.unwrap_or(true),
+                    output_interval,
+                })
+            }
+            TimeMode::QuasiStatic => {
+                for (key, given) in [
+                    ("dt", time.dt.is_some()),
+                    ("end", time.end.is_some()),
+                    ("output_fps", time.output_fps.is_some()),
+                    ("output_interval", time.output_interval.is_some()),
+                    ("adaptive", time.adaptive.is_some()),
+                ] {
+                    if given {
+                        return Err(self.invalid(
+                            &format!("time.{key}"),
+                            "not used in `quasi_static` mode (the load factors are `levels` or `n_levels`)",
+                        ));
+                    }
+                }
+                let levels = match (&time.levels, time.n_levels) {
+                    (Some(_), Some(_)) => {
+                        return Err(self.invalid("time.n_levels", "give `levels` or `n_levels`, not both"));
+                    }
+                    (None, None) => {
+                        return Err(self.invalid("time", "quasi-static mode needs `levels` or `n_levels`"));
+                    }
+                    (None, Some(0)) => return Err(self.invalid("time.n_levels", "must be at least 1")),
+                    (None, Some(n)) => (1..=n).map(|k| k as f64 / n as f64).collect(),
+                    (Some(levels), None) => {
+                        let valid = !levels.is_empty()
+                            && levels.iter().all(|l| l.is_finite() && *l > 0.0 && *l <= 1.0)
+                            && levels.windows(2).all(|w| w[0] < w[1])
+                            && levels.last() == Some(&1.0);
+                        if !valid {
+                            return Err(self.invalid(
+                                "time.levels",
+                                format!("must increase strictly within (0, 1] and end at 1 (got {levels:?})"),
+                            ));
+                        }
+                        levels.clone()
+                    }
+                };
+                self.sample_times = std::iter::once(0.0).chain(levels.iter().copied()).collect();
+                Ok(TimeSpec::QuasiStatic { levels })
+            }
+        }
+    }
+
+    pub(super) fn solver(&self, solver: Option<&SolverSection>) -> Result<SolverSpec, SceneError> {
+        let Some(s) = solver else {
+            return Ok(default_solver());
+        };
+        let d = default_solver();
+        let tolerance = match s.tolerance {
+            Some(t) => self.positive("solver.tolerance", t)?,
+            None => d.tolerance,
+        };
+        let max_newton_iterations = s.max_newton_iterations.unwrap_or(d.max_newton_iterations);
+        if max_newton_iterations == 0 {
+            return Err(self.invalid("solver.max_newton_iterations", "must be at least 1"));
+        }
+        Ok(SolverSpec {
+            tolerance,
+            max_newton_iterations,
+            max_line_search_iterations: s.max_line_search_iterations.unwrap_or(d.max_line_search_iterations),
+            linear_solver: match s.linear_solver {
+                None | Some(LinearSolverName::Auto) => LinearSolverKind::Auto,
+                Some(LinearSolverName::Cholesky) => LinearSolverKind::Cholesky,
+                Some(LinearSolverName::Ldlt) => LinearSolverKind::Ldlt,
+                Some(LinearSolverName::Lu) => LinearSolverKind::Lu,
+            },
+            initial_guess: match s.initial_guess {
+                None | Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
+                Some(InitialGuessName::Zero) => InitialGuess::Zero,
+            },
+            project_pd: s.project_pd.unwrap_or(d.project_pd),
+            max_step_reductions: s.max_step_reductions.unwrap_or(d.max_step_reductions),
+        })
+    }
+
+    pub(super) fn output(&self, output: Option<&OutputSection>) -> Result<OutputSpec, SceneError> {
+        let frames = output.and_then(|o| o.frames).unwrap_or(true);
+        let subdivision = output.and_then(|o| o.subdivision).unwrap_or(1);
+        if subdivision > MAX_SUBDIVISION {
+            return Err(self.invalid(
+                "output.subdivision",
+                format!("must be at most {MAX_SUBDIVISION} (got {subdivision})"),
+            ));
+        }
+        Ok(OutputSpec { frames, subdivision })
+    }
+}
+
+/// The paper's solver settings (experiments.md §1.5) with our defaults where the reference has none.
+fn default_solver() -> SolverSpec {
+    SolverSpec {
+        tolerance: 1e-7,
+        max_newton_iterations: 100,
+        max_line_search_iterations: 20,
+        linear_solver: LinearSolverKind::Auto,
+        initial_guess: InitialGuess::PreviousVelocity,
+        project_pd: false,
+        max_step_reductions: 8,
+    }
+}

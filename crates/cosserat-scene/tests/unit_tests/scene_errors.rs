@@ -1,0 +1,350 @@
+//! Bad input is rejected with a message that names the file, the line, the field and the reason.
+
+use cosserat_scene::error::SceneError;
+use cosserat_scene::spec::SceneSpec;
+use std::path::{Path, PathBuf};
+
+const MESH: &str = r#"generator = "rectangle"
+lx = 0.1
+ly = 0.01
+nx = 10
+ny = 2
+element = "tri6""#;
+
+/// A valid scene; `{mesh}` is replaced by the body of the `[mesh]` table (6 lines).
+const BASE: &str = r#"name = "base"
+
+[time]
+dt = 0.01
+end = 1.0
+
+[mesh]
+{mesh}
+
+[material]
+model = "plate"
+thickness = 1e-3
+youngs_modulus = 1e6
+poisson_ratio = 0.3
+density = 1000.0
+length_scale = 1e-6
+
+[[boundary]]
+name = "clamp"
+region = { predicate = "x <= -0.05 + 1e-9" }
+position = { stiffness = 1e6 }
+rotation = { stiffness = 1e4, directors = [3] }
+
+[[load]]
+region = { predicate = "x >= 0.05 - 1e-9" }
+force = [0.0, 0.0, 1.0]
+scale = "ramp(t, 0, 1)"
+
+[[probe]]
+name = "tip"
+point = [0.05, 0.0, 0.0]
+"#;
+
+fn data_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data")
+}
+
+fn scene(replace: &[(&str, &str)]) -> String {
+    let mut text = BASE.replace("{mesh}", MESH);
+    for (from, to) in replace {
+        assert!(text.contains(from), "the base scene has no `{from}`");
+        text = text.replacen(from, to, 1);
+    }
+    text
+}
+
+fn load(text: &str, overrides: &[&str]) -> Result<SceneSpec, SceneError> {
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    SceneSpec::from_str(text, "scene.toml", &data_dir(), &overrides)
+}
+
+fn message(replace: &[(&str, &str)], overrides: &[&str]) -> String {
+    match load(&scene(replace), overrides) {
+        Ok(_) => panic!("the scene was accepted: {replace:?} {overrides:?}"),
+        Err(e) => e.to_string(),
+    }
+}
+
+#[test]
+fn the_base_scene_is_valid() {
+    let spec = load(&scene(&[]), &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(spec.name, "base");
+    assert_eq!(spec.boundaries[0].selection.disp_nodes.len(), 5);
+}
+
+#[test]
+fn unknown_keys_list_the_expected_names() {
+    let top = message(&[("name = \"base\"\n", "name = \"base\"\ngravty = [0, 0, -9.81]")], &[]);
+    assert_eq!(
+        top,
+        "scene.toml:2: gravty: unknown field `gravty`, expected one of `name`, `description`, `time`, `solver`, \
+         `gravity`, `functions`, `mesh`, `material`, `shell`, `boundary`, `load`, `rest_field`, `probe`, `output`"
+    );
+    let nested = message(
+        &[("position = { stiffness = 1e6 }", "position = { stifness = 1e6 }")],
+        &[],
+    );
+    assert_eq!(
+        nested,
+        "scene.toml:26: boundary.0.position.stifness: unknown field `stifness`, expected one of `stiffness`, \
+         `exact`, `axes`"
+    );
+    let in_mesh = message(&[("ny = 2\n", "ny = 2\nradius = 1.0\n")], &[]);
+    assert_eq!(
+        in_mesh,
+        "scene.toml:13: mesh.radius: not a parameter of the `rectangle` generator (its parameters: lx, ly, nx, ny)"
+    );
+}
+
+#[test]
+fn wrong_types_and_missing_keys_name_the_field() {
+    assert_eq!(
+        message(&[("nx = 10", "nx = \"ten\"")], &[]),
+        "scene.toml:11: mesh.nx: invalid type: string \"ten\", expected usize"
+    );
+    assert_eq!(
+        message(&[("model = \"plate\"", "model = \"plat\"")], &[]),
+        "scene.toml:16: material.model: unknown variant `plat`, expected `plate` or `shell`"
+    );
+    assert_eq!(
+        message(&[("thickness = 1e-3\n", "")], &[]),
+        "scene.toml:15: material: missing field `thickness`"
+    );
+    assert_eq!(
+        message(&[("scale = \"ramp(t, 0, 1)\"", "scale = [1, 2]")], &[]),
+        "scene.toml:32: load.0.scale: invalid type: sequence, expected a number or an expression string"
+    );
+    assert_eq!(
+        message(&[("dt = 0.01", "dt = = 0.01")], &[]),
+        "scene.toml:4: invalid TOML: extra `=`, expected nothing"
+    );
+}
+
+#[test]
+fn time_values_are_checked() {
+    assert_eq!(
+        message(&[("dt = 0.01", "dt = 0.0")], &[]),
+        "scene.toml:4: time.dt: must be positive (got 0)"
+    );
+    assert_eq!(
+        message(&[("dt = 0.01", "dt = -0.01")], &[]),
+        "scene.toml:4: time.dt: must be positive (got -0.01)"
+    );
+    assert_eq!(
+        message(&[("end = 1.0", "end = -1.0")], &[]),
+        "scene.toml:5: time.end: must be finite and non-negative (got -1)"
+    );
+}
+
+#[test]
+fn a_poisson_ratio_of_one_half_is_rejected() {
+    assert_eq!(
+        message(&[("poisson_ratio = 0.3", "poisson_ratio = 0.5")], &[]),
+        "scene.toml:19: material.poisson_ratio: must lie in (-1, 0.5); 0.5 would make the Lamé parameter λ \
+         infinite (got 0.5)"
+    );
+}
+
+#[test]
+fn expressions_are_checked_where_they_are_written() {
+    assert_eq!(
+        message(&[("scale = \"ramp(t, 0, 1)\"", "scale = \"ramp(t, 0, 1\"")], &[]),
+        "scene.toml:32: load.0.scale: `ramp(t, 0, 1`: column 13: expected `,` or `)`, found the end of the expression"
+    );
+    assert_eq!(
+        message(&[("scale = \"ramp(t, 0, 1)\"", "scale = \"ramp(s, 0, 1)\"")], &[]),
+        "scene.toml:32: load.0.scale: `ramp(s, 0, 1)`: column 6: unknown variable `s` (allowed here: t)"
+    );
+    assert_eq!(
+        message(&[("\"x <= -0.05 + 1e-9\"", "\"x <= -0.05 + t\"")], &[]),
+        "scene.toml:25: boundary.0.region.predicate: `x <= -0.05 + t`: column 14: unknown variable `t` \
+         (allowed here: x, y, z)"
+    );
+    // Finite where it is written, but NaN within the run: t is sampled at 200 steps up to
+    // end + dt = 1.01, and the first sample past 1 is 1.01·199/200 = 1.00495.
+    assert_eq!(
+        message(&[("scale = \"ramp(t, 0, 1)\"", "scale = \"sqrt(1 - t)\"")], &[]),
+        "scene.toml:32: load.0.scale: `sqrt(1 - t)` evaluates to NaN at t = 1.00495"
+    );
+}
+
+#[test]
+fn a_region_that_selects_nothing_is_an_error() {
+    assert_eq!(
+        message(&[("\"x <= -0.05 + 1e-9\"", "\"x <= -1\"")], &[]),
+        "scene.toml:25: boundary.0.region: the region (predicate `x <= -1`) selects no displacement node of shell \
+         `shell`"
+    );
+    // Rotation nodes are resolved by their own positions: a box around a mid-edge column holds
+    // displacement nodes but no corner, so a rotation condition on it has nothing to act on.
+    let err = message(
+        &[(
+            "{ predicate = \"x <= -0.05 + 1e-9\" }",
+            "{ box = { center = [-0.045, 0.0, 0.0], size = [0.001, 0.02, 0.01] } }",
+        )],
+        &[],
+    );
+    assert_eq!(
+        err,
+        "scene.toml:25: boundary.0.region: the region (box centre (-0.045, 0, 0) size (0.001, 0.02, 0.01)) selects \
+         no rotation node of shell `shell`"
+    );
+}
+
+#[test]
+fn a_probe_point_outside_the_mesh_is_an_error() {
+    assert_eq!(
+        message(&[("point = [0.05, 0.0, 0.0]", "point = [0.5, 0.0, 0.0]")], &[]),
+        "scene.toml:36: probe.0.point: the point (0.5, 0, 0) lies outside the bounding box of shell `shell` \
+         ([-0.05, 0.05] × [-0.005, 0.005] × [0, 0], grown by 1 % of its diagonal)"
+    );
+}
+
+#[test]
+fn mesh_files_are_checked() {
+    let path = |name: &str| data_dir().join(name).display().to_string();
+    let with_path = |file: &str| message(&[(MESH, &format!("path = \"{file}\""))], &[]);
+    let missing = with_path("missing.obj");
+    assert!(
+        missing.starts_with(&format!(
+            "scene.toml:8: mesh.path: cannot read `{}`: ",
+            path("missing.obj")
+        )),
+        "{missing}"
+    );
+    assert_eq!(
+        with_path("quad_face.obj"),
+        format!(
+            "scene.toml:8: mesh.path: `{}` line 8: face 1 has 4 vertices; only triangles are supported",
+            path("quad_face.obj")
+        )
+    );
+    assert!(
+        with_path("degenerate_triangle.obj").starts_with(&format!(
+            "scene.toml:8: mesh.path: `{}` line 7: face 1 is degenerate (area 0e0)",
+            path("degenerate_triangle.obj")
+        )),
+        "{}",
+        with_path("degenerate_triangle.obj")
+    );
+    assert_eq!(
+        with_path("nonmanifold_edge.obj"),
+        format!(
+            "scene.toml:8: mesh.path: `{}` line 9: the edge between vertices 0 and 1 is shared by 3 faces (at most two \
+             are allowed)",
+            path("nonmanifold_edge.obj")
+        )
+    );
+    assert_eq!(
+        with_path("unreferenced_vertex.obj"),
+        format!(
+            "scene.toml:8: mesh.path: `{}` line 5: vertex 3 is not used by any face",
+            path("unreferenced_vertex.obj")
+        )
+    );
+}
+
+#[test]
+fn overrides_are_named_in_errors() {
+    assert_eq!(
+        message(&[], &["time.dtt=0.1"]),
+        "override `time.dtt=0.1`: time.dtt: unknown field `dtt`, expected one of `mode`, `dt`, `end`, `output_fps`, \
+         `output_interval`, `adaptive`, `levels`, `n_levels`"
+    );
+    assert_eq!(
+        message(&[], &["boundary.3.position.stiffness=1"]),
+        "override `boundary.3.position.stiffness=1`: `boundary` has 1 entry, so index 3 does not exist"
+    );
+    assert_eq!(
+        message(&[], &["mesh.nx=ten"]),
+        "override `mesh.nx=ten`: mesh.nx: invalid type: string \"ten\", expected usize"
+    );
+    assert_eq!(
+        message(&[], &["time.dt=-1"]),
+        "override `time.dt=-1`: time.dt: must be positive (got -1)"
+    );
+    assert_eq!(message(&[], &["time.dt"]), "override `time.dt`: expected `key=value`");
+    assert_eq!(
+        message(&[], &["time..dt=1"]),
+        "override `time..dt=1`: the key has an empty segment (two dots in a row, or a leading or trailing dot)"
+    );
+    assert_eq!(
+        message(&[], &["time.dt.x=1"]),
+        "override `time.dt.x=1`: `time.dt` is a float, not a table"
+    );
+}
+
+#[test]
+fn multi_shell_scenes_need_the_shell_named() {
+    let text = scene(&[
+        ("[mesh]\n", "[[shell]]\nname = \"a\"\n[shell.mesh]\n"),
+        ("[material]\n", "[shell.material]\n"),
+    ]);
+    let second = text[text.find("[[shell]]").unwrap()..text.find("[[boundary]]").unwrap()].replace("\"a\"", "\"b\"");
+    let text = text.replace("[[boundary]]", &format!("{second}[[boundary]]"));
+    let err = load(&text, &[]).unwrap_err().to_string();
+    assert!(
+        err.ends_with("boundary.0.shell: the scene has 2 shells; name one of: a, b"),
+        "{err}"
+    );
+    let err = load(
+        &text.replace("name = \"clamp\"", "name = \"clamp\"\nshell = \"c\""),
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.ends_with("boundary.0.shell: no shell is named `c` (shells: a, b)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn error_variants_carry_location_and_field() {
+    let err = load(&scene(&[("dt = 0.01", "dt = -0.01")]), &[]).unwrap_err();
+    assert!(matches!(err, SceneError::Invalid { .. }));
+    assert_eq!(err.field(), Some("time.dt"));
+    assert_eq!(err.location().map(|l| l.to_string()), Some("scene.toml:4".to_string()));
+    let err = load(&scene(&[]), &["time.dt=-1"]).unwrap_err();
+    assert_eq!(
+        err.location().map(|l| l.to_string()),
+        Some("override `time.dt=-1`".to_string())
+    );
+    let err = SceneSpec::from_file(data_dir().join("no_such_scene.toml"), &[]).unwrap_err();
+    assert!(matches!(err, SceneError::ReadScene { .. }));
+}
+
+#[test]
+fn top_level_problems_have_no_field_prefix() {
+    let err = load("name = \"x\"\n[time]\ndt = 0.1\nend = 1.0\n", &[]).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "scene.toml: the scene has no shell: add `[mesh]` and `[material]`, or `[[shell]]` tables"
+    );
+    let err = load("[time]\ndt = 0.1\nend = 1.0\n", &[]).unwrap_err();
+    assert_eq!(err.to_string(), "scene.toml:1: missing field `name`");
+}
+
+#[test]
+fn errors_inside_arrays_of_inline_tables_point_at_their_line() {
+    // `[[rest_field]]` replaces `[[probe]]` on line 34, so the second entry is on line 37.
+    let rest_field = "[[rest_field]]\ncurvature = [\n    { row = 2, col = 1, value = \"ramp(t, 0, 1)\" },\n    \
+                      { row = 1, col = 2, value = \"ramp(t, 0, 1) * w\" },\n]\n\n[[probe]]";
+    let err = message(&[("[[probe]]", rest_field)], &[]);
+    assert_eq!(
+        err,
+        "scene.toml:37: rest_field.0.curvature.1.value: `ramp(t, 0, 1) * w`: column 17: unknown variable `w` \
+         (allowed here: x, y, z, t)"
+    );
+    let err = message(&[("[[probe]]", &rest_field.replace("row = 1", "row = 4"))], &[]);
+    assert_eq!(
+        err,
+        "scene.toml:37: rest_field.0.curvature.1.row: rows and columns are numbered 1 to 3, as in the paper's Γ_ij \
+         (got 4)"
+    );
+}

@@ -1,0 +1,85 @@
+//! `--set key=value` overrides: parsing, and their effect on a loaded scene.
+
+use cosserat_scene::overrides::Override;
+use cosserat_scene::spec::{PositionEnforcement, SceneSpec};
+use nalgebra::Vector3;
+use std::path::Path;
+
+const SCENE: &str = r#"name = "strip"
+[time]
+dt = 0.01
+end = 1.0
+[mesh]
+generator = "rectangle"
+lx = 0.1
+ly = 0.01
+nx = 10
+ny = 2
+element = "tri3"
+[material]
+model = "plate"
+thickness = 1e-3
+youngs_modulus = 1e6
+poisson_ratio = 0.3
+density = 1000.0
+length_scale = 1e-6
+[[boundary]]
+region = { predicate = "x <= -0.05 + 1e-9" }
+position = { stiffness = 1e6 }
+"#;
+
+fn load(overrides: &[&str]) -> SceneSpec {
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    SceneSpec::from_str(SCENE, "strip.toml", Path::new("."), &overrides).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn parse_splits_key_path_and_value() {
+    let o = Override::parse(" boundary.0.position.stiffness = 2.5e6 ").unwrap();
+    assert_eq!(o.path, ["boundary", "0", "position", "stiffness"]);
+    assert_eq!(o.value, "2.5e6");
+    assert_eq!(o.key(), "boundary.0.position.stiffness");
+    // Only the first `=` separates; the value may contain more.
+    let o = Override::parse("mesh.path=a=b.obj").unwrap();
+    assert_eq!((o.key().as_str(), o.value.as_str()), ("mesh.path", "a=b.obj"));
+}
+
+#[test]
+fn values_are_toml_values_or_plain_strings() {
+    let spec = load(&[
+        "mesh.nx=20",
+        "mesh.element=tri6",
+        "gravity=[0, 0, -9.81]",
+        "name=\"renamed\"",
+    ]);
+    assert_eq!(spec.name, "renamed");
+    assert_eq!(spec.gravity, Vector3::new(0.0, 0.0, -9.81));
+    // 20 × 2 Tri6: 41 × 5 nodes.
+    assert_eq!(spec.shells[0].mesh.tri6.as_ref().map(|t| t.n_nodes()), Some(205));
+    let spec = load(&["name=plain_word"]);
+    assert_eq!(spec.name, "plain_word");
+}
+
+#[test]
+fn array_entries_and_missing_tables_are_reached() {
+    let spec = load(&[
+        "boundary.0.position.stiffness=5",
+        "output.frames=false",
+        "solver.tolerance=1e-9",
+    ]);
+    assert_eq!(
+        spec.boundaries[0].position.map(|p| p.0),
+        Some(PositionEnforcement::Penalty(5.0))
+    );
+    assert!(!spec.output.frames);
+    assert_eq!(spec.solver.tolerance, 1e-9);
+    // A whole inline table replaces the region.
+    let spec = load(&["boundary.0.region={ all = true }"]);
+    assert_eq!(spec.boundaries[0].selection.disp_nodes.len(), 33);
+}
+
+#[test]
+fn later_overrides_win() {
+    let spec = load(&["time.dt=0.1", "time.dt=0.2"]);
+    assert!(matches!(spec.time, cosserat_scene::spec::TimeSpec::Dynamic { dt, .. } if dt == 0.2));
+}
