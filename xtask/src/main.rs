@@ -10,7 +10,10 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
 #[derive(Debug, Parser)]
-#[command(name = "cargo xtask", about = "Developer tasks: runs, experiments, studies and tables")]
+#[command(
+    name = "cargo xtask",
+    about = "Developer tasks: runs, experiments, studies and tables"
+)]
 struct Xtask {
     #[command(subcommand)]
     command: Command,
@@ -26,7 +29,10 @@ enum Command {
 
 /// The workspace root (xtask lives one level below it).
 fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().map(PathBuf::from).unwrap_or_default()
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(PathBuf::from)
+        .unwrap_or_default()
 }
 
 fn main() -> Result<()> {

@@ -16,11 +16,11 @@ pub struct PositionPenalty {
     pub label: String,
     /// Global displacement-node indices.
     pub nodes: Vec<usize>,
-    /// End-of-step target per node [m].
+    /// End-of-step target per node \[m\].
     pub targets: Vec<Vector3<f64>>,
     /// Which world axes are constrained.
     pub active: [bool; 3],
-    /// Penalty stiffness `k` [N/m].
+    /// Penalty stiffness `k` \[N/m\].
     pub stiffness: f64,
 }
 
@@ -85,7 +85,7 @@ pub struct RotationPenalty {
     pub targets: Vec<Matrix3<f64>>,
     /// Which directors (columns) are constrained; `[false, false, true]` is the paper's "d3 clamp".
     pub columns: [bool; 3],
-    /// Penalty stiffness `k` [N·m].
+    /// Penalty stiffness `k` \[N·m\].
     pub stiffness: f64,
 }
 
@@ -165,7 +165,7 @@ pub struct AngularVelocityPenalty {
     pub label: String,
     /// Global rotation-node indices.
     pub nodes: Vec<usize>,
-    /// Target angular velocity [rad/s], the same for all nodes.
+    /// Target angular velocity \[rad/s\], the same for all nodes.
     pub target: Vector3<f64>,
     /// Which world components are constrained.
     pub active: [bool; 3],
@@ -238,7 +238,7 @@ pub struct PositionConstraint {
     pub label: String,
     /// Global displacement-node indices.
     pub nodes: Vec<usize>,
-    /// End-of-step target per node [m].
+    /// End-of-step target per node \[m\].
     pub targets: Vec<Vector3<f64>>,
     /// Which world axes are prescribed.
     pub active: [bool; 3],

@@ -13,11 +13,11 @@ use nalgebra::{Matrix3, Vector3};
 /// Lumped translational and isotropic rotational inertia, with translational damping.
 #[derive(Debug, Clone, PartialEq)]
 pub struct InertiaTerm {
-    /// Lumped mass per displacement node [kg].
+    /// Lumped mass per displacement node \[kg\].
     pub masses: Vec<f64>,
-    /// Rotational inertia per rotation node [kg·m²] (`ρ_θ h A_k`; zero in the paper's scenes).
+    /// Rotational inertia per rotation node \[kg·m²\] (`ρ_θ h A_k`; zero in the paper's scenes).
     pub rotational_inertia: Vec<f64>,
-    /// Mass-proportional damping coefficient `d` [1/s] on translations, per displacement node.
+    /// Mass-proportional damping coefficient `d` \[1/s\] on translations, per displacement node.
     pub damping: Vec<f64>,
 }
 
@@ -99,13 +99,13 @@ impl PotentialTerm for InertiaTerm {
 /// approximation of it.
 #[derive(Debug, Clone, PartialEq)]
 pub struct LoadTerm {
-    /// Mass per displacement node for gravity [kg].
+    /// Mass per displacement node for gravity \[kg\].
     pub masses: Vec<f64>,
-    /// Gravitational acceleration [m/s²].
+    /// Gravitational acceleration \[m/s²\].
     pub gravity: Vector3<f64>,
-    /// External force per displacement node [N] (constant over a step; set by scripts).
+    /// External force per displacement node \[N\] (constant over a step; set by scripts).
     pub forces: Vec<Vector3<f64>>,
-    /// External torque per rotation node [N·m].
+    /// External torque per rotation node \[N·m\].
     pub torques: Vec<Vector3<f64>>,
 }
 

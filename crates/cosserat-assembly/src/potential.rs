@@ -86,7 +86,7 @@ pub struct PotentialParts {
 pub struct IncrementalPotential {
     /// The parts; scripts change targets, forces and rest fields through them between steps.
     pub parts: PotentialParts,
-    /// Time step of the next evaluation [s].
+    /// Time step of the next evaluation \[s\].
     pub dt: f64,
     /// Whether element kernels run in parallel.
     pub parallelism: Parallelism,

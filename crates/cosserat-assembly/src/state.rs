@@ -5,13 +5,13 @@ use nalgebra::{Quaternion, Vector3};
 /// Positions, rotations and their rates at `tⁿ`, for all nodes and quadrature points of all shells.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SystemState {
-    /// Positions `xⁿ` of the displacement nodes [m].
+    /// Positions `xⁿ` of the displacement nodes \[m\].
     pub x: Vec<Vector3<f64>>,
-    /// Velocities `vⁿ` of the displacement nodes [m/s].
+    /// Velocities `vⁿ` of the displacement nodes \[m/s\].
     pub v: Vec<Vector3<f64>>,
     /// Unit quaternions `qⁿ` of the rotation nodes (relative to the rest state).
     pub q: Vec<Quaternion<f64>>,
-    /// Spatial angular velocities `ωⁿ` of the rotation nodes [rad/s].
+    /// Spatial angular velocities `ωⁿ` of the rotation nodes \[rad/s\].
     pub omega: Vec<Vector3<f64>>,
     /// Unit quaternions of the quadrature points (history-dependent state, model.md §1.6).
     pub q_points: Vec<Quaternion<f64>>,

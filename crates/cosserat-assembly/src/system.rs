@@ -100,7 +100,7 @@ pub struct ShellInput {
     /// Quadrature rule; `None` uses the model's pairing (3-point rule for linear rotations, degree 4
     /// for Tri6/Tri6).
     pub quadrature: Option<QuadratureRule>,
-    /// Mass-proportional damping `d` [1/s].
+    /// Mass-proportional damping `d` \[1/s\].
     pub damping: f64,
     /// Angular inertia density `ρ_θ` [kg/m]: nodal rotational inertia `ρ_θ h A_k`.
     pub angular_inertia_density: f64,
@@ -131,7 +131,7 @@ pub struct ShellLayout {
     pub rest_point_positions: Vec<Vector3<f64>>,
     /// For each local rotation node, its local displacement node at the same place.
     pub rot_to_disp: Vec<usize>,
-    /// Rest area of each element [m²].
+    /// Rest area of each element \[m²\].
     pub element_areas: Vec<f64>,
     /// Active energy terms of the shell.
     pub active_terms: Vec<String>,
@@ -140,7 +140,7 @@ pub struct ShellLayout {
 }
 
 impl ShellLayout {
-    /// Total rest area [m²].
+    /// Total rest area \[m²\].
     pub fn area(&self) -> f64 {
         self.element_areas.iter().sum()
     }
@@ -149,11 +149,11 @@ impl ShellLayout {
 /// Options of a system.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SystemOptions {
-    /// Gravitational acceleration [m/s²].
+    /// Gravitational acceleration \[m/s²\].
     pub gravity: Vector3<f64>,
     /// Include inertia (dynamics); `false` for quasi-static runs.
     pub dynamic: bool,
-    /// Initial time step [s].
+    /// Initial time step \[s\].
     pub dt: f64,
 }
 

@@ -56,7 +56,7 @@ pub struct Evaluation<'a> {
     pub layout: &'a DofLayout,
     /// The unknowns.
     pub u: &'a [f64],
-    /// Time step [s].
+    /// Time step \[s\].
     pub dt: f64,
     /// End-of-step nodal rotations.
     pub rotations: &'a NodeRotations,

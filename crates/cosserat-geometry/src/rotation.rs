@@ -79,7 +79,7 @@ pub fn quaternion_from_matrix(m: &Matrix3<f64>) -> Quaternion<f64> {
     if q.w < 0.0 { -q } else { q }
 }
 
-/// The cross-product matrix `[v]×`, with `[v]× y = v × y`.
+/// The cross-product matrix `\[v\]×`, with `\[v\]× y = v × y`.
 #[inline]
 pub fn skew<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
     let z = T::zero();
@@ -109,7 +109,7 @@ pub fn axl_upper<T: Real>(m: &Matrix3<T>) -> Vector3<T> {
     Vector3::new(-m[(1, 2)], -m[(2, 0)], -m[(0, 1)])
 }
 
-/// The rotation `exp([v]×)` by the angle `|v|` about `v/|v|` (Rodrigues' formula).
+/// The rotation `exp(\[v\]×)` by the angle `|v|` about `v/|v|` (Rodrigues' formula).
 ///
 /// Near `v = 0` the coefficients switch to their Taylor series, so the map and its dual-number
 /// derivatives stay exact there. Above the switch, `(1 − cos θ)/θ²` is evaluated as
@@ -133,7 +133,7 @@ pub fn exp_map<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
     Matrix3::identity() + k * a + k * k * b
 }
 
-/// The Cayley map `cay(v) = (I − [v]×/2)⁻¹ (I + [v]×/2)`: a rotation by `2 arctan(|v|/2)` about `v`.
+/// The Cayley map `cay(v) = (I − \[v\]×/2)⁻¹ (I + \[v\]×/2)`: a rotation by `2 arctan(|v|/2)` about `v`.
 ///
 /// The quaternion update of the model is exactly `R(Φ(q, ω, Δt)) = cay(Δt ω) R(q)` (model.md §1.5).
 pub fn cayley<T: Real>(v: &Vector3<T>) -> Matrix3<T> {
@@ -202,7 +202,7 @@ impl RotationJet {
     /// Evaluates the jet of `ω ↦ R(Φ(q, ω, Δt))` in closed form.
     ///
     /// Uses `R(Φ(q, ω, Δt)) = cay(v) R(q)` with `v = Δt ω` and
-    /// `cay(v) = I + s ([v]× + ½ [v]×²)`, `s = 4/(4 + |v|²)`, whose first and second derivatives are
+    /// `cay(v) = I + s (\[v\]× + ½ \[v\]×²)`, `s = 4/(4 + |v|²)`, whose first and second derivatives are
     /// short matrix polynomials. Agrees with [`RotationJet::of_update_dual`] (num-dual through the
     /// quaternion update) to round-off and costs a fraction of it.
     pub fn of_update(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {

@@ -1,6 +1,9 @@
 //! Kernel benchmarks: energy, gradient and exact Hessian of one quadrature point, against the
 //! whole-point second-order dual oracle (see docs/performance.md).
 
+// `criterion_group!` generates undocumented items.
+#![allow(missing_docs)]
+
 use cosserat_geometry::rotation::{RotationJet, exp_map, quaternion_from_matrix, rotation_matrix};
 use cosserat_material::element::{ElementDerivatives, accumulate, f_hat, point_omega};
 use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
@@ -52,21 +55,45 @@ fn bench_point(c: &mut Criterion) {
     let material = MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6);
     let moduli = material.moduli().unwrap();
     let terms = TermSet::select(&ModelOptions::new(ShellModel::Plate), &moduli, false).unwrap();
-    let d = strain_hessian(&terms, &local_geometry(&Matrix3::identity(), &Matrix3::zeros()), &moduli);
+    let d = strain_hessian(
+        &terms,
+        &local_geometry(&Matrix3::identity(), &Matrix3::zeros()),
+        &moduli,
+    );
     let dt = 0.01;
     let data = inputs::<6, 3>(64);
     let offset = strain_offset(&Matrix3::identity(), None, None);
     let mut group = c.benchmark_group("quadrature_point_tri6_tri3_plate");
-    group.sample_size(30).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(2));
+    group
+        .sample_size(30)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
     group.throughput(Throughput::Elements(data.len() as u64));
     group.bench_function(BenchmarkId::new("energy", "f64"), |b| {
         b.iter(|| {
             let mut s = 0.0;
             for p in &data {
-                let r = rotation_matrix(&cosserat_geometry::rotation::quaternion_update(&p.q_point, &point_omega(&p.shape, &p.omega), dt));
-                let rn: [Matrix3<f64>; 3] =
-                    std::array::from_fn(|k| rotation_matrix(&cosserat_geometry::rotation::quaternion_update(&p.q_nodes[k], &p.omega[k], dt)));
-                s += point_value(&p.shape, &f_hat(&p.shape, &p.x), &r, [&rn[0], &rn[1], &rn[2]], &offset, &d, AxlVariant::SkewPart);
+                let r = rotation_matrix(&cosserat_geometry::rotation::quaternion_update(
+                    &p.q_point,
+                    &point_omega(&p.shape, &p.omega),
+                    dt,
+                ));
+                let rn: [Matrix3<f64>; 3] = std::array::from_fn(|k| {
+                    rotation_matrix(&cosserat_geometry::rotation::quaternion_update(
+                        &p.q_nodes[k],
+                        &p.omega[k],
+                        dt,
+                    ))
+                });
+                s += point_value(
+                    &p.shape,
+                    &f_hat(&p.shape, &p.x),
+                    &r,
+                    [&rn[0], &rn[1], &rn[2]],
+                    &offset,
+                    &d,
+                    AxlVariant::SkewPart,
+                );
             }
             black_box(s)
         })
@@ -88,7 +115,12 @@ fn bench_point(c: &mut Criterion) {
     group.bench_function(BenchmarkId::new("gradient", "chained"), |b| {
         b.iter(|| {
             for (p, (pj, nj)) in data.iter().zip(&prepared) {
-                let input = PointInput { f_hat: f_hat(&p.shape, &p.x), point_jet: pj, node_jets: [&nj[0], &nj[1], &nj[2]], offset: &offset };
+                let input = PointInput {
+                    f_hat: f_hat(&p.shape, &p.x),
+                    point_jet: pj,
+                    node_jets: [&nj[0], &nj[1], &nj[2]],
+                    offset: &offset,
+                };
                 black_box(point_gradient::<6, 3, 15>(&p.shape, &input, &d, AxlVariant::SkewPart));
             }
         })
@@ -96,27 +128,43 @@ fn bench_point(c: &mut Criterion) {
     group.bench_function(BenchmarkId::new("hessian", "chained"), |b| {
         b.iter(|| {
             for (p, (pj, nj)) in data.iter().zip(&prepared) {
-                let input = PointInput { f_hat: f_hat(&p.shape, &p.x), point_jet: pj, node_jets: [&nj[0], &nj[1], &nj[2]], offset: &offset };
+                let input = PointInput {
+                    f_hat: f_hat(&p.shape, &p.x),
+                    point_jet: pj,
+                    node_jets: [&nj[0], &nj[1], &nj[2]],
+                    offset: &offset,
+                };
                 black_box(point_hessian::<6, 3, 15>(&p.shape, &input, &d, AxlVariant::SkewPart));
             }
         })
     });
-    group.bench_function(BenchmarkId::new("hessian", "chained_with_point_jet_and_element_map"), |b| {
-        b.iter(|| {
-            for (p, (_, nj)) in data.iter().zip(&prepared) {
-                let pj = RotationJet::of_update(&p.q_point, &point_omega(&p.shape, &p.omega), dt);
-                let input = PointInput { f_hat: f_hat(&p.shape, &p.x), point_jet: &pj, node_jets: [&nj[0], &nj[1], &nj[2]], offset: &offset };
-                let local = point_hessian::<6, 3, 15>(&p.shape, &input, &d, AxlVariant::SkewPart);
-                let mut out = ElementDerivatives::<27>::zeros();
-                accumulate(&p.shape, &local, dt, p.shape.weight, &mut out);
-                black_box(out);
-            }
-        })
-    });
+    group.bench_function(
+        BenchmarkId::new("hessian", "chained_with_point_jet_and_element_map"),
+        |b| {
+            b.iter(|| {
+                for (p, (_, nj)) in data.iter().zip(&prepared) {
+                    let pj = RotationJet::of_update(&p.q_point, &point_omega(&p.shape, &p.omega), dt);
+                    let input = PointInput {
+                        f_hat: f_hat(&p.shape, &p.x),
+                        point_jet: &pj,
+                        node_jets: [&nj[0], &nj[1], &nj[2]],
+                        offset: &offset,
+                    };
+                    let local = point_hessian::<6, 3, 15>(&p.shape, &input, &d, AxlVariant::SkewPart);
+                    let mut out = ElementDerivatives::<27>::zeros();
+                    accumulate(&p.shape, &local, dt, p.shape.weight, &mut out);
+                    black_box(out);
+                }
+            })
+        },
+    );
     group.finish();
 
     let mut oracle = c.benchmark_group("quadrature_point_tri6_tri3_plate_oracle");
-    oracle.sample_size(10).warm_up_time(Duration::from_millis(200)).measurement_time(Duration::from_secs(2));
+    oracle
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(200))
+        .measurement_time(Duration::from_secs(2));
     let few = &data[..4];
     oracle.throughput(Throughput::Elements(few.len() as u64));
     let geom = local_geometry(&Matrix3::identity(), &Matrix3::zeros());
@@ -135,11 +183,18 @@ fn bench_point(c: &mut Criterion) {
                     axl: AxlVariant::SkewPart,
                 };
                 let f = f_hat(&p.shape, &p.x);
-                let x = SVector::<f64, 15>::from_fn(|i, _| if i < 6 { f[i / 3][i % 3] } else { p.omega[(i - 6) / 3][(i - 6) % 3] });
+                let x = SVector::<f64, 15>::from_fn(|i, _| {
+                    if i < 6 {
+                        f[i / 3][i % 3]
+                    } else {
+                        p.omega[(i - 6) / 3][(i - 6) % 3]
+                    }
+                });
                 black_box(num_dual::hessian(
                     |x: SVector<Dual2SVec64<15>, 15>| {
                         let fh = [Vector3::new(x[0], x[1], x[2]), Vector3::new(x[3], x[4], x[5])];
-                        let om: [Vector3<Dual2SVec64<15>>; 3] = std::array::from_fn(|k| Vector3::new(x[6 + 3 * k], x[7 + 3 * k], x[8 + 3 * k]));
+                        let om: [Vector3<Dual2SVec64<15>>; 3] =
+                            std::array::from_fn(|k| Vector3::new(x[6 + 3 * k], x[7 + 3 * k], x[8 + 3 * k]));
                         local_energy(&ctx, &fh, &om)
                     },
                     &x,

@@ -35,7 +35,12 @@ pub struct PointGeometry {
 impl PointGeometry {
     /// A flat point with normal `n₀`.
     pub fn flat(normal: &nalgebra::Vector3<f64>) -> Self {
-        Self { b: Matrix3::zeros(), mean: 0.0, gaussian: 0.0, c: -cosserat_geometry::rotation::skew(normal) }
+        Self {
+            b: Matrix3::zeros(),
+            mean: 0.0,
+            gaussian: 0.0,
+            c: -cosserat_geometry::rotation::skew(normal),
+        }
     }
 }
 
@@ -124,5 +129,7 @@ pub fn density<T: Real>(terms: &TermSet, e: &Matrix3<T>, gamma: &Matrix3<T>, geo
         .terms()
         .iter()
         .filter(|t| t.term.is_strain_quadratic())
-        .fold(T::zero(), |acc, t| acc + term_density(t.term, e, gamma, geom, m) * t.factor)
+        .fold(T::zero(), |acc, t| {
+            acc + term_density(t.term, e, gamma, geom, m) * t.factor
+        })
 }

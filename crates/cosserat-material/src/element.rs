@@ -12,7 +12,7 @@ use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 /// Energy, gradient and Hessian of an element with respect to its `NE` unknowns.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ElementDerivatives<const NE: usize> {
-    /// Energy [J].
+    /// Energy \[J\].
     pub value: f64,
     /// Gradient.
     pub gradient: SVector<f64, NE>,
@@ -23,13 +23,20 @@ pub struct ElementDerivatives<const NE: usize> {
 impl<const NE: usize> ElementDerivatives<NE> {
     /// All zero.
     pub fn zeros() -> Self {
-        Self { value: 0.0, gradient: SVector::zeros(), hessian: SMatrix::zeros() }
+        Self {
+            value: 0.0,
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        }
     }
 }
 
 /// `F̂ = [F̂₁ F̂₂]` of a point from the element's current nodal positions.
 #[inline]
-pub fn f_hat<const NU: usize, const NR: usize>(shape: &PointShape<NU, NR>, positions: &[Vector3<f64>; NU]) -> [Vector3<f64>; 2] {
+pub fn f_hat<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    positions: &[Vector3<f64>; NU],
+) -> [Vector3<f64>; 2] {
     let mut f = [Vector3::zeros(); 2];
     for (i, x) in positions.iter().enumerate() {
         f[0] += x * shape.disp_grad[(0, i)];
@@ -40,7 +47,10 @@ pub fn f_hat<const NU: usize, const NR: usize>(shape: &PointShape<NU, NR>, posit
 
 /// The interpolated angular velocity `ω_g = Σ_k M_k ω_k` of a point.
 #[inline]
-pub fn point_omega<const NU: usize, const NR: usize>(shape: &PointShape<NU, NR>, omega: &[Vector3<f64>; NR]) -> Vector3<f64> {
+pub fn point_omega<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    omega: &[Vector3<f64>; NR],
+) -> Vector3<f64> {
     let mut w = Vector3::zeros();
     for (k, o) in omega.iter().enumerate() {
         w += o * shape.rot_values[k];

@@ -312,5 +312,9 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
             }
         }
     }
-    LocalDerivatives { value: st.value, gradient, hessian }
+    LocalDerivatives {
+        value: st.value,
+        gradient,
+        hessian,
+    }
 }

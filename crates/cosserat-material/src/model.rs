@@ -228,7 +228,13 @@ impl TermSet {
     pub fn names(&self) -> Vec<String> {
         self.terms
             .iter()
-            .map(|t| if t.factor == 1.0 { t.term.name().to_string() } else { format!("{} x{}", t.term.name(), t.factor) })
+            .map(|t| {
+                if t.factor == 1.0 {
+                    t.term.name().to_string()
+                } else {
+                    format!("{} x{}", t.term.name(), t.factor)
+                }
+            })
             .collect()
     }
 }

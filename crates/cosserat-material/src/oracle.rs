@@ -23,7 +23,7 @@ pub struct PointContext<'a, const NU: usize, const NR: usize> {
     pub point_quaternion: Quaternion<f64>,
     /// Nodal rotations at the start of the step.
     pub node_quaternions: [Quaternion<f64>; NR],
-    /// Time step [s].
+    /// Time step \[s\].
     pub dt: f64,
     /// Strain offset `(Â, Γ̂_rest)`.
     pub offset: &'a StrainVector,

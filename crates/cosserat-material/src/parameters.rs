@@ -12,17 +12,17 @@ use crate::error::MaterialError;
 /// required values and set the optional ones on the result.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MaterialParameters {
-    /// Shell thickness `h` [m]. Finite and positive.
+    /// Shell thickness `h` \[m\]. Finite and positive.
     pub thickness: f64,
-    /// Young's modulus `E` [Pa]. Finite and positive.
+    /// Young's modulus `E` \[Pa\]. Finite and positive.
     pub youngs_modulus: f64,
     /// Poisson ratio `ν`, in (−1, 0.5).
     pub poisson_ratio: f64,
-    /// Volumetric mass density `ρ` [kg/m³]. Finite and positive (unused by quasi-static runs).
+    /// Volumetric mass density `ρ` \[kg/m³\]. Finite and positive (unused by quasi-static runs).
     pub density: f64,
     /// Cosserat couple modulus factor: `μ_c = mu_c_factor · μ`. Finite and non-negative; the paper uses 1.
     pub mu_c_factor: f64,
-    /// Internal length scale `L_c` [m] of the curvature energy. Finite and non-negative.
+    /// Internal length scale `L_c` \[m\] of the curvature energy. Finite and non-negative.
     pub length_scale: f64,
     /// The coefficients `(b₁, b₂, b₃)` of the curvature energy
     /// `W_curv(A) = μ L_c² (b₁ |sym A|² + b₂ |skew A|² + b₃ (tr A)²)` (supplement eq. 7).
@@ -56,20 +56,53 @@ impl MaterialParameters {
     /// [`MaterialError::InvalidParameter`] naming the first offending parameter.
     pub fn validate(&self) -> Result<(), MaterialError> {
         let check = |name: &'static str, value: f64, ok: bool, reason: &'static str| {
-            if value.is_finite() && ok { Ok(()) } else { Err(MaterialError::InvalidParameter { name, value, reason }) }
+            if value.is_finite() && ok {
+                Ok(())
+            } else {
+                Err(MaterialError::InvalidParameter { name, value, reason })
+            }
         };
-        check("thickness", self.thickness, self.thickness > 0.0, "must be finite and positive")?;
-        check("youngs_modulus", self.youngs_modulus, self.youngs_modulus > 0.0, "must be finite and positive")?;
+        check(
+            "thickness",
+            self.thickness,
+            self.thickness > 0.0,
+            "must be finite and positive",
+        )?;
+        check(
+            "youngs_modulus",
+            self.youngs_modulus,
+            self.youngs_modulus > 0.0,
+            "must be finite and positive",
+        )?;
         check(
             "poisson_ratio",
             self.poisson_ratio,
             self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5,
             "must lie in (-1, 0.5); 0.5 would make the Lamé parameter λ infinite",
         )?;
-        check("density", self.density, self.density > 0.0, "must be finite and positive")?;
-        check("mu_c_factor", self.mu_c_factor, self.mu_c_factor >= 0.0, "must be finite and non-negative")?;
-        check("length_scale", self.length_scale, self.length_scale >= 0.0, "must be finite and non-negative")?;
-        let names = ["curvature_coefficients[0]", "curvature_coefficients[1]", "curvature_coefficients[2]"];
+        check(
+            "density",
+            self.density,
+            self.density > 0.0,
+            "must be finite and positive",
+        )?;
+        check(
+            "mu_c_factor",
+            self.mu_c_factor,
+            self.mu_c_factor >= 0.0,
+            "must be finite and non-negative",
+        )?;
+        check(
+            "length_scale",
+            self.length_scale,
+            self.length_scale >= 0.0,
+            "must be finite and non-negative",
+        )?;
+        let names = [
+            "curvature_coefficients[0]",
+            "curvature_coefficients[1]",
+            "curvature_coefficients[2]",
+        ];
         for (name, &b) in names.into_iter().zip(&self.curvature_coefficients) {
             check(name, b, b >= 0.0, "must be finite and non-negative")?;
         }
@@ -103,7 +136,7 @@ impl MaterialParameters {
         })
     }
 
-    /// The plate bending stiffness `D = E h³ / (12 (1 − ν²))` [N·m].
+    /// The plate bending stiffness `D = E h³ / (12 (1 − ν²))` \[N·m\].
     pub fn plate_bending_stiffness(&self) -> f64 {
         let h = self.thickness;
         self.youngs_modulus * h * h * h / (12.0 * (1.0 - self.poisson_ratio * self.poisson_ratio))
@@ -126,17 +159,17 @@ impl MaterialParameters {
 /// The moduli of the energy density, derived from validated [`MaterialParameters`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Moduli {
-    /// Shear modulus `μ = E / (2 (1 + ν))` [Pa].
+    /// Shear modulus `μ = E / (2 (1 + ν))` \[Pa\].
     pub mu: f64,
-    /// Lamé's first parameter `λ = E ν / ((1 + ν)(1 − 2ν))` [Pa].
+    /// Lamé's first parameter `λ = E ν / ((1 + ν)(1 − 2ν))` \[Pa\].
     pub lambda: f64,
-    /// Cosserat couple modulus `μ_c` [Pa].
+    /// Cosserat couple modulus `μ_c` \[Pa\].
     pub mu_c: f64,
-    /// The plane-stress combination `λμ/(λ + 2μ) = E ν / (2 (1 − ν²))` [Pa].
+    /// The plane-stress combination `λμ/(λ + 2μ) = E ν / (2 (1 − ν²))` \[Pa\].
     pub plane_lambda: f64,
-    /// Thickness `h` [m].
+    /// Thickness `h` \[m\].
     pub thickness: f64,
-    /// Internal length `L_c` [m].
+    /// Internal length `L_c` \[m\].
     pub length_scale: f64,
     /// `(b₁, b₂, b₃)` of the curvature energy.
     pub curvature_coefficients: [f64; 3],

@@ -16,7 +16,7 @@ use crate::strain_space::{DensityTable, StrainMatrix, local_geometry, strain_hes
 use cosserat_fem::mesh::{CurvatureSettings, MeshElement, Tri3Mesh, rest_geometry};
 use cosserat_fem::{MeshError, QuadratureRule, ShapeFunctions, TriMesh};
 use cosserat_geometry::surface::{Curvature, SurfaceMetric};
-use nalgebra::{Matrix3, Matrix2, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector3};
 
 /// Options of the rest-state computation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -33,7 +33,11 @@ pub struct RestOptions {
 impl RestOptions {
     /// Default options for a model.
     pub fn new(model: ModelOptions) -> Self {
-        Self { model, curvature: CurvatureSettings::default(), flat_tolerance: 1e-8 }
+        Self {
+            model,
+            curvature: CurvatureSettings::default(),
+            flat_tolerance: 1e-8,
+        }
     }
 }
 
@@ -56,7 +60,7 @@ pub struct ShellRest<const NU: usize, const NR: usize> {
     pub nonlinear_volume: bool,
     /// Number of points treated as curved.
     pub n_curved_points: usize,
-    /// Rest area of each element (sum of its point weights) [m²].
+    /// Rest area of each element (sum of its point weights) \[m²\].
     pub element_areas: Vec<f64>,
 }
 
@@ -98,7 +102,10 @@ where
 {
     let n_el = disp.n_elements();
     if rot.n_elements() != n_el {
-        return Err(RestStateError::ElementCountMismatch { disp: n_el, rot: rot.n_elements() });
+        return Err(RestStateError::ElementCountMismatch {
+            disp: n_el,
+            rot: rot.n_elements(),
+        });
     }
     let n_qp = rule.n_points();
     // The curvature is needed only by the shell model.
@@ -108,7 +115,11 @@ where
     };
     let flat_terms = TermSet::select(&options.model, moduli, false)?;
     let curved_terms = TermSet::select(&options.model, moduli, true)?;
-    let flat_d = strain_hessian(&flat_terms, &local_geometry(&Matrix3::identity(), &Matrix3::zeros()), moduli);
+    let flat_d = strain_hessian(
+        &flat_terms,
+        &local_geometry(&Matrix3::identity(), &Matrix3::zeros()),
+        moduli,
+    );
     let mut matrices: Vec<StrainMatrix> = vec![flat_d];
     let mut index = Vec::with_capacity(n_el * n_qp);
     let mut shapes = Vec::with_capacity(n_el * n_qp);
@@ -122,8 +133,10 @@ where
         for (g, (xi, w)) in rule.iter().enumerate() {
             let grad = E::gradients(xi);
             let tangent = E::tangent(&nodes, xi);
-            let metric = SurfaceMetric::try_new(&tangent)
-                .map_err(|_| MeshError::DegenerateElement { elem_idx: e, area: 0.5 * tangent.column(0).cross(&tangent.column(1)).norm() })?;
+            let metric = SurfaceMetric::try_new(&tangent).map_err(|_| MeshError::DegenerateElement {
+                elem_idx: e,
+                area: 0.5 * tangent.column(0).cross(&tangent.column(1)).norm(),
+            })?;
             let frame = metric.orthonormal_frame();
             let p: Matrix2<f64> = metric.pinv * frame.fixed_columns::<2>(0);
             let weight = w * metric.area_element;

@@ -25,12 +25,21 @@ pub const VARIABLE_STRAINS: [usize; 12] = [0, 1, 2, 3, 4, 5, 9, 10, 11, 12, 13, 
 
 /// Splits a strain vector into `(Ê, Γ̂)`.
 pub fn unpack<T: nalgebra::Scalar + Copy>(s: &SVector<T, 18>) -> (Matrix3<T>, Matrix3<T>) {
-    (Matrix3::from_fn(|r, c| s[3 * c + r]), Matrix3::from_fn(|r, c| s[9 + 3 * c + r]))
+    (
+        Matrix3::from_fn(|r, c| s[3 * c + r]),
+        Matrix3::from_fn(|r, c| s[9 + 3 * c + r]),
+    )
 }
 
 /// Packs `(Ê, Γ̂)` into a strain vector.
 pub fn pack(e: &Matrix3<f64>, gamma: &Matrix3<f64>) -> StrainVector {
-    StrainVector::from_fn(|i, _| if i < 9 { e[(i % 3, i / 3)] } else { gamma[((i - 9) % 3, (i - 9) / 3)] })
+    StrainVector::from_fn(|i, _| {
+        if i < 9 {
+            e[(i % 3, i / 3)]
+        } else {
+            gamma[((i - 9) % 3, (i - 9) / 3)]
+        }
+    })
 }
 
 /// The rest geometry of a point in its own orthonormal frame `Q`: `b̂ = Qᵀ b Q`, `ĉ = −[e₃]×`.
@@ -48,7 +57,11 @@ pub fn local_geometry(frame: &Matrix3<f64>, b_world: &Matrix3<f64>) -> PointGeom
 /// The constant strain offset `(Â, Γ̂_rest)` subtracted from the variable strains:
 /// `Â = Qᵀ A Q` with the rest metric `A` (default `a = I − n₀ ⊗ n₀`, i.e. `diag(1, 1, 0)`), and the rest
 /// curvature `Γ̂_rest = Qᵀ Γ_rest Q`.
-pub fn strain_offset(frame: &Matrix3<f64>, rest_metric: Option<&Matrix3<f64>>, rest_curvature: Option<&Matrix3<f64>>) -> StrainVector {
+pub fn strain_offset(
+    frame: &Matrix3<f64>,
+    rest_metric: Option<&Matrix3<f64>>,
+    rest_curvature: Option<&Matrix3<f64>>,
+) -> StrainVector {
     let a = match rest_metric {
         Some(a) => frame.transpose() * a * frame,
         None => Matrix3::from_diagonal(&Vector3::new(1.0, 1.0, 0.0)),
@@ -84,7 +97,10 @@ pub struct DensityTable {
 impl DensityTable {
     /// One matrix for every point.
     pub fn uniform(d: StrainMatrix) -> Self {
-        Self { matrices: vec![d], index: Vec::new() }
+        Self {
+            matrices: vec![d],
+            index: Vec::new(),
+        }
     }
 
     /// Distinct matrices and, per point, the index of its matrix.
@@ -93,14 +109,25 @@ impl DensityTable {
     /// If an index is out of range.
     #[track_caller]
     pub fn indexed(matrices: Vec<StrainMatrix>, index: Vec<u32>) -> Self {
-        assert!(index.iter().all(|&i| (i as usize) < matrices.len()), "density index out of range");
-        if matrices.len() == 1 { Self::uniform(matrices[0]) } else { Self { matrices, index } }
+        assert!(
+            index.iter().all(|&i| (i as usize) < matrices.len()),
+            "density index out of range"
+        );
+        if matrices.len() == 1 {
+            Self::uniform(matrices[0])
+        } else {
+            Self { matrices, index }
+        }
     }
 
     /// The matrix of point `p`.
     #[inline]
     pub fn get(&self, p: usize) -> &StrainMatrix {
-        if self.index.is_empty() { &self.matrices[0] } else { &self.matrices[self.index[p] as usize] }
+        if self.index.is_empty() {
+            &self.matrices[0]
+        } else {
+            &self.matrices[self.index[p] as usize]
+        }
     }
 
     /// Number of distinct matrices stored.

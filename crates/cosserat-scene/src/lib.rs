@@ -42,3 +42,14 @@ pub mod render;
 pub mod schema;
 pub mod spec;
 mod validate;
+
+pub use error::SceneError;
+pub use spec::SceneSpec;
+
+/// Reads and validates a scene file with `--set key=value` overrides (see [`SceneSpec::from_file`]).
+///
+/// # Errors
+/// A [`SceneError`] naming the file, the line, the field and the reason.
+pub fn load_scene(path: &std::path::Path, overrides: &[String]) -> Result<SceneSpec, SceneError> {
+    SceneSpec::from_file(path, overrides)
+}

@@ -4,7 +4,7 @@
 //! The key is a dotted path; numeric segments index arrays of tables (`boundary.0.position.stiffness`,
 //! `shell.2.mesh.path`). The value is read as a TOML value (`0.01`, `80`, `true`, `[0, 0, -9.81]`,
 //! `"text"`), and taken as a plain string when it is not valid TOML (`tri3`, `../models/x.obj`).
-//! Missing tables on the way are created, so `output.frames=false` works without an `[output]` table;
+//! Missing tables on the way are created, so `output.frames=false` works without an `\[output\]` table;
 //! array entries are never created. A key the schema does not know is rejected when the document is
 //! deserialised, and the message then names the override rather than a line of the file: every value
 //! an override inserts carries a span past the end of the file text that identifies the override.

@@ -134,7 +134,7 @@ pub struct SceneSpec {
     pub time: TimeSpec,
     /// Newton and linear-solver settings.
     pub solver: SolverSpec,
-    /// Gravitational acceleration [m/s²].
+    /// Gravitational acceleration \[m/s²\].
     pub gravity: Vector3<f64>,
     /// Boundary conditions.
     pub boundaries: Vec<BoundarySpec>,
@@ -163,9 +163,9 @@ pub struct ShellSpec {
     pub rest: RestOptions,
     /// Quadrature rule override.
     pub quadrature: Option<QuadratureRule>,
-    /// Mass-proportional damping `d` [1/s].
+    /// Mass-proportional damping `d` \[1/s\].
     pub damping: f64,
-    /// Angular inertia density `ρ_θ` [kg/m].
+    /// Angular inertia density `ρ_θ` \[kg/m\].
     pub angular_inertia_density: f64,
     /// Initial displacement-node positions when they differ from the rest positions (local order).
     pub initial_positions: Option<Vec<Vector3<f64>>>,
@@ -245,7 +245,7 @@ impl MotionSpec {
 /// How prescribed positions are enforced.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum PositionEnforcement {
-    /// A penalty `½ k |x − x̄|²` with stiffness `k` [N/m] (the paper's way).
+    /// A penalty `½ k |x − x̄|²` with stiffness `k` \[N/m\] (the paper's way).
     Penalty(f64),
     /// Exact elimination of the constrained velocity unknowns.
     Exact,
@@ -260,9 +260,9 @@ pub struct BoundarySpec {
     pub selection: NodeSelection,
     /// Prescribed positions: enforcement and active world axes.
     pub position: Option<(PositionEnforcement, [bool; 3])>,
-    /// Prescribed rotations: penalty stiffness [N·m] and constrained directors (columns).
+    /// Prescribed rotations: penalty stiffness \[N·m\] and constrained directors (columns).
     pub rotation: Option<(f64, [bool; 3])>,
-    /// Prescribed angular velocity: penalty stiffness, active components, target [rad/s] over time.
+    /// Prescribed angular velocity: penalty stiffness, active components, target \[rad/s\] over time.
     pub angular_velocity: Option<(f64, [bool; 3], [TimeFunction; 3])>,
     /// The motion of the targets.
     pub motion: MotionSpec,
@@ -280,7 +280,7 @@ pub enum ForceDistribution {
     /// The given vector is applied to every selected node.
     PerNode,
     /// Consistent nodal weights of a line load along the selected boundary edges: the vector is a
-    /// force per unit length [N/m].
+    /// force per unit length \[N/m\].
     PerLength,
     /// Consistent nodal weights of a line load scaled so that the total equals the vector \[N\].
     TotalOverLength,
@@ -296,7 +296,7 @@ pub enum LoadKind {
         /// Distribution.
         distribution: ForceDistribution,
     },
-    /// A torque on rotation nodes [N·m].
+    /// A torque on rotation nodes \[N·m\].
     Torque {
         /// The torque vector.
         vector: Vector3<f64>,

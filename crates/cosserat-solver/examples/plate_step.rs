@@ -12,7 +12,11 @@ fn main() {
     let args: Vec<String> = std::env::args().collect();
     let ny: usize = args.get(1).map_or(4, |s| s.parse().unwrap());
     let steps: usize = args.get(2).map_or(20, |s| s.parse().unwrap());
-    let pair = if args.get(3).is_some_and(|s| s == "tri3") { ElementPair::Tri3Tri3 } else { ElementPair::Tri6Tri3 };
+    let pair = if args.get(3).is_some_and(|s| s == "tri3") {
+        ElementPair::Tri3Tri3
+    } else {
+        ElementPair::Tri6Tri3
+    };
     let nx = 10 * ny;
     let grid = procedural::rectangle_grid(0.1, 0.01, nx, ny).unwrap();
     let input = ShellInput {
@@ -26,35 +30,75 @@ fn main() {
         angular_inertia_density: 0.0,
     };
     let t_build = Instant::now();
-    let mut sys = build_system(&[input], Vec::new(), &SystemOptions { gravity: Vector3::zeros(), dynamic: true, dt: 0.01 }).unwrap();
+    let mut sys = build_system(
+        &[input],
+        Vec::new(),
+        &SystemOptions {
+            gravity: Vector3::zeros(),
+            dynamic: true,
+            dt: 0.01,
+        },
+    )
+    .unwrap();
     let dx = 0.1 / nx as f64;
     let lay = &sys.shells[0];
-    let clamp: Vec<usize> = (0..lay.rest_disp_positions.len()).filter(|&i| lay.rest_disp_positions[i].x <= -0.05 + 0.05 * dx).collect();
-    let clamp_r: Vec<usize> = (0..lay.rest_rot_positions.len()).filter(|&i| lay.rest_rot_positions[i].x <= -0.05 + 0.05 * dx).collect();
-    let tip: Vec<usize> = (0..lay.rest_disp_positions.len()).filter(|&i| lay.rest_disp_positions[i].x >= 0.05 - 0.05 * dx).collect();
+    let clamp: Vec<usize> = (0..lay.rest_disp_positions.len())
+        .filter(|&i| lay.rest_disp_positions[i].x <= -0.05 + 0.05 * dx)
+        .collect();
+    let clamp_r: Vec<usize> = (0..lay.rest_rot_positions.len())
+        .filter(|&i| lay.rest_rot_positions[i].x <= -0.05 + 0.05 * dx)
+        .collect();
+    let tip: Vec<usize> = (0..lay.rest_disp_positions.len())
+        .filter(|&i| lay.rest_disp_positions[i].x >= 0.05 - 0.05 * dx)
+        .collect();
     let parts = &mut sys.potential.parts;
     let targets = clamp.iter().map(|&i| parts.state.x[i]).collect();
-    parts.position_penalties.push(PositionPenalty { label: "clamp".into(), nodes: clamp, targets, active: [true; 3], stiffness: 1e6 });
+    parts.position_penalties.push(PositionPenalty {
+        label: "clamp".into(),
+        nodes: clamp,
+        targets,
+        active: [true; 3],
+        stiffness: 1e6,
+    });
     let n = clamp_r.len();
-    parts.rotation_penalties.push(RotationPenalty { label: "clamp".into(), nodes: clamp_r, targets: vec![Matrix3::identity(); n], columns: [false, false, true], stiffness: 1e4 });
-    println!("build {:.3} s, dofs {}, nnz {}", t_build.elapsed().as_secs_f64(), sys.potential.n_dofs(), sys.potential.pattern().nnz());
+    parts.rotation_penalties.push(RotationPenalty {
+        label: "clamp".into(),
+        nodes: clamp_r,
+        targets: vec![Matrix3::identity(); n],
+        columns: [false, false, true],
+        stiffness: 1e4,
+    });
+    println!(
+        "build {:.3} s, dofs {}, nnz {}",
+        t_build.elapsed().as_secs_f64(),
+        sys.potential.n_dofs(),
+        sys.potential.pattern().nnz()
+    );
     let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(0.01)).unwrap();
     let (mut asm, mut sol, mut its) = (0.0, 0.0, 0);
     let t0 = Instant::now();
     for _ in 0..steps {
-        let r = stepper.step(&mut sys.potential, &mut |p, t, _| {
-            let f = 50.0 * (t / 1.0).clamp(0.0, 1.0) / tip.len() as f64;
-            for &i in &tip {
-                p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, f);
-            }
-        }).unwrap();
+        let r = stepper
+            .step(&mut sys.potential, &mut |p, t, _| {
+                let f = 50.0 * (t / 1.0).clamp(0.0, 1.0) / tip.len() as f64;
+                for &i in &tip {
+                    p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, f);
+                }
+            })
+            .unwrap();
         asm += r.newton.assembly_seconds;
         sol += r.newton.linear_solve_seconds;
         its += r.newton.iterations;
     }
     let total = t0.elapsed().as_secs_f64();
-    println!("{} steps: {:.1} ms/step, {:.2} it/step, assembly {:.1}%, solve {:.1}%, tip uz {:.4} mm, stats {:?}",
-        steps, 1e3 * total / steps as f64, its as f64 / steps as f64, 100.0 * asm / total, 100.0 * sol / total,
+    println!(
+        "{} steps: {:.1} ms/step, {:.2} it/step, assembly {:.1}%, solve {:.1}%, tip uz {:.4} mm, stats {:?}",
+        steps,
+        1e3 * total / steps as f64,
+        its as f64 / steps as f64,
+        100.0 * asm / total,
+        100.0 * sol / total,
         1e3 * tip.iter().map(|&i| sys.potential.parts.state.x[i].z).sum::<f64>() / tip.len() as f64,
-        stepper.solver().linear_solver().symmetric_stats());
+        stepper.solver().linear_solver().symmetric_stats()
+    );
 }

@@ -27,12 +27,12 @@ pub enum InitialGuess {
 /// Settings of the time stepper.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TimeStepSettings {
-    /// The (maximum) time step [s].
+    /// The (maximum) time step \[s\].
     pub dt: f64,
     /// Adaptive stepping: after a success `Δt ← min(dt, 1.05 Δt)`; without it, reduced steps stay
     /// reduced only for the retried step.
     pub adaptive: bool,
-    /// Smallest allowed time step [s].
+    /// Smallest allowed time step \[s\].
     pub min_dt: f64,
     /// Maximum number of halvings of one step before the run stops.
     pub max_reductions: usize,
@@ -63,7 +63,7 @@ impl TimeStepSettings {
 /// One failed Newton attempt of a step.
 #[derive(Debug, Clone)]
 pub struct FailedAttempt {
-    /// The time step tried [s].
+    /// The time step tried \[s\].
     pub dt: f64,
     /// Why Newton failed (with its residual history).
     pub error: NewtonError,
@@ -73,7 +73,7 @@ pub struct FailedAttempt {
 #[derive(Debug, Clone, Error)]
 #[error("time step from t = {t} failed after {} attempt(s); last: dt = {}: {}", attempts.len(), attempts.last().map_or(0.0, |a| a.dt), attempts.last().map_or_else(String::new, |a| a.error.to_string()))]
 pub struct StepError {
-    /// Start time of the step [s].
+    /// Start time of the step \[s\].
     pub t: f64,
     /// Every attempt, in order.
     pub attempts: Vec<FailedAttempt>,
@@ -82,9 +82,9 @@ pub struct StepError {
 /// A completed step.
 #[derive(Debug, Clone)]
 pub struct StepReport {
-    /// Time at the end of the step [s].
+    /// Time at the end of the step \[s\].
     pub t: f64,
-    /// The time step that succeeded [s].
+    /// The time step that succeeded \[s\].
     pub dt: f64,
     /// Newton's report of the successful attempt.
     pub newton: NewtonReport,
@@ -121,7 +121,7 @@ impl TimeStepper {
         })
     }
 
-    /// The current time [s].
+    /// The current time \[s\].
     pub fn time(&self) -> f64 {
         self.t
     }
@@ -131,7 +131,7 @@ impl TimeStepper {
         self.t = t;
     }
 
-    /// The time step the next step will try [s].
+    /// The time step the next step will try \[s\].
     pub fn dt(&self) -> f64 {
         self.dt
     }

@@ -39,7 +39,7 @@ pub enum Command {
 pub struct RunArgs {
     /// The scene file (TOML).
     pub scene: PathBuf,
-    /// Output directory (default: out/<scene name>/).
+    /// Output directory (default: `out/<scene name>/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Override a scene field, e.g. `--set mesh.ny=8` (repeatable).
@@ -107,7 +107,11 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
 /// # Errors
 /// I/O failures of the outputs.
 pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
-    let stem = args.scene.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "scene".into());
+    let stem = args
+        .scene
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "scene".into());
     let spec = match cosserat_scene::load_scene(&args.scene, &args.overrides) {
         Ok(spec) => spec,
         Err(e) => {
@@ -133,7 +137,10 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
         // A second Ctrl-C while stopping falls through to the default handler only if this fails.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(args.threads.unwrap_or(0)).build().context("creating the thread pool")?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(args.threads.unwrap_or(0))
+        .build()
+        .context("creating the thread pool")?;
     let summary = pool.install(|| {
         let mut reporter = Reporter::new(args.quiet);
         sim.run(&dir, &mut |info| reporter.step(info), &stop)
@@ -154,7 +161,11 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
             Ok(0)
         }
         RunStatus::Interrupted => {
-            eprintln!("interrupted at t = {}; outputs so far in {}", summary.stopped_at.unwrap_or(0.0), dir.display());
+            eprintln!(
+                "interrupted at t = {}; outputs so far in {}",
+                summary.stopped_at.unwrap_or(0.0),
+                dir.display()
+            );
             Ok(130)
         }
         RunStatus::Error => {
@@ -177,11 +188,16 @@ impl Reporter {
         let bar = (!quiet && terminal).then(|| {
             let bar = ProgressBar::new(1000);
             bar.set_style(
-                ProgressStyle::with_template("{bar:30} {msg} [{elapsed_precise}]").unwrap_or_else(|_| ProgressStyle::default_bar()),
+                ProgressStyle::with_template("{bar:30} {msg} [{elapsed_precise}]")
+                    .unwrap_or_else(|_| ProgressStyle::default_bar()),
             );
             bar
         });
-        Self { bar, plain: !quiet && !terminal, last: Instant::now() }
+        Self {
+            bar,
+            plain: !quiet && !terminal,
+            last: Instant::now(),
+        }
     }
 
     fn step(&mut self, info: &StepInfo) {
@@ -218,7 +234,11 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<PathBuf> {
     let entries = read_pvd(&pvd).with_context(|| format!("reading {}", pvd.display()))?;
     anyhow::ensure!(!entries.is_empty(), "{} lists no frames", pvd.display());
     let idx = args.frame.unwrap_or(entries.len() - 1);
-    anyhow::ensure!(idx < entries.len(), "frame {idx} does not exist ({} frames)", entries.len());
+    anyhow::ensure!(
+        idx < entries.len(),
+        "frame {idx} does not exist ({} frames)",
+        entries.len()
+    );
     let frame = read_pvd_frame(&pvd, idx).with_context(|| format!("reading frame {idx}"))?;
     let mut options = RenderOptions::default();
     if args.color_displacement {
@@ -228,7 +248,10 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<PathBuf> {
             range: None,
         };
     }
-    let out = args.output.clone().unwrap_or_else(|| args.dir.join(format!("frame_{idx:05}.png")));
+    let out = args
+        .output
+        .clone()
+        .unwrap_or_else(|| args.dir.join(format!("frame_{idx:05}.png")));
     render_png(&frame, &options, &out).with_context(|| format!("writing {}", out.display()))?;
     Ok(out)
 }

@@ -55,7 +55,12 @@ impl OutputMesh {
                         })
                         .collect();
                     if quadratic && subdivision == 1 {
-                        triangles.extend([[ids[0], ids[3], ids[5]], [ids[3], ids[1], ids[4]], [ids[5], ids[4], ids[2]], [ids[3], ids[4], ids[5]]]);
+                        triangles.extend([
+                            [ids[0], ids[3], ids[5]],
+                            [ids[3], ids[1], ids[4]],
+                            [ids[5], ids[4], ids[2]],
+                            [ids[3], ids[4], ids[5]],
+                        ]);
                     } else {
                         triangles.push([ids[0], ids[1], ids[2]]);
                     }
@@ -68,7 +73,11 @@ impl OutputMesh {
                     for j in 0..=n {
                         row_start.push(samples.len());
                         for i in 0..=(n - j) {
-                            samples.push(Sample { shell: s, elem: e, xi: [i as f64 / n as f64, j as f64 / n as f64] });
+                            samples.push(Sample {
+                                shell: s,
+                                elem: e,
+                                xi: [i as f64 / n as f64, j as f64 / n as f64],
+                            });
                         }
                     }
                     let at = |i: usize, j: usize| row_start[j] + i;
@@ -94,12 +103,22 @@ impl OutputMesh {
     /// The frame of a state at time `t`.
     pub fn frame(&self, layouts: &[ShellLayout], state: &SystemState, t: f64) -> VtuFrame {
         let n = self.samples.len();
-        let (mut points, mut displacement, mut velocity) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        let (mut d1, mut d2, mut d3, mut omega) = (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut points, mut displacement, mut velocity) =
+            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
+        let (mut d1, mut d2, mut d3, mut omega) = (
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+            Vec::with_capacity(n),
+        );
         for s in &self.samples {
             let layout = &layouts[s.shell];
             let el = &layout.disp_elements[s.elem];
-            let weights: Vec<f64> = if el.len() == 6 { Tri6::values(s.xi).iter().copied().collect() } else { Tri3::values(s.xi).iter().copied().collect() };
+            let weights: Vec<f64> = if el.len() == 6 {
+                Tri6::values(s.xi).iter().copied().collect()
+            } else {
+                Tri3::values(s.xi).iter().copied().collect()
+            };
             let mut x = Vector3::zeros();
             let mut rest = Vector3::zeros();
             let mut v = Vector3::zeros();
@@ -109,7 +128,11 @@ impl OutputMesh {
                 rest += layout.rest_disp_positions[node - layout.disp_nodes.start] * *w;
             }
             let rel = &layout.rot_elements[s.elem];
-            let rw: Vec<f64> = if rel.len() == 6 { Tri6::values(s.xi).iter().copied().collect() } else { Tri3::values(s.xi).iter().copied().collect() };
+            let rw: Vec<f64> = if rel.len() == 6 {
+                Tri6::values(s.xi).iter().copied().collect()
+            } else {
+                Tri3::values(s.xi).iter().copied().collect()
+            };
             let reference = state.q[rel[0]];
             let mut q = Quaternion::new(0.0, 0.0, 0.0, 0.0);
             let mut w_ang = Vector3::zeros();

@@ -45,7 +45,11 @@ impl Probes {
                     ProbeReduction::Nearest => nodes.into_iter().take(1).collect(),
                     ProbeReduction::Mean => nodes,
                 };
-                Probe { columns: p.columns(), quantity: p.quantity, nodes }
+                Probe {
+                    columns: p.columns(),
+                    quantity: p.quantity,
+                    nodes,
+                }
             })
             .collect();
         Self { probes }

@@ -60,7 +60,10 @@ pub struct Scripts {
 }
 
 fn global_disp(layouts: &[ShellLayout], sel: &NodeSelection) -> Vec<usize> {
-    sel.disp_nodes.iter().map(|&i| layouts[sel.shell].disp_nodes.start + i).collect()
+    sel.disp_nodes
+        .iter()
+        .map(|&i| layouts[sel.shell].disp_nodes.start + i)
+        .collect()
 }
 
 fn global_rot(layouts: &[ShellLayout], sel: &NodeSelection) -> Vec<usize> {
@@ -69,7 +72,11 @@ fn global_rot(layouts: &[ShellLayout], sel: &NodeSelection) -> Vec<usize> {
 
 /// Nodal weights of a line load along the boundary edges of a shell whose nodes are all selected:
 /// consistent weights of the edge's Lagrange interpolation, times the edge length.
-fn line_weights(elements: &[Vec<usize>], rest: &dyn Fn(usize) -> Vector3<f64>, selected: &[usize]) -> Vec<(usize, f64)> {
+fn line_weights(
+    elements: &[Vec<usize>],
+    rest: &dyn Fn(usize) -> Vector3<f64>,
+    selected: &[usize],
+) -> Vec<(usize, f64)> {
     use std::collections::HashMap;
     // Edges as (corner a, corner b, optional mid node), keyed by sorted corners.
     let mut count: HashMap<(usize, usize), (usize, Option<usize>)> = HashMap::new();
@@ -121,7 +128,11 @@ impl Scripts {
     ///
     /// # Errors
     /// A line load whose selection contains no boundary edge.
-    pub fn build(spec: &SceneSpec, layouts: &[ShellLayout], potential: &mut IncrementalPotential) -> Result<Self, SimulationError> {
+    pub fn build(
+        spec: &SceneSpec,
+        layouts: &[ShellLayout],
+        potential: &mut IncrementalPotential,
+    ) -> Result<Self, SimulationError> {
         let mut boundaries = Vec::new();
         for bc in &spec.boundaries {
             boundaries.push(Self::boundary(bc, layouts, potential));
@@ -137,7 +148,10 @@ impl Scripts {
             match rest_fields.iter_mut().find(|s| s.shell == r.shell) {
                 None => rest_fields.push(new),
                 Some(existing) => {
-                    if existing.frame != new.frame || existing.timing != new.timing || (existing.growth.is_some() && new.growth.is_some()) {
+                    if existing.frame != new.frame
+                        || existing.timing != new.timing
+                        || (existing.growth.is_some() && new.growth.is_some())
+                    {
                         return Err(SimulationError::Setup(format!(
                             "shell {}: several rest fields with different frames, timings or growth; merge them into one",
                             r.shell
@@ -149,7 +163,11 @@ impl Scripts {
                 }
             }
         }
-        Ok(Self { boundaries, loads, rest_fields })
+        Ok(Self {
+            boundaries,
+            loads,
+            rest_fields,
+        })
     }
 
     fn boundary(bc: &BoundarySpec, layouts: &[ShellLayout], potential: &mut IncrementalPotential) -> BoundaryScript {
@@ -228,10 +246,18 @@ impl Scripts {
             ForceDistribution::PerNode => local.iter().map(|&i| (start + i, 1.0)).collect(),
             ForceDistribution::PerLength | ForceDistribution::TotalOverLength => {
                 let (elements, positions): (Vec<Vec<usize>>, &[Vector3<f64>]) = if torque {
-                    let e = layout.rot_elements.iter().map(|e| e.iter().map(|&k| k - start).collect()).collect();
+                    let e = layout
+                        .rot_elements
+                        .iter()
+                        .map(|e| e.iter().map(|&k| k - start).collect())
+                        .collect();
                     (e, &layout.rest_rot_positions)
                 } else {
-                    let e = layout.disp_elements.iter().map(|e| e.iter().map(|&i| i - start).collect()).collect();
+                    let e = layout
+                        .disp_elements
+                        .iter()
+                        .map(|e| e.iter().map(|&i| i - start).collect())
+                        .collect();
                     (e, &layout.rest_disp_positions)
                 };
                 let mut w = line_weights(&elements, &|i| positions[i], local);
@@ -248,11 +274,18 @@ impl Scripts {
                 w.into_iter().map(|(i, wi)| (start + i, wi)).collect()
             }
         };
-        Ok(LoadScript { torque, vector, nodes, scale: load.scale.clone(), timing: load.timing })
+        Ok(LoadScript {
+            torque,
+            vector,
+            nodes,
+            scale: load.scale.clone(),
+            timing: load.timing,
+        })
     }
 
     fn rest_field(r: &RestFieldSpec, layouts: &[ShellLayout]) -> RestFieldScript {
-        let time_dependent = r.curvature.iter().any(|c| c.2.is_time_dependent()) || r.growth.as_ref().is_some_and(|g| g.is_time_dependent());
+        let time_dependent = r.curvature.iter().any(|c| c.2.is_time_dependent())
+            || r.growth.as_ref().is_some_and(|g| g.is_time_dependent());
         RestFieldScript {
             shell: r.shell,
             points: layouts[r.shell].rest_point_positions.clone(),
@@ -279,7 +312,9 @@ impl Scripts {
                 Some((axis, center, angle)) => (exp_map(&(axis * angle.eval(tau))), *center),
                 None => (Matrix3::identity(), Vector3::zeros()),
             };
-            let translation = bc.motion.translation.as_ref().map_or_else(Vector3::zeros, |d| Vector3::new(d[0].eval(tau), d[1].eval(tau), d[2].eval(tau)));
+            let translation = bc.motion.translation.as_ref().map_or_else(Vector3::zeros, |d| {
+                Vector3::new(d[0].eval(tau), d[1].eval(tau), d[2].eval(tau))
+            });
             let target = |x: &Vector3<f64>| rotation * (x - center) + center + translation;
             if let Some((idx, k)) = bc.position_penalty {
                 let p = &mut parts.position_penalties[idx];
@@ -307,7 +342,11 @@ impl Scripts {
             parts.loads.torques.fill(Vector3::zeros());
             for load in &self.loads {
                 let s = load.scale.eval(at(load.timing));
-                let out = if load.torque { &mut parts.loads.torques } else { &mut parts.loads.forces };
+                let out = if load.torque {
+                    &mut parts.loads.torques
+                } else {
+                    &mut parts.loads.forces
+                };
                 for &(i, w) in &load.nodes {
                     out[i] += load.vector * (w * s);
                 }

@@ -26,11 +26,11 @@ pub struct StepInfo {
     pub t: f64,
     /// End time (or final load factor).
     pub end: f64,
-    /// Time step used [s] (load increment in quasi-static runs).
+    /// Time step used \[s\] (load increment in quasi-static runs).
     pub dt: f64,
     /// Newton iterations of the step.
     pub newton_iterations: usize,
-    /// Final residual of the step [N or N·m].
+    /// Final residual of the step \[N or N·m\].
     pub residual: f64,
 }
 
@@ -97,7 +97,15 @@ impl Simulation {
             TimeSpec::Dynamic { dt, .. } => (true, *dt),
             TimeSpec::QuasiStatic { .. } => (false, 1.0),
         };
-        let mut system = build_system(&inputs, Vec::new(), &SystemOptions { gravity: spec.gravity, dynamic, dt })?;
+        let mut system = build_system(
+            &inputs,
+            Vec::new(),
+            &SystemOptions {
+                gravity: spec.gravity,
+                dynamic,
+                dt,
+            },
+        )?;
         for (shell, layout) in spec.shells.iter().zip(&system.shells) {
             if let Some(x0) = &shell.initial_positions {
                 system.potential.parts.state.x[layout.disp_nodes.clone()].copy_from_slice(x0);
@@ -109,9 +117,15 @@ impl Simulation {
         let scripts = Scripts::build(&spec, &system.shells, &mut system.potential)?;
         let probes = Probes::new(&spec.probes, &system.shells);
         let output_mesh = OutputMesh::new(&system.shells, spec.output.subdivision);
-        let rest_points: Vec<[f64; 3]> =
-            system.shells.iter().flat_map(|l| l.rest_disp_positions.iter().map(|x| [x.x, x.y, x.z])).collect();
-        let rest_bbox = BoundingBox::of_points(&rest_points).unwrap_or(BoundingBox { min: [0.0; 3], max: [0.0; 3] });
+        let rest_points: Vec<[f64; 3]> = system
+            .shells
+            .iter()
+            .flat_map(|l| l.rest_disp_positions.iter().map(|x| [x.x, x.y, x.z]))
+            .collect();
+        let rest_bbox = BoundingBox::of_points(&rest_points).unwrap_or(BoundingBox {
+            min: [0.0; 3],
+            max: [0.0; 3],
+        });
         let pairs: Vec<ElementPair> = spec.shells.iter().map(|s| s.pair).collect();
         Ok(Self {
             name: spec.name.clone(),
@@ -124,7 +138,10 @@ impl Simulation {
             write_frames: spec.output.frames,
             rest_bbox,
             elements: element_names(&pairs),
-            stats: RunStats { min_area_ratio: f64::INFINITY, ..RunStats::default() },
+            stats: RunStats {
+                min_area_ratio: f64::INFINITY,
+                ..RunStats::default()
+            },
         })
     }
 
@@ -188,12 +205,22 @@ impl Simulation {
     ///
     /// # Errors
     /// Only I/O failures of the outputs; physics failures are reported in the returned summary.
-    pub fn run(&mut self, dir: &Path, progress: &mut dyn FnMut(&StepInfo), stop: &AtomicBool) -> Result<RunSummary, SimulationError> {
+    pub fn run(
+        &mut self,
+        dir: &Path,
+        progress: &mut dyn FnMut(&StepInfo),
+        stop: &AtomicBool,
+    ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
         let mut writer = RunWriter::create(dir, &self.probes.columns())?;
         self.record_output(&mut writer, 0.0)?;
         let outcome = match self.time.clone() {
-            TimeSpec::Dynamic { dt, end, adaptive, output_interval } => self.run_dynamic(&mut writer, dt, end, adaptive, output_interval, progress, stop)?,
+            TimeSpec::Dynamic {
+                dt,
+                end,
+                adaptive,
+                output_interval,
+            } => self.run_dynamic(&mut writer, dt, end, adaptive, output_interval, progress, stop)?,
             TimeSpec::QuasiStatic { levels } => self.run_quasi_static(&mut writer, &levels, progress)?,
         };
         let wall = start.elapsed().as_secs_f64();
@@ -250,8 +277,16 @@ impl Simulation {
         Ok(Outcome::Completed)
     }
 
-    fn run_quasi_static(&mut self, writer: &mut RunWriter, levels: &[f64], progress: &mut dyn FnMut(&StepInfo)) -> Result<Outcome, SimulationError> {
-        let settings = QuasiStaticSettings { newton: self.time_step_settings(1.0, false).newton, ..QuasiStaticSettings::default() };
+    fn run_quasi_static(
+        &mut self,
+        writer: &mut RunWriter,
+        levels: &[f64],
+        progress: &mut dyn FnMut(&StepInfo),
+    ) -> Result<Outcome, SimulationError> {
+        let settings = QuasiStaticSettings {
+            newton: self.time_step_settings(1.0, false).newton,
+            ..QuasiStaticSettings::default()
+        };
         let end = levels.last().copied().unwrap_or(1.0);
         let scripts = &mut self.scripts;
         let output_mesh = &self.output_mesh;
@@ -285,7 +320,14 @@ impl Simulation {
                     output_error = Some(e);
                 }
                 step += 1;
-                progress(&StepInfo { step, t: lambda, end, dt: 0.0, newton_iterations: 0, residual: 0.0 });
+                progress(&StepInfo {
+                    step,
+                    t: lambda,
+                    end,
+                    dt: 0.0,
+                    newton_iterations: 0,
+                    residual: 0.0,
+                });
             },
         );
         if let Some(e) = output_error {
@@ -317,7 +359,11 @@ impl Simulation {
         let potential = &self.system.potential;
         let (status, reason, stopped_at) = match outcome {
             Outcome::Completed => (RunStatus::Ok, None, None),
-            Outcome::Interrupted(t) => (RunStatus::Interrupted, Some("interrupted by the user".to_string()), Some(t)),
+            Outcome::Interrupted(t) => (
+                RunStatus::Interrupted,
+                Some("interrupted by the user".to_string()),
+                Some(t),
+            ),
             Outcome::Failed(t, reason) => (RunStatus::Error, Some(reason), Some(t)),
         };
         let dt = match &self.time {
@@ -330,7 +376,10 @@ impl Simulation {
         extra.insert("wasted_newton_iterations".into(), json!(s.wasted_iterations));
         extra.insert("n_frames".into(), json!(s.frames));
         extra.insert("n_shells".into(), json!(layouts.len()));
-        extra.insert("n_curved_points".into(), json!(layouts.iter().map(|l| l.n_curved_points).sum::<usize>()));
+        extra.insert(
+            "n_curved_points".into(),
+            json!(layouts.iter().map(|l| l.n_curved_points).sum::<usize>()),
+        );
         if s.min_area_ratio.is_finite() {
             extra.insert("min_area_ratio".into(), json!(s.min_area_ratio));
         }

@@ -52,7 +52,7 @@ pub fn chord_placement(node: NewNode) -> Vector3<f64> {
 
 /// Creates `per_edge` nodes on every edge at `t = k / (per_edge + 1)`, appended after `first_node`.
 /// Returns the positions and the index of the first node of each edge (node `k` of edge `e` is at
-/// `first[e] + k`, ordered from the smaller vertex).
+/// `first\[e\] + k`, ordered from the smaller vertex).
 pub(crate) fn edge_nodes(
     mesh: &Tri3Mesh,
     topology: &Topology,

@@ -12,7 +12,11 @@ pub fn rng(seed: u64) -> ChaCha8Rng {
 }
 
 pub fn vec3(rng: &mut ChaCha8Rng, scale: f64) -> Vector3<f64> {
-    Vector3::new(rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0)) * scale
+    Vector3::new(
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    ) * scale
 }
 
 pub fn rotation(rng: &mut ChaCha8Rng, max_angle: f64) -> Matrix3<f64> {
@@ -39,7 +43,11 @@ pub fn shape<const NU: usize, const NR: usize>(rng: &mut ChaCha8Rng, h_e: f64) -
 
 /// A random symmetric tangential `b` in the given frame.
 pub fn curvature_tensor(rng: &mut ChaCha8Rng, frame: &Matrix3<f64>, scale: f64) -> Matrix3<f64> {
-    let (b11, b12, b22) = (rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0), rng.random_range(-1.0..1.0));
+    let (b11, b12, b22) = (
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+        rng.random_range(-1.0..1.0),
+    );
     let local = Matrix3::new(b11, b12, 0.0, b12, b22, 0.0, 0.0, 0.0, 0.0) * scale;
     frame * local * frame.transpose()
 }
@@ -56,4 +64,15 @@ pub fn offset(rng: &mut ChaCha8Rng, frame: &Matrix3<f64>) -> StrainVector {
 /// Relative maximum-entry error.
 pub fn rel_err<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, b: &SMatrix<f64, R, C>) -> f64 {
     (a - b).amax() / b.amax().max(1e-300)
+}
+
+/// Runs `f` on a thread with a large stack: second-order dual numbers in 24 directions are 4.6 KB each,
+/// and a whole point energy holds hundreds of them at once.
+pub fn with_big_stack(f: impl FnOnce() + Send + 'static) {
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(f)
+        .unwrap()
+        .join()
+        .unwrap();
 }

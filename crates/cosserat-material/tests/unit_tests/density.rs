@@ -1,12 +1,12 @@
 //! The energy density: its strain Hessian, the flat limit of the shell, pure bending and scalings.
 
 use super::common;
+use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
 use cosserat_material::density::{PointGeometry, density};
+use cosserat_material::kernel::PointShape;
 use cosserat_material::oracle::{PointContext, local_energy};
 use cosserat_material::strain_space::{StrainVector, local_geometry, pack, strain_hessian, strain_offset, unpack};
 use cosserat_material::{AxlVariant, MaterialParameters, ModelOptions, ShellModel, TermSet};
-use cosserat_material::kernel::PointShape;
-use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use rand::Rng;
 
@@ -76,7 +76,11 @@ fn pure_bending_density(material: &MaterialParameters, kappa: f64) -> f64 {
     let ctx = PointContext {
         shape: &shape,
         point_quaternion: quaternion_from_matrix(&rot(xp)),
-        node_quaternions: [quaternion_from_matrix(&rot(0.0)), quaternion_from_matrix(&rot(delta)), quaternion_from_matrix(&rot(0.0))],
+        node_quaternions: [
+            quaternion_from_matrix(&rot(0.0)),
+            quaternion_from_matrix(&rot(delta)),
+            quaternion_from_matrix(&rot(0.0)),
+        ],
         dt: 0.01,
         offset: &offset,
         geometry: &geom,
@@ -90,7 +94,11 @@ fn pure_bending_density(material: &MaterialParameters, kappa: f64) -> f64 {
 
 #[test]
 fn pure_bending_energy_is_half_the_strip_stiffness_times_curvature_squared() {
-    for (nu, lc, coeffs, kappa_b) in [(0.0, 0.0, [1.0, 1.0, 0.0], 1.0), (0.3, 2e-3, [1.0, 1.0, 0.0], 1.0), (0.45, 5e-3, [0.3, 2.0, 0.7], 0.8)] {
+    for (nu, lc, coeffs, kappa_b) in [
+        (0.0, 0.0, [1.0, 1.0, 0.0], 1.0),
+        (0.3, 2e-3, [1.0, 1.0, 0.0], 1.0),
+        (0.45, 5e-3, [0.3, 2.0, 0.7], 0.8),
+    ] {
         let mut m = MaterialParameters::new(1e-2, 2e6, nu, 1000.0, lc);
         m.curvature_coefficients = coeffs;
         m.bending_correction = kappa_b;
@@ -103,7 +111,10 @@ fn pure_bending_energy_is_half_the_strip_stiffness_times_curvature_squared() {
         assert!((b - m.strip_bending_stiffness()).abs() < 1e-14 * b);
         let expected = 0.5 * b * kappa * kappa;
         // The discrete curvature of the tiny element is exact to O((κδ)²) = 1e-8.
-        assert!((psi - expected).abs() < 1e-6 * expected, "ν = {nu}: {psi} vs {expected}");
+        assert!(
+            (psi - expected).abs() < 1e-6 * expected,
+            "ν = {nu}: {psi} vs {expected}"
+        );
     }
 }
 
@@ -137,7 +148,10 @@ fn drilling_mismatch_costs_mu_c() {
         let m = moduli(f);
         let psi = density(&terms, &e, &Matrix3::zeros(), &flat, &m);
         let expected = 1e-2 * m.mu_c * 2e-4;
-        assert!((psi - expected).abs() <= 1e-15 + 1e-13 * expected, "{psi} vs {expected}");
+        assert!(
+            (psi - expected).abs() <= 1e-15 + 1e-13 * expected,
+            "{psi} vs {expected}"
+        );
     }
     let _ = pack(&e, &Matrix3::zeros());
 }

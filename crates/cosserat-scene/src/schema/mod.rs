@@ -36,8 +36,8 @@
 //! rotation = { stiffness = 1e4, directors = [3] }
 //! ```
 //!
-//! Shells: either one shell from top-level `[mesh]` + `[material]`, or several `[[shell]]` tables, each
-//! with its own `name`, `[shell.mesh]` and `[shell.material]`. Boundary conditions, loads, rest fields
+//! Shells: either one shell from top-level `\[mesh\]` + `\[material\]`, or several `[\[shell\]]` tables, each
+//! with its own `name`, `\[shell.mesh\]` and `[shell.material]`. Boundary conditions, loads, rest fields
 //! and probes name their shell with `shell = "name"` or `shell = 0` (index); with a single shell the
 //! key may be omitted.
 //!
@@ -45,7 +45,7 @@
 //! a formula (see [`crate::expr`] for the syntax). Time functions use the variable `t` (seconds; in
 //! quasi-static runs the load factor), rest fields `x, y, z, t` (the rest position of the quadrature
 //! point), region predicates `x, y, z` (the rest position of the node). Named helper functions can be
-//! declared in `[functions]`.
+//! declared in `\[functions\]`.
 
 mod value;
 
@@ -66,16 +66,16 @@ pub struct SceneFile {
     pub time: TimeSection,
     /// Newton and linear solver settings (all optional).
     pub solver: Option<SolverSection>,
-    /// Gravitational acceleration `[gx, gy, gz]` [m/s²]. Default `[0, 0, 0]`: no gravity unless asked
+    /// Gravitational acceleration `[gx, gy, gz]` \[m/s²\]. Default `[0, 0, 0]`: no gravity unless asked
     /// for (most of the paper's scenes switch it off).
     pub gravity: Option<[f64; 3]>,
     /// Named helper functions for expressions: `name = { args = ["u"], body = "…" }`.
     pub functions: Option<BTreeMap<String, FunctionSection>>,
-    /// The mesh of the single shell (with `[material]`).
+    /// The mesh of the single shell (with `\[material\]`).
     pub mesh: Option<MeshSection>,
-    /// The material of the single shell (with `[mesh]`).
+    /// The material of the single shell (with `\[mesh\]`).
     pub material: Option<MaterialSection>,
-    /// Several shells (instead of `[mesh]` + `[material]`).
+    /// Several shells (instead of `\[mesh\]` + `\[material\]`).
     pub shell: Option<Vec<ShellSection>>,
     /// Boundary conditions.
     pub boundary: Option<Vec<BoundarySection>>,
@@ -109,7 +109,7 @@ pub enum TimeMode {
     QuasiStatic,
 }
 
-/// `[time]`.
+/// `\[time\]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSection {
@@ -156,7 +156,7 @@ pub enum InitialGuessName {
     Zero,
 }
 
-/// `[solver]`.
+/// `\[solver\]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSection {
@@ -227,7 +227,7 @@ pub enum ElementName {
     Tri6,
 }
 
-/// `[mesh]`: a generator with its parameters, or an OBJ file, plus element choice and shaping steps
+/// `\[mesh\]`: a generator with its parameters, or an OBJ file, plus element choice and shaping steps
 /// (see [`crate::mesh_source`] for the order in which they apply).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -416,7 +416,7 @@ pub enum NormalWeightingName {
     Uniform,
 }
 
-/// `[material]`.
+/// `\[material\]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSection {
@@ -428,7 +428,7 @@ pub struct MaterialSection {
     pub youngs_modulus: f64,
     /// Poisson ratio `ν` in (−1, 0.5).
     pub poisson_ratio: f64,
-    /// Volumetric density `ρ` [kg/m³].
+    /// Volumetric density `ρ` \[kg/m³\].
     pub density: f64,
     /// Internal length `L_c` \[m\].
     pub length_scale: f64,
@@ -438,9 +438,9 @@ pub struct MaterialSection {
     pub curvature_coefficients: Option<[f64; 3]>,
     /// `κ_b` (default 1).
     pub bending_correction: Option<f64>,
-    /// Mass-proportional damping [1/s] (default 0).
+    /// Mass-proportional damping \[1/s\] (default 0).
     pub damping: Option<f64>,
-    /// Angular inertia density `ρ_θ` [kg/m] (default 0).
+    /// Angular inertia density `ρ_θ` \[kg/m\] (default 0).
     pub angular_inertia_density: Option<f64>,
     /// Curved-term counting (default `"supplement"`).
     pub curved_terms: Option<CurvedTermsName>,
@@ -454,7 +454,7 @@ pub struct MaterialSection {
     pub normal_weighting: Option<NormalWeightingName>,
 }
 
-/// `[[shell]]`.
+/// `[\[shell\]]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShellSection {
@@ -509,7 +509,7 @@ pub enum TimingName {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PositionSection {
-    /// Penalty stiffness [N/m] (exclusive with `exact`).
+    /// Penalty stiffness \[N/m\] (exclusive with `exact`).
     pub stiffness: Option<f64>,
     /// Exact elimination (`exact = true`).
     pub exact: Option<bool>,
@@ -521,7 +521,7 @@ pub struct PositionSection {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RotationSection {
-    /// Penalty stiffness [N·m].
+    /// Penalty stiffness \[N·m\].
     pub stiffness: f64,
     /// Constrained directors (columns of the rotation), 1-based (default `[1, 2, 3]`; `[3]` is the
     /// paper's "d3 clamp").
@@ -536,11 +536,11 @@ pub struct AngularVelocitySection {
     pub stiffness: f64,
     /// Constrained components (default all).
     pub axes: Option<Vec<AxisName>>,
-    /// Target angular velocity [rad/s] per component, functions of `t` (default zero).
+    /// Target angular velocity \[rad/s\] per component, functions of `t` (default zero).
     pub target: Option<[ExprValue; 3]>,
 }
 
-/// `motion = { rotate = { axis, center, angle }, translate = [..] }`.
+/// `motion = { rotate = { axis, center, angle }, translate = \[..\] }`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MotionSection {
@@ -562,7 +562,7 @@ pub struct MotionRotation {
     pub angle: ExprValue,
 }
 
-/// `[[boundary]]`.
+/// `[\[boundary\]]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BoundarySection {
@@ -600,7 +600,7 @@ pub enum DistributionName {
     TotalOverLength,
 }
 
-/// `[[load]]`.
+/// `[\[load\]]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadSection {
@@ -612,7 +612,7 @@ pub struct LoadSection {
     pub region: RegionSection,
     /// A force \[N\] (exclusive with `torque`).
     pub force: Option<[f64; 3]>,
-    /// A torque [N·m] (exclusive with `force`).
+    /// A torque \[N·m\] (exclusive with `force`).
     pub torque: Option<[f64; 3]>,
     /// Distribution (default `"equal"`).
     pub distribution: Option<DistributionName>,
@@ -630,7 +630,7 @@ pub struct CurvatureEntrySection {
     pub row: usize,
     /// Column `j` (1–3): the world direction along which it accumulates.
     pub col: usize,
-    /// The value [rad/m], a function of `x, y, z, t`.
+    /// The value \[rad/m\], a function of `x, y, z, t`.
     pub value: ExprValue,
 }
 
@@ -674,7 +674,7 @@ pub enum ReductionName {
     Mean,
 }
 
-/// `[[probe]]`: `point = [..]` (nearest node) or `region = { … }` (mean).
+/// `[\[probe\]]`: `point = \[..\]` (nearest node) or `region = { … }` (mean).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ProbeSection {
@@ -692,7 +692,7 @@ pub struct ProbeSection {
     pub reduction: Option<ReductionName>,
 }
 
-/// `[output]`.
+/// `\[output\]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct OutputSection {

@@ -1,4 +1,4 @@
-//! Checks of the shells: the single `[mesh]` + `[material]` form or the `[[shell]]` list, each mesh
+//! Checks of the shells: the single `\[mesh\]` + `\[material\]` form or the `[\[shell\]]` list, each mesh
 //! section (generator parameters, OBJ path, shaping steps) and each material.
 
 use super::Ctx;

@@ -1,4 +1,4 @@
-//! Checks of `[time]`, `[solver]` and `[output]`.
+//! Checks of `\[time\]`, `\[solver\]` and `\[output\]`.
 
 use super::Ctx;
 use crate::error::SceneError;

@@ -242,9 +242,11 @@ fn newton_converges_quadratically_near_an_equilibrium() {
     let direction: Vec<f64> = (0..n).map(|_| rand::Rng::random_range(&mut rng, -1.0..1.0)).collect();
     let fixed = sys.potential.fixed_dofs().map(|(m, _)| m);
     let mut first_step = |eps: f64| -> (f64, f64) {
-        let mut settings = cosserat_solver::NewtonSettings::default();
-        settings.max_iterations = 1;
-        settings.residual_tolerance = 1e-300;
+        let settings = cosserat_solver::NewtonSettings {
+            max_iterations: 1,
+            residual_tolerance: 1e-300,
+            ..Default::default()
+        };
         let mut solver = cosserat_solver::NewtonSolver::try_new(sys.potential.pattern().symbolic(), settings).unwrap();
         let mut u: Vec<f64> = direction
             .iter()
