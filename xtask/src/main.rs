@@ -5,6 +5,8 @@
 
 mod run;
 
+use xtask::experiments;
+
 use anyhow::Result;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -25,6 +27,24 @@ enum Command {
     Run(cosserat::cli::RunArgs),
     /// Render frames of a finished run to PNG.
     Render(cosserat::cli::RenderArgs),
+    /// Run the paper's experiments without contact and write docs/experiments.md.
+    Experiments(ExperimentsArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct ExperimentsArgs {
+    /// A few steps of each run on the coarsest meshes (writes out/experiments_quick.md instead).
+    #[arg(long)]
+    quick: bool,
+    /// Include the largest meshes and the paper's armadillo mesh.
+    #[arg(long)]
+    large: bool,
+    /// Only experiments whose name contains this.
+    #[arg(long)]
+    only: Option<String>,
+    /// Directory of the paper's OBJ meshes.
+    #[arg(long, default_value = "../shared/models")]
+    models: PathBuf,
 }
 
 /// The workspace root (xtask lives one level below it).
@@ -40,6 +60,33 @@ fn main() -> Result<()> {
     std::env::set_current_dir(workspace_root())?;
     let code = match args.command {
         Command::Run(a) => run::run(&a)?,
+        Command::Experiments(a) => {
+            let options = experiments::Options {
+                quick: a.quick,
+                large: a.large,
+                only: a.only.clone(),
+                models: a.models.clone(),
+                out: PathBuf::from(if a.quick {
+                    "out/experiments_quick"
+                } else {
+                    "out/experiments"
+                }),
+            };
+            let md = experiments::run_all(&options)?;
+            let path = if a.quick || a.only.is_some() {
+                PathBuf::from("out").join(if a.quick {
+                    "experiments_quick.md"
+                } else {
+                    "experiments_partial.md"
+                })
+            } else {
+                PathBuf::from("docs/experiments.md")
+            };
+            std::fs::create_dir_all(path.parent().unwrap_or(std::path::Path::new(".")))?;
+            std::fs::write(&path, md)?;
+            eprintln!("wrote {}", path.display());
+            0
+        }
         Command::Render(a) => {
             let path = cosserat::cli::render(&a)?;
             eprintln!("wrote {}", path.display());

@@ -247,6 +247,31 @@ impl IncrementalPotential {
         }
     }
 
+    /// The elastic energy of the shells in the start-of-step state (no motion over the step) [J].
+    ///
+    /// # Errors
+    /// A non-finite contribution.
+    pub fn elastic_energy(&mut self) -> Result<f64, AssemblyError> {
+        let u = vec![0.0; self.n_dofs()];
+        self.update_rotations(&u, false);
+        let eval = self.evaluation(&u);
+        self.parts.shells.iter().try_fold(0.0, |acc, s| Ok(acc + s.value(&eval)?))
+    }
+
+    /// The kinetic energy `½ Σ m |v|² + ½ Σ I |ω|²` of the start-of-step state [J] (zero without inertia).
+    pub fn kinetic_energy(&self) -> f64 {
+        let Some(inertia) = &self.parts.inertia else { return 0.0 };
+        let st = &self.parts.state;
+        let translational: f64 = inertia.masses.iter().zip(&st.v).map(|(m, v)| 0.5 * m * v.norm_squared()).sum();
+        let rotational: f64 = inertia
+            .rotational_inertia
+            .iter()
+            .zip(&st.omega)
+            .map(|(i, w)| 0.5 * i * w.norm_squared())
+            .sum();
+        translational + rotational
+    }
+
     /// Eliminated unknowns and their values for the current targets and `Δt`: `(mask, values)`.
     pub fn fixed_dofs(&self) -> Option<(Vec<bool>, Vec<f64>)> {
         if self.parts.position_constraints.is_empty() {

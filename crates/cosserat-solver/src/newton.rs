@@ -38,6 +38,11 @@ pub struct NewtonSettings {
     pub residual_scale: f64,
     /// Maximum number of Newton iterations (linear solves), default 100.
     pub max_iterations: usize,
+    /// Minimum number of Newton iterations before convergence may be declared, default 0. With an
+    /// absolute residual tolerance, a good initial guess can already satisfy it; one iteration then still
+    /// adds the step's linear response (the time stepper uses 1, so small but growing forces — an
+    /// unstable mode — are always integrated).
+    pub min_iterations: usize,
     /// Maximum number of step reductions in one line search, default 20.
     pub max_line_search_iterations: usize,
     /// Armijo constant `c` of the sufficient-decrease test `ΔΠ ≤ c α dx·∇Π` (default 1e-4).
@@ -64,6 +69,7 @@ impl Default for NewtonSettings {
             residual_tolerance: 1e-7,
             residual_scale: 1.0,
             max_iterations: 100,
+            min_iterations: 0,
             max_line_search_iterations: 20,
             armijo_constant: 1e-4,
             backtracking_factor: 0.5,
@@ -304,7 +310,7 @@ impl NewtonSolver {
         let energy = self.eval_gradient(problem, x, 0, &mut run)?;
         let r = self.residual(&self.grad);
         run.residuals.push(r);
-        if r < s.residual_tolerance {
+        if r < s.residual_tolerance && s.min_iterations == 0 {
             return Ok(run.finish(0, energy));
         }
         // Whether `grad` holds ∇Π(x) and the last residual belongs to `x`.
@@ -316,7 +322,7 @@ impl NewtonSolver {
                     let energy = self.eval_gradient(problem, x, k, &mut run)?;
                     let r = self.residual(&self.grad);
                     run.residuals.push(r);
-                    if r < s.residual_tolerance {
+                    if r < s.residual_tolerance && k >= s.min_iterations {
                         return Ok(run.finish(k, energy));
                     }
                 }
@@ -332,7 +338,7 @@ impl NewtonSolver {
                 let r = self.residual(&self.grad);
                 run.residuals.push(r);
                 grad_current = true;
-                if r < s.residual_tolerance {
+                if r < s.residual_tolerance && k > s.min_iterations {
                     return Ok(run.finish(k - 1, e0));
                 }
             }
@@ -373,7 +379,7 @@ impl NewtonSolver {
                 || armijo.accepts_with_gradient(e0, e1, alpha, slope, &self.dx, &self.grad, &self.grad_trial)
             {
                 self.accept_with_gradient(x, &mut run, r1);
-                if r1 < s.residual_tolerance {
+                if r1 < s.residual_tolerance && k >= s.min_iterations {
                     return Ok(run.finish(k, e1));
                 }
                 continue;
@@ -422,7 +428,7 @@ impl NewtonSolver {
                         self.accept_with_gradient(x, &mut run, r);
                         grad_current = true;
                         accepted = true;
-                        if r < s.residual_tolerance {
+                        if r < s.residual_tolerance && k >= s.min_iterations {
                             return Ok(run.finish(k, e));
                         }
                         break;

@@ -46,7 +46,9 @@ pub struct TimeStepSettings {
 }
 
 impl TimeStepSettings {
-    /// Settings for a fixed time step `dt`, with up to 8 halvings on failure.
+    /// Settings for a fixed time step `dt`, with up to 8 halvings on failure, and at least one Newton
+    /// iteration per step (the residual tolerance is absolute; a good initial guess alone could satisfy
+    /// it and skip the step's response to small but growing forces).
     pub fn fixed(dt: f64) -> Self {
         Self {
             dt,
@@ -54,7 +56,10 @@ impl TimeStepSettings {
             min_dt: 1e-6,
             max_reductions: 8,
             growth: 1.05,
-            newton: NewtonSettings::default(),
+            newton: NewtonSettings {
+                min_iterations: 1,
+                ..NewtonSettings::default()
+            },
             initial_guess: InitialGuess::default(),
         }
     }

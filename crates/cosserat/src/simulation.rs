@@ -47,6 +47,8 @@ struct RunStats {
     step_seconds: f64,
     min_area_ratio: f64,
     frames: usize,
+    /// `(t, kinetic, elastic)` at every output time.
+    energies: Vec<(f64, f64, f64)>,
 }
 
 /// A scene ready to run.
@@ -173,6 +175,8 @@ impl Simulation {
     }
 
     fn record_output(&mut self, writer: &mut RunWriter, t: f64) -> Result<(), SimulationError> {
+        let elastic = self.system.potential.elastic_energy().unwrap_or(f64::NAN);
+        self.stats.energies.push((t, self.system.potential.kinetic_energy(), elastic));
         let state = &self.system.potential.parts.state;
         for s in &self.system.potential.parts.shells {
             self.stats.min_area_ratio = self.stats.min_area_ratio.min(s.min_area_ratio(state));
@@ -384,6 +388,16 @@ impl Simulation {
             extra.insert("min_area_ratio".into(), json!(s.min_area_ratio));
         }
         extra.insert("hessian_nnz".into(), json!(potential.pattern().nnz()));
+        // Energies at the output times (finite values only; JSON has no NaN).
+        let finite: Vec<&(f64, f64, f64)> = s.energies.iter().filter(|e| e.1.is_finite() && e.2.is_finite()).collect();
+        extra.insert(
+            "energy".into(),
+            json!({
+                "t": finite.iter().map(|e| e.0).collect::<Vec<_>>(),
+                "kinetic": finite.iter().map(|e| e.1).collect::<Vec<_>>(),
+                "elastic": finite.iter().map(|e| e.2).collect::<Vec<_>>(),
+            }),
+        );
         RunSummary {
             scene: self.name.clone(),
             displacement_element: self.elements.0.clone(),
