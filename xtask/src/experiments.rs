@@ -26,6 +26,8 @@ pub struct Options {
     pub models: PathBuf,
     /// Root of the run outputs.
     pub out: PathBuf,
+    /// Where to render the README pictures (`None`: no pictures).
+    pub render_dir: Option<PathBuf>,
 }
 
 /// One run of an experiment.
@@ -64,6 +66,8 @@ pub struct Experiment {
     pub runs: fn(&Options) -> Vec<RunSpec>,
     /// What it should show, measured on the outputs: report lines (markdown).
     pub check: fn(&[RunResult]) -> Vec<String>,
+    /// Render every run's last frame for the README (`false`: only the last run, the finest mesh).
+    pub render_each: bool,
 }
 
 fn run(variant: &str, element: &str, scene: &str, overrides: &[String]) -> RunSpec {
@@ -101,48 +105,56 @@ pub fn registry() -> Vec<Experiment> {
             title: "Twisting strip",
             runs: twisting_runs,
             check: twisting_check,
+            render_each: false,
         },
         Experiment {
             name: "plate_under_load",
             title: "Plate under load",
             runs: plate_runs,
             check: plate_check,
+            render_each: false,
         },
         Experiment {
             name: "cylinder_coiling",
             title: "Cylinder coiling",
             runs: coiling_runs,
             check: coiling_check,
+            render_each: false,
         },
         Experiment {
             name: "lotus_flower",
             title: "Lotus flower",
             runs: lotus_runs,
             check: lotus_check,
+            render_each: false,
         },
         Experiment {
             name: "curvature_modes",
             title: "Curvature modes",
             runs: modes_runs,
             check: modes_check,
+            render_each: false,
         },
         Experiment {
             name: "armadillos",
             title: "Armadillos",
             runs: armadillo_runs,
             check: armadillo_check,
+            render_each: false,
         },
         Experiment {
             name: "buckling_circle",
             title: "Buckling circle",
             runs: buckling_runs,
             check: buckling_check,
+            render_each: true,
         },
         Experiment {
             name: "moebius",
             title: "Möbius strip",
             runs: moebius_runs,
             check: moebius_check,
+            render_each: true,
         },
     ]
 }
@@ -537,6 +549,24 @@ fn moebius_check(r: &[RunResult]) -> Vec<String> {
     lines
 }
 
+/// Renders the last frame of the experiment's runs (or only of its last run) to `<render_dir>/<name>.png`.
+fn render(o: &Options, exp: &Experiment, results: &[RunResult]) -> Result<()> {
+    use cosserat::scene::render::{Colouring, RenderOptions, ScalarMode, render_png};
+    let Some(dir) = &o.render_dir else { return Ok(()) };
+    std::fs::create_dir_all(dir)?;
+    let picked: Vec<&RunResult> = if exp.render_each { results.iter().collect() } else { results.last().into_iter().collect() };
+    for res in picked {
+        let Some(frame) = &res.frame else { continue };
+        let options = RenderOptions {
+            colouring: Colouring::PointScalar { array: "displacement".into(), mode: ScalarMode::Magnitude, range: None },
+            ..RenderOptions::default()
+        };
+        let file = if exp.render_each { format!("{}_{}.png", exp.name, res.spec.variant.replace(' ', "_")) } else { format!("{}.png", exp.name) };
+        render_png(frame, &options, &dir.join(file))?;
+    }
+    Ok(())
+}
+
 fn last_frame(dir: &Path) -> Option<VtuFrame> {
     let pvd = dir.join("frames").join("run.pvd");
     let entries = read_pvd(&pvd).ok()?;
@@ -644,6 +674,9 @@ pub fn run_all(o: &Options) -> Result<String> {
                     writeln!(table, "| {} | {} **failed: {e}** |", spec.variant, exp.name)?;
                 }
             }
+        }
+        if o.render_dir.is_some() {
+            render(o, &exp, &results)?;
         }
         writeln!(checks, "\n### {}\n", exp.title)?;
         for line in (exp.check)(&results) {

@@ -71,6 +71,7 @@ fn main() -> Result<()> {
                 } else {
                     "out/experiments"
                 }),
+                render_dir: (!a.quick && a.only.is_none()).then(|| PathBuf::from("docs/img")),
             };
             let md = experiments::run_all(&options)?;
             let path = if a.quick || a.only.is_some() {
