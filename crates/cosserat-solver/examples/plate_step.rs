@@ -74,7 +74,16 @@ fn main() {
         sys.potential.n_dofs(),
         sys.potential.pattern().nnz()
     );
-    let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(0.01)).unwrap();
+    let mut settings = TimeStepSettings::fixed(0.01);
+    if std::env::var("ND").is_ok() {
+        settings.newton.linear_solver.ordering = cosserat_solver::FillOrdering::NestedDissection { block: 3 };
+    }
+    if std::env::var("PAR").is_ok() {
+        settings.newton.linear_solver.parallelism = faer::Par::rayon(0);
+    }
+    let t_sym = Instant::now();
+    let mut stepper = TimeStepper::new(&sys.potential, settings).unwrap();
+    println!("symbolic {:.3} s", t_sym.elapsed().as_secs_f64());
     let (mut asm, mut sol, mut its) = (0.0, 0.0, 0);
     let t0 = Instant::now();
     for _ in 0..steps {

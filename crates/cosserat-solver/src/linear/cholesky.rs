@@ -48,9 +48,23 @@ impl std::fmt::Debug for SymmetricFactor {
 impl SymmetricFactor {
     /// Orders the pattern and runs the supernodal symbolic analysis; allocates all buffers.
     pub(crate) fn try_new(pattern: &UpperPattern, ordering: FillOrdering, par: Par) -> Result<Self, LinearSolveError> {
-        let ord = match ordering {
-            FillOrdering::Amd => SymmetricOrdering::Amd,
-            FillOrdering::Identity => SymmetricOrdering::Identity,
+        let nd = match ordering {
+            FillOrdering::NestedDissection { block } => super::ordering::nested_dissection(pattern.as_ref(), block),
+            _ => None,
+        };
+        let inverse: Option<Vec<usize>> = nd.as_ref().map(|fwd| {
+            let mut inv = vec![0; fwd.len()];
+            for (new, &old) in fwd.iter().enumerate() {
+                inv[old] = new;
+            }
+            inv
+        });
+        let ord = match (ordering, &nd, &inverse) {
+            (FillOrdering::Identity, _, _) => SymmetricOrdering::Identity,
+            (FillOrdering::NestedDissection { .. }, Some(fwd), Some(inv)) => {
+                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(fwd, inv, fwd.len()))
+            }
+            _ => SymmetricOrdering::Amd,
         };
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
