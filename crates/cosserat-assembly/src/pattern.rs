@@ -67,6 +67,23 @@ impl SparsityPattern {
         }
     }
 
+    /// The union of two patterns of the same size.
+    ///
+    /// # Panics
+    /// If the sizes differ.
+    #[track_caller]
+    pub fn union(a: &SparsityPattern, b: &SparsityPattern) -> SparsityPattern {
+        assert_eq!(a.n_blocks, b.n_blocks, "patterns of different sizes");
+        let groups: Vec<[usize; 2]> = (0..a.n_blocks)
+            .flat_map(|col| {
+                let ra = a.block_rows[a.block_col_ptr[col]..a.block_col_ptr[col + 1]].iter();
+                let rb = b.block_rows[b.block_col_ptr[col]..b.block_col_ptr[col + 1]].iter();
+                ra.chain(rb).map(move |&row| [row as usize, col])
+            })
+            .collect();
+        SparsityPattern::from_groups(a.n_blocks, groups.iter().map(|g| g.as_slice()))
+    }
+
     /// Number of 3×3 blocks per row and column.
     pub fn n_blocks(&self) -> usize {
         self.n_blocks

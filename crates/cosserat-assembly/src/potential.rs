@@ -92,6 +92,49 @@ pub struct IncrementalPotential {
     pub parallelism: Parallelism,
     pattern: SparsityPattern,
     rotations: NodeRotations,
+    /// Present only when a dynamic term (contact) exists.
+    dynamic: Option<DynamicPattern>,
+}
+
+/// The pattern of the dynamic terms and its merge with the fixed pattern.
+struct DynamicPattern {
+    /// Pattern of the dynamic terms' couplings (plus all diagonal blocks).
+    own: SparsityPattern,
+    /// Union of the fixed and the dynamic pattern: what the solver sees.
+    union: SparsityPattern,
+    /// Position in `union` of every entry of the fixed pattern, and of every entry of `own`.
+    map_fixed: Vec<u32>,
+    map_own: Vec<u32>,
+    fixed_values: Vec<f64>,
+    own_values: Vec<f64>,
+}
+
+impl DynamicPattern {
+    fn build(n_blocks: usize, fixed: &SparsityPattern, groups: &[Vec<usize>]) -> Self {
+        let own = SparsityPattern::from_groups(n_blocks, groups.iter().map(|g| g.as_slice()));
+        let union = SparsityPattern::union(fixed, &own);
+        let map = |p: &SparsityPattern| -> Vec<u32> {
+            let sym = p.symbolic();
+            let mut m = Vec::with_capacity(p.nnz());
+            for j in 0..p.n_dofs() {
+                for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
+                    let i = sym.row_idx()[k];
+                    m.push(union.entry(i, j).expect("the union contains both patterns") as u32);
+                }
+            }
+            m
+        };
+        let (map_fixed, map_own) = (map(fixed), map(&own));
+        let (nf, no) = (fixed.nnz(), own.nnz());
+        Self {
+            own,
+            union,
+            map_fixed,
+            map_own,
+            fixed_values: vec![0.0; nf],
+            own_values: vec![0.0; no],
+        }
+    }
 }
 
 impl IncrementalPotential {
@@ -102,29 +145,81 @@ impl IncrementalPotential {
         for s in &parts.shells {
             groups.extend(s.coupling_groups());
         }
-        for t in &parts.extra {
+        for t in parts.extra.iter().filter(|t| !t.is_dynamic()) {
             groups.extend(t.coupling_groups());
         }
         let pattern = SparsityPattern::from_groups(n_blocks, groups.iter().map(|g| g.as_slice()));
         for s in &mut parts.shells {
             s.bind(&pattern);
         }
-        for t in &mut parts.extra {
+        for t in parts.extra.iter_mut().filter(|t| !t.is_dynamic()) {
             t.bind(&pattern);
         }
         let n_rot = parts.layout.n_rot_nodes;
-        Self {
+        let mut potential = Self {
             parts,
             dt,
             parallelism: Parallelism::Rayon,
             pattern,
             rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]),
-        }
+            dynamic: None,
+        };
+        potential.rebuild_dynamic();
+        potential
     }
 
-    /// The Hessian's sparsity pattern (upper triangle).
+    /// Rebuilds the dynamic terms' pattern and its merge map (only if dynamic terms exist).
+    fn rebuild_dynamic(&mut self) {
+        if !self.parts.extra.iter().any(|t| t.is_dynamic()) {
+            self.dynamic = None;
+            return;
+        }
+        let groups: Vec<Vec<usize>> = self
+            .parts
+            .extra
+            .iter()
+            .filter(|t| t.is_dynamic())
+            .flat_map(|t| t.coupling_groups())
+            .collect();
+        let dynamic = DynamicPattern::build(self.parts.layout.n_blocks(), &self.pattern, &groups);
+        for t in self.parts.extra.iter_mut().filter(|t| t.is_dynamic()) {
+            t.bind(&dynamic.own);
+        }
+        self.dynamic = Some(dynamic);
+    }
+
+    /// Prepares the dynamic terms for a step from the current state with Newton's initial guess `u`.
+    /// Returns whether the Hessian's pattern changed (the solver must then redo its symbolic analysis).
+    pub fn begin_step(&mut self, u: &[f64]) -> bool {
+        let (state, layout, dt) = (&self.parts.state, &self.parts.layout, self.dt);
+        let mut changed = false;
+        for t in self.parts.extra.iter_mut().filter(|t| t.is_dynamic()) {
+            changed |= t.begin_step(state, layout, dt, u);
+        }
+        if changed {
+            self.rebuild_dynamic();
+        }
+        changed
+    }
+
+    /// The largest fraction of the step `du` from `u` that keeps every term's state valid.
+    pub fn max_step_fraction(&mut self, u: &[f64], du: &[f64]) -> f64 {
+        if !self.parts.extra.iter().any(|t| t.is_dynamic()) {
+            return 1.0;
+        }
+        self.update_rotations(u, false);
+        let eval = self.evaluation(u);
+        self.parts
+            .extra
+            .iter()
+            .map(|t| t.max_step_fraction(&eval, du))
+            .fold(1.0, f64::min)
+    }
+
+    /// The Hessian's sparsity pattern (upper triangle): the fixed pattern, merged with the dynamic terms'
+    /// couplings when there are any.
     pub fn pattern(&self) -> &SparsityPattern {
-        &self.pattern
+        self.dynamic.as_ref().map_or(&self.pattern, |d| &d.union)
     }
 
     /// Number of unknowns.
@@ -221,7 +316,8 @@ impl IncrementalPotential {
         self.terms().try_fold(0.0, |acc, t| Ok(acc + t.gradient(&eval, grad)?))
     }
 
-    /// `Π(u)`, `∇Π(u)` and the upper triangle of `∇²Π(u)` in pattern order (overwrites both).
+    /// `Π(u)`, `∇Π(u)` and the upper triangle of `∇²Π(u)` in the order of [`IncrementalPotential::pattern`]
+    /// (overwrites both).
     ///
     /// # Errors
     /// As [`IncrementalPotential::value`].
@@ -229,11 +325,37 @@ impl IncrementalPotential {
         self.check_len(u)?;
         self.update_rotations(u, true);
         grad.fill(0.0);
+        let Some(mut dynamic) = self.dynamic.take() else {
+            values.fill(0.0);
+            let eval = self.evaluation(u);
+            let pattern = &self.pattern;
+            return self
+                .terms()
+                .try_fold(0.0, |acc, t| Ok(acc + t.hessian(&eval, grad, pattern, values)?));
+        };
+        dynamic.fixed_values.fill(0.0);
+        dynamic.own_values.fill(0.0);
+        let result = {
+            let eval = self.evaluation(u);
+            let (fixed, own) = (&self.pattern, &dynamic.own);
+            self.terms().try_fold(0.0, |acc, t| {
+                let e = if t.is_dynamic() {
+                    t.hessian(&eval, grad, own, &mut dynamic.own_values)?
+                } else {
+                    t.hessian(&eval, grad, fixed, &mut dynamic.fixed_values)?
+                };
+                Ok(acc + e)
+            })
+        };
         values.fill(0.0);
-        let eval = self.evaluation(u);
-        let pattern = &self.pattern;
-        self.terms()
-            .try_fold(0.0, |acc, t| Ok(acc + t.hessian(&eval, grad, pattern, values)?))
+        for (v, &k) in dynamic.fixed_values.iter().zip(&dynamic.map_fixed) {
+            values[k as usize] += v;
+        }
+        for (v, &k) in dynamic.own_values.iter().zip(&dynamic.map_own) {
+            values[k as usize] += v;
+        }
+        self.dynamic = Some(dynamic);
+        result
     }
 
     fn evaluation<'a>(&'a self, u: &'a [f64]) -> Evaluation<'a> {

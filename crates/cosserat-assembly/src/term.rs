@@ -111,6 +111,25 @@ pub trait PotentialTerm: Send + Sync {
     fn active_energy_terms(&self) -> Vec<String> {
         vec![self.name()]
     }
+
+    /// Whether the term's coupling groups may change from step to step (contact pairs). Dynamic terms
+    /// assemble into a pattern of their own, merged with the fixed one before a solve, so the fixed
+    /// pattern and every element scatter stay untouched when contacts come and go.
+    fn is_dynamic(&self) -> bool {
+        false
+    }
+
+    /// Called before each step's Newton solve with the start-of-step state, the time step and Newton's
+    /// initial guess. Returns whether the coupling groups changed (dynamic terms only).
+    fn begin_step(&mut self, _state: &SystemState, _layout: &DofLayout, _dt: f64, _u: &[f64]) -> bool {
+        false
+    }
+
+    /// The largest fraction `α ∈ (0, 1]` of the Newton step `du` from `eval.u` that keeps the state
+    /// valid (continuous collision detection). Default: the full step.
+    fn max_step_fraction(&self, _eval: &Evaluation<'_>, _du: &[f64]) -> f64 {
+        1.0
+    }
 }
 
 /// Returns an error unless `x` is finite.

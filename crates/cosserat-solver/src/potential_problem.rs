@@ -51,4 +51,8 @@ impl NewtonProblem for PotentialProblem<'_> {
     fn fixed_dofs(&self) -> Option<&[bool]> {
         self.fixed.as_deref()
     }
+
+    fn max_step_fraction(&mut self, x: &[f64], dx: &[f64]) -> f64 {
+        self.potential.max_step_fraction(x, dx)
+    }
 }

@@ -98,6 +98,16 @@ pub fn solve_quasi_static(
                 }
                 _ => u.fill(0.0),
             }
+            if potential.begin_step(&u) {
+                solver =
+                    NewtonSolver::try_new(potential.pattern().symbolic(), *solver.settings()).map_err(|error| {
+                        StaticError {
+                            from: current,
+                            to: lambda,
+                            error,
+                        }
+                    })?;
+            }
             let fixed = potential.fixed_dofs().map(|(mask, values)| {
                 for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
                     u[i] = values[i];

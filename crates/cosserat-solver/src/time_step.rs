@@ -169,6 +169,16 @@ impl TimeStepper {
             scripts(potential, self.t, dt);
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
+            // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
+            if potential.begin_step(&self.u) {
+                match NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings()) {
+                    Ok(solver) => self.solver = solver,
+                    Err(error) => {
+                        attempts.push(FailedAttempt { dt, error });
+                        return Err(StepError { t: self.t, attempts });
+                    }
+                }
+            }
             let fixed = potential.fixed_dofs().map(|(mask, values)| {
                 for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
                     self.u[i] = values[i];

@@ -1,4 +1,5 @@
 mod common;
 mod curved;
+mod dynamic;
 mod pattern;
 mod potential;

@@ -143,7 +143,9 @@ impl Dissector<'_> {
         let (ptr, adj) = (self.ptr, self.adj);
         let mut kept = Vec::with_capacity(sep.len());
         for v in sep {
-            let touches_b = adj[ptr[v]..ptr[v + 1]].iter().any(|&w| self.part[w as usize] == label && self.level[w as usize] == cut + 1);
+            let touches_b = adj[ptr[v]..ptr[v + 1]]
+                .iter()
+                .any(|&w| self.part[w as usize] == label && self.level[w as usize] == cut + 1);
             if touches_b { kept.push(v) } else { a.push(v) }
         }
         for &v in &kept {
