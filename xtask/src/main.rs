@@ -3,6 +3,7 @@
 //! xtask only orchestrates: every physical computation goes through the `cosserat` crate, so anything
 //! here is also reachable by users through the `cosserat` binary and library.
 
+mod bench_table;
 mod run;
 
 use xtask::experiments;
@@ -29,6 +30,12 @@ enum Command {
     Render(cosserat::cli::RenderArgs),
     /// Run the paper's experiments without contact and write docs/experiments.md.
     Experiments(ExperimentsArgs),
+    /// Time per step of the reference code's cases; writes docs/performance.md and docs/performance.json.
+    BenchTable {
+        /// Add the paper's largest plate (Tri6 640x64, 620k unknowns).
+        #[arg(long)]
+        large: bool,
+    },
 }
 
 #[derive(Debug, clap::Args)]
@@ -60,6 +67,10 @@ fn main() -> Result<()> {
     std::env::set_current_dir(workspace_root())?;
     let code = match args.command {
         Command::Run(a) => run::run(&a)?,
+        Command::BenchTable { large } => {
+            bench_table::run(large)?;
+            0
+        }
         Command::Experiments(a) => {
             let options = experiments::Options {
                 quick: a.quick,

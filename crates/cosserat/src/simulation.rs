@@ -49,6 +49,10 @@ struct RunStats {
     frames: usize,
     /// `(t, kinetic, elastic)` at every output time.
     energies: Vec<(f64, f64, f64)>,
+    /// Numeric factorisations performed.
+    factorisations: usize,
+    /// Structure of the symmetric factor (last symbolic analysis): `(nnz of L, flops per factorisation)`.
+    factor: Option<(usize, f64)>,
 }
 
 /// A scene ready to run.
@@ -199,6 +203,8 @@ impl Simulation {
         s.assembly_seconds += r.newton.assembly_seconds;
         s.solve_seconds += r.newton.linear_solve_seconds;
         s.step_seconds += seconds;
+        let f = &r.newton.factorisations;
+        s.factorisations += f.llt + f.lblt + f.lu;
     }
 
     /// Runs the scene and writes its outputs into `dir` (frames, `probes.csv`, `summary.json`).
@@ -277,6 +283,7 @@ impl Simulation {
                 }
                 Err(e) => return Ok(Outcome::Failed(stepper.time(), e.to_string())),
             }
+            self.stats.factor = stepper.solver().linear_solver().symmetric_stats().map(|s| (s.nnz_l, s.flops));
         }
         Ok(Outcome::Completed)
     }
@@ -388,6 +395,21 @@ impl Simulation {
             extra.insert("min_area_ratio".into(), json!(s.min_area_ratio));
         }
         extra.insert("hessian_nnz".into(), json!(potential.pattern().nnz()));
+        extra.insert("factorisations".into(), json!(s.factorisations));
+        if let Some((nnz_l, flops)) = s.factor {
+            extra.insert("factor_nnz".into(), json!(nnz_l));
+            extra.insert("factor_flops".into(), json!(flops));
+            if s.solve_seconds > 0.0 && s.factorisations > 0 {
+                // Factorisation dominates the solve time; this is the achieved rate of the linear solves.
+                extra.insert(
+                    "factor_gflops_per_s".into(),
+                    json!(flops * s.factorisations as f64 / s.solve_seconds / 1e9),
+                );
+            }
+        }
+        if let Some(mb) = peak_memory_mb() {
+            extra.insert("peak_memory_mb".into(), json!(mb));
+        }
         // Energies at the output times (finite values only; JSON has no NaN).
         let finite: Vec<&(f64, f64, f64)> = s.energies.iter().filter(|e| e.1.is_finite() && e.2.is_finite()).collect();
         extra.insert(
@@ -421,6 +443,14 @@ impl Simulation {
             extra,
         }
     }
+}
+
+/// The process's peak resident memory (VmHWM) in MB, where the OS reports it.
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
 }
 
 /// How a run ended.

@@ -1,0 +1,292 @@
+//! `cargo xtask bench-table`: the reference code's cases (refdata/reference-timings.md) run by our
+//! simulator on this machine, with the time per step beside the reference's, and the paper's largest
+//! plate beside the paper's 32-core figure. Writes docs/performance.md (tables) and
+//! docs/performance.json (one object per case).
+//!
+//! Each case runs in a child process of the `cosserat` binary, so its peak memory is its own.
+
+use anyhow::{Context, Result, bail};
+use cosserat::scene::output::{RunStatus, read_summary};
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// One benchmark case.
+struct Case {
+    name: &'static str,
+    scene: &'static str,
+    overrides: Vec<String>,
+    /// The reference code on this kind of machine: ms per step and Newton iterations per step.
+    reference: Option<(f64, f64)>,
+    /// The paper's Table 1 (32 cores, MKL): ms per step.
+    paper_ms: Option<f64>,
+    note: &'static str,
+}
+
+fn plate(
+    element: &'static str,
+    ny: usize,
+    reference: Option<(f64, f64)>,
+    paper_ms: Option<f64>,
+    steps: Option<usize>,
+    note: &'static str,
+) -> Case {
+    let mut overrides = vec![
+        format!("mesh.nx={}", 10 * ny),
+        format!("mesh.ny={ny}"),
+        format!("mesh.element={element}"),
+        "output.frames=false".into(),
+    ];
+    if let Some(n) = steps {
+        overrides.push(format!("time.end={}", n as f64 * 0.01));
+    }
+    let name: &'static str = Box::leak(format!("plate_under_load {element} {}x{ny}", 10 * ny).into_boxed_str());
+    Case {
+        name,
+        scene: "scenes/plate_under_load.toml",
+        overrides,
+        reference,
+        paper_ms,
+        note,
+    }
+}
+
+fn cases(large: bool) -> Vec<Case> {
+    let mut c = vec![
+        plate("tri3", 1, Some((2.3, 1.50)), Some(4.0), None, ""),
+        plate("tri3", 2, Some((7.4, 1.51)), Some(11.0), None, ""),
+        plate("tri3", 4, Some((29.0, 1.95)), Some(28.0), None, ""),
+        plate("tri3", 8, Some((122.2, 2.00)), Some(68.0), None, ""),
+        plate("tri3", 16, Some((785.4, 2.00)), Some(201.0), None, ""),
+        plate(
+            "tri3",
+            32,
+            Some((4665.1, 2.00)),
+            Some(694.0),
+            None,
+            "reference timing partly disturbed by other load (refdata)",
+        ),
+        plate("tri6", 1, Some((3.8, 2.39)), Some(10.0), None, ""),
+        plate("tri6", 2, Some((16.0, 2.33)), Some(32.0), None, ""),
+        plate("tri6", 4, Some((60.6, 2.01)), Some(47.0), None, ""),
+        plate("tri6", 8, Some((361.3, 2.00)), Some(155.0), None, ""),
+        plate("tri6", 16, Some((2468.7, 2.00)), Some(550.0), None, ""),
+        // The reference ran only the first 10 steps of this size: (17.3 + 2.0 + 10.6 + 303.2) s / 10
+        // steps from its timers, at 2.3 iterations per step.
+        plate(
+            "tri6",
+            32,
+            Some((33310.0, 2.3)),
+            Some(1856.0),
+            Some(10),
+            "first 10 steps only, as the reference",
+        ),
+        Case {
+            name: "twisting_strip tri6 40x4",
+            scene: "scenes/twisting_strip.toml",
+            overrides: vec!["output.frames=false".into()],
+            reference: Some((153.9, 4.21)),
+            paper_ms: Some(78.0),
+            note: "",
+        },
+        Case {
+            name: "cylinder_coiling tri3 16x4",
+            scene: "scenes/cylinder_coiling.toml",
+            overrides: vec!["mesh.element=tri3".into(), "output.frames=false".into()],
+            reference: Some((11.7, 2.22)),
+            paper_ms: Some(10.0),
+            note: "",
+        },
+        Case {
+            name: "cylinder_coiling tri6 16x4",
+            scene: "scenes/cylinder_coiling.toml",
+            overrides: vec!["output.frames=false".into()],
+            reference: Some((27.3, 2.23)),
+            paper_ms: Some(25.0),
+            note: "",
+        },
+    ];
+    if large {
+        c.push(plate(
+            "tri6",
+            64,
+            None,
+            Some(6901.0),
+            Some(5),
+            "first 5 steps; the paper's figure is a 200-step average on 32 cores",
+        ));
+    }
+    c
+}
+
+/// One row of docs/performance.json.
+#[derive(Debug, Serialize)]
+struct Row {
+    case: String,
+    dofs: usize,
+    ms_per_step: f64,
+    reference_ms_per_step: Option<f64>,
+    ratio: Option<f64>,
+    newton_iterations: f64,
+    reference_newton_iterations: Option<f64>,
+    paper_ms_per_step: Option<f64>,
+    assembly_share: f64,
+    linear_solve_share: f64,
+    factor_gflops_per_s: Option<f64>,
+    peak_memory_mb: Option<f64>,
+    note: String,
+}
+
+fn cosserat_binary() -> Result<PathBuf> {
+    let status = Command::new("cargo")
+        .args(["build", "--release", "-p", "cosserat", "--bin", "cosserat"])
+        .status()
+        .context("building the cosserat binary")?;
+    if !status.success() {
+        bail!("building the cosserat binary failed");
+    }
+    Ok(PathBuf::from("target/release/cosserat"))
+}
+
+fn run_case(bin: &Path, case: &Case, out: &Path) -> Result<Row> {
+    let mut cmd = Command::new(bin);
+    cmd.arg("run").arg(case.scene).arg("--out").arg(out).arg("--quiet");
+    for o in &case.overrides {
+        cmd.arg("--set").arg(o);
+    }
+    let status = cmd.status().with_context(|| format!("running {}", case.name))?;
+    let s = read_summary(&out.join("summary.json"))?;
+    if !status.success() || s.status != RunStatus::Ok {
+        bail!("{}: {:?} {}", case.name, s.status, s.reason.unwrap_or_default());
+    }
+    let extra = |k: &str| s.extra.get(k).and_then(|v| v.as_f64());
+    Ok(Row {
+        case: case.name.into(),
+        dofs: s.n_displacement_dofs + s.n_rotation_dofs,
+        ms_per_step: s.avg_step_ms,
+        reference_ms_per_step: case.reference.map(|r| r.0),
+        ratio: case.reference.map(|r| r.0 / s.avg_step_ms),
+        newton_iterations: s.avg_newton_iterations,
+        reference_newton_iterations: case.reference.map(|r| r.1),
+        paper_ms_per_step: case.paper_ms,
+        assembly_share: s.assembly_share,
+        linear_solve_share: s.linear_solve_share,
+        factor_gflops_per_s: extra("factor_gflops_per_s"),
+        peak_memory_mb: extra("peak_memory_mb"),
+        note: case.note.into(),
+    })
+}
+
+/// Dense matrix product rate of faer on this machine (GFLOP/s, all threads), the reference for the
+/// factorisation's achieved rate.
+fn gemm_peak() -> f64 {
+    let n = 2000;
+    let a = faer::Mat::<f64>::from_fn(n, n, |i, j| ((i * 7 + j * 13) % 17) as f64 * 0.1);
+    let b = faer::Mat::<f64>::from_fn(n, n, |i, j| ((i * 3 + j * 5) % 11) as f64 * 0.1);
+    let mut c = faer::Mat::<f64>::zeros(n, n);
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t = std::time::Instant::now();
+        faer::linalg::matmul::matmul(
+            c.as_mut(),
+            faer::Accum::Replace,
+            a.as_ref(),
+            b.as_ref(),
+            1.0,
+            faer::Par::rayon(0),
+        );
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    2.0 * (n as f64).powi(3) / best / 1e9
+}
+
+/// Runs the cases and writes the tables.
+pub fn run(large: bool) -> Result<()> {
+    let bin = cosserat_binary()?;
+    let peak = gemm_peak();
+    let mut rows = Vec::new();
+    for case in cases(large) {
+        eprintln!("{} ...", case.name);
+        let out = PathBuf::from("out/bench").join(case.name.replace(' ', "_"));
+        match run_case(&bin, &case, &out) {
+            Ok(row) => {
+                eprintln!(
+                    "  {:.1} ms/step ({:.2} it/step), reference {:?}",
+                    row.ms_per_step, row.newton_iterations, row.reference_ms_per_step
+                );
+                rows.push(row);
+            }
+            Err(e) => eprintln!("  failed: {e:#}"),
+        }
+    }
+    let date = Command::new("date")
+        .args(["-u", "+%Y-%m-%d %H:%M UTC"])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
+    let rev = Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
+    let cpu = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_default();
+    let cores = std::thread::available_parallelism().map_or(0, |n| n.get());
+    let mut md = String::new();
+    writeln!(md, "## Time per step against the reference code\n")?;
+    writeln!(
+        md,
+        "Generated by `cargo xtask bench-table{}` on {date} (git {rev}), release build, {cpu}, {cores} cores; all threads. The reference is the authors' code (Stark, Eigen SparseLU) on a machine of the same kind (refdata/reference-timings.md); the paper's figures are from a 32-core workstation with MKL. Dense GEMM peak here: {peak:.0} GFLOP/s.\n",
+        if large { " --large" } else { "" }
+    )?;
+    writeln!(
+        md,
+        "| case | DOFs | ms/step | reference ms/step | speed-up | Newton it. | reference it. | paper ms/step | assembly | solve | factorisation GFLOP/s | peak memory |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    let opt = |v: Option<f64>, p: usize| v.map_or("–".to_string(), |x| format!("{x:.p$}"));
+    for r in &rows {
+        writeln!(
+            md,
+            "| {}{} | {} | {:.1} | {} | {} | {:.2} | {} | {} | {:.0} % | {:.0} % | {} | {} |",
+            r.case,
+            if r.note.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", r.note)
+            },
+            r.dofs,
+            r.ms_per_step,
+            opt(r.reference_ms_per_step, 1),
+            r.ratio.map_or("–".into(), |x| format!("{x:.1}×")),
+            r.newton_iterations,
+            opt(r.reference_newton_iterations, 2),
+            opt(r.paper_ms_per_step, 0),
+            100.0 * r.assembly_share,
+            100.0 * r.linear_solve_share,
+            opt(r.factor_gflops_per_s, 1),
+            r.peak_memory_mb.map_or("–".into(), |m| format!("{m:.0} MB")),
+        )?;
+    }
+    std::fs::write("docs/performance.json", serde_json::to_string_pretty(&rows)?)?;
+    let path = Path::new("docs/performance.md");
+    let previous = std::fs::read_to_string(path).unwrap_or_default();
+    // The generated table replaces its own section; the hand-written rest of the document stays.
+    const START: &str = "<!-- bench-table -->";
+    const END: &str = "<!-- /bench-table -->";
+    let section = format!("{START}\n{md}{END}");
+    let updated = match (previous.find(START), previous.find(END)) {
+        (Some(a), Some(b)) if b > a => format!("{}{}{}", &previous[..a], section, &previous[b + END.len()..]),
+        _ => format!("# Performance\n\n{section}\n{previous}"),
+    };
+    std::fs::write(path, updated)?;
+    eprintln!("wrote docs/performance.md and docs/performance.json");
+    Ok(())
+}
