@@ -78,6 +78,9 @@ fn main() {
     if std::env::var("ND").is_ok() {
         settings.newton.linear_solver.ordering = cosserat_solver::FillOrdering::NestedDissection { block: 3 };
     }
+    if let Ok(r) = std::env::var("REUSE") {
+        settings.newton.reuse_max_ratio = Some(r.parse().unwrap());
+    }
     if std::env::var("PAR").is_ok() {
         settings.newton.linear_solver.parallelism = faer::Par::rayon(0);
     }

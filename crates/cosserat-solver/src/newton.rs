@@ -43,6 +43,12 @@ pub struct NewtonSettings {
     /// adds the step's linear response (the time stepper uses 1, so small but growing forces — an
     /// unstable mode — are always integrated).
     pub min_iterations: usize,
+    /// Reuse the last factorisation (a chord step: gradient only, no Hessian assembly or numeric
+    /// factorisation) while Newton converges fast: after a full step that cut the residual to below
+    /// `reuse_max_ratio` times its previous value. A chord step that makes slower progress turns reuse
+    /// off until the next factorisation. Off by default (`None`); on large systems, where the
+    /// factorisation dominates, `Some(0.1)` trades a few cheap iterations for fewer factorisations.
+    pub reuse_max_ratio: Option<f64>,
     /// Maximum number of step reductions in one line search, default 20.
     pub max_line_search_iterations: usize,
     /// Armijo constant `c` of the sufficient-decrease test `ΔΠ ≤ c α dx·∇Π` (default 1e-4).
@@ -70,6 +76,7 @@ impl Default for NewtonSettings {
             residual_scale: 1.0,
             max_iterations: 100,
             min_iterations: 0,
+            reuse_max_ratio: None,
             max_line_search_iterations: 20,
             armijo_constant: 1e-4,
             backtracking_factor: 0.5,
@@ -161,6 +168,8 @@ pub struct NewtonReport {
     pub energy: f64,
     /// Total number of step reductions in all line searches (not counting feasibility halvings).
     pub line_search_backtracks: usize,
+    /// Iterations that reused an earlier factorisation (chord steps).
+    pub chord_iterations: usize,
     /// Total number of step halvings to reach a valid state.
     pub feasibility_halvings: usize,
     /// Number of Newton directions negated because they did not descend.
@@ -298,6 +307,7 @@ impl NewtonSolver {
                 residuals: Vec::new(),
                 energy: f64::NAN,
                 line_search_backtracks: 0,
+                chord_iterations: 0,
                 feasibility_halvings: 0,
                 direction_flips: 0,
                 factorisations: FactorisationCounts::default(),
@@ -315,6 +325,10 @@ impl NewtonSolver {
         }
         // Whether `grad` holds ∇Π(x) and the last residual belongs to `x`.
         let mut grad_current = true;
+        // Energy at `x` while `grad_current` (for chord steps, which do not reassemble).
+        let mut energy_current = energy;
+        // Whether the next iteration may reuse the last factorisation (see `reuse_max_ratio`).
+        let mut reuse_next = false;
         let mut k = 0;
         loop {
             if k == s.max_iterations {
@@ -333,7 +347,12 @@ impl NewtonSolver {
             }
             k += 1;
 
-            let e0 = self.eval_hessian(problem, x, k, &mut run)?;
+            let chord = reuse_next && grad_current;
+            let e0 = if chord {
+                energy_current
+            } else {
+                self.eval_hessian(problem, x, k, &mut run)?
+            };
             if !grad_current {
                 let r = self.residual(&self.grad);
                 run.residuals.push(r);
@@ -344,7 +363,19 @@ impl NewtonSolver {
             }
             let r0 = run.last_residual();
 
-            let slope = self.newton_direction(k, &mut run)?;
+            let slope = match chord.then(|| self.chord_direction(k, &mut run)) {
+                Some(Ok(slope)) => {
+                    run.report.chord_iterations += 1;
+                    slope
+                }
+                // No chord step, or an unusable one: a full Newton step from the same point.
+                other => {
+                    if other.is_some() {
+                        self.eval_hessian(problem, x, k, &mut run)?;
+                    }
+                    self.newton_direction(k, &mut run)?
+                }
+            };
             let mut alpha = self.feasible_fraction(problem, x, k, &mut run)?;
 
             // The full feasible step, with its gradient: halve while the state is invalid.
@@ -382,6 +413,9 @@ impl NewtonSolver {
                 if r1 < s.residual_tolerance && k >= s.min_iterations {
                     return Ok(run.finish(k, e1));
                 }
+                energy_current = e1;
+                // A full step with fast progress lets the next iteration keep the factorisation.
+                reuse_next = alpha == 1.0 && s.reuse_max_ratio.is_some_and(|ratio| r1 < ratio * r0);
                 continue;
             }
 
@@ -406,6 +440,7 @@ impl NewtonSolver {
                 if armijo.sufficient_decrease(e0, e, alpha, slope) {
                     x.copy_from_slice(&self.x_trial);
                     grad_current = false;
+                    reuse_next = false;
                     accepted = true;
                     break;
                 }
@@ -427,6 +462,8 @@ impl NewtonSolver {
                         let r = self.residual(&self.grad_trial);
                         self.accept_with_gradient(x, &mut run, r);
                         grad_current = true;
+                        energy_current = e;
+                        reuse_next = false;
                         accepted = true;
                         if r < s.residual_tolerance && k >= s.min_iterations {
                             return Ok(run.finish(k, e));
@@ -434,6 +471,11 @@ impl NewtonSolver {
                         break;
                     }
                 }
+            }
+            if !accepted && chord {
+                // The old factors gave a poor direction: retry this point with a fresh Newton step.
+                reuse_next = false;
+                continue;
             }
             if !accepted {
                 return Err(NewtonError::LineSearchFailed {
@@ -593,6 +635,31 @@ impl NewtonSolver {
             run.report.direction_flips += 1;
         }
         // A zero slope (a direction orthogonal to a non-zero gradient) cannot decrease the energy.
+        if slope < 0.0 {
+            Ok(slope)
+        } else {
+            Err(NewtonError::NotDescent {
+                iteration,
+                slope,
+                residuals: run.residuals.clone(),
+            })
+        }
+    }
+
+    /// A chord direction: solves with the factors of an earlier iteration (no new factorisation).
+    fn chord_direction(&mut self, iteration: usize, run: &mut Run) -> Result<f64, NewtonError> {
+        for (d, g) in self.dx.iter_mut().zip(&self.grad) {
+            *d = -g;
+        }
+        let t = Instant::now();
+        let result = self.linear.solve_in_place(&mut self.dx);
+        run.report.linear_solve_seconds += t.elapsed().as_secs_f64();
+        result.map_err(|source| NewtonError::LinearSolve {
+            iteration,
+            source,
+            residuals: run.residuals.clone(),
+        })?;
+        let slope: f64 = self.dx.iter().zip(&self.grad).map(|(d, g)| d * g).sum();
         if slope < 0.0 {
             Ok(slope)
         } else {

@@ -528,3 +528,31 @@ fn misuse_is_reported_not_panicked() {
         })
     ));
 }
+
+#[test]
+fn chord_steps_reuse_the_factorisation_and_reach_the_same_equilibrium() {
+    let (mut chain, start, exact) = stretched_chain();
+    let newton = NewtonSettings {
+        residual_tolerance: 1e-11,
+        ..Default::default()
+    };
+    let chord = NewtonSettings {
+        reuse_max_ratio: Some(0.1),
+        ..newton
+    };
+    let mut x_newton = start.clone();
+    let r_newton = solve(&mut chain, &mut x_newton, newton).unwrap();
+    let mut x_chord = start.clone();
+    let r_chord = solve(&mut chain, &mut x_chord, chord).unwrap();
+    let err = x_chord.iter().zip(&exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    assert!(err < 1e-9, "chord solution off by {err:e}");
+    assert!(r_chord.chord_iterations > 0, "no chord step taken");
+    let factorisations =
+        |r: &cosserat_solver::NewtonReport| r.factorisations.llt + r.factorisations.lblt + r.factorisations.lu;
+    assert_eq!(factorisations(&r_chord) + r_chord.chord_iterations, r_chord.iterations);
+    assert!(
+        factorisations(&r_chord) < factorisations(&r_newton),
+        "{r_chord:?} vs {r_newton:?}"
+    );
+    assert_eq!(r_newton.chord_iterations, 0);
+}
