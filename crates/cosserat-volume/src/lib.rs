@@ -1,0 +1,73 @@
+//! A volumetric micropolar (Cosserat) continuum on linear tetrahedra, the comparison model of the
+//! shell paper's Lotus "Tet4" row (Löschner, Fernández-Fernández, Jeske, Bender: "Micropolar Elasticity
+//! in Physically-Based Animation", 2023), with the block-Jacobi preconditioned conjugate-gradient Newton
+//! solver that row used.
+//!
+//! Unknowns per node are the end-of-step velocity and spatial angular velocity, advanced exactly like
+//! the shell's (`x = xⁿ + Δt v`, `R = cay(Δt ω) Rⁿ`). Strains are the non-symmetric stretch
+//! `E = Rᵀ F − I` and the wryness `Γ_j = axl(Rᵀ ∂_j R)` minus a prescribed rest curvature; the energy
+//! density is `W_mp(E) + W_curv(Γ)` in the shell supplement's notation ([`density`]).
+//!
+//! Entry points:
+//! - [`mesh::slab`] / [`TetMesh`]: Tet4 meshes (a box of hexahedra split into six tetrahedra each);
+//! - [`build_volume_system`]: a [`VolumeInput`] → [`VolumeSystem`], an
+//!   [`IncrementalPotential`](cosserat_assembly::IncrementalPotential) with the [`Tet4Volume`] term in
+//!   `parts.extra`, inertia and loads, plus the [`RestCurvature`] handle for scripts;
+//! - [`kernel`] (fast exact point Hessian) and [`oracle`] (the same energy for dual-number checks);
+//! - [`measure`]: circle fits and Hausdorff distances for shape comparisons;
+//! - [`pcg`] (block-Jacobi PCG) and [`CgNewtonSolver`] / [`CgTimeStepper`] (Newton-CG on any
+//!   `cosserat_solver::NewtonProblem`).
+//!
+//! Non-goals: higher-order tetrahedra, contact, scene files (this crate is a library for comparisons;
+//! `cosserat-scene` does not know it).
+//!
+//! Feature flags: none.
+//!
+//! A slab at rest has zero energy and zero gradient:
+//! ```
+//! use cosserat_assembly::SystemOptions;
+//! use cosserat_volume::{MicropolarMaterial, VolumeInput, build_volume_system, mesh};
+//! use nalgebra::Vector3;
+//!
+//! let grid = mesh::slab([0.2, 0.05, 0.01], [4, 1, 1]).unwrap();
+//! assert_eq!(grid.mesh.n_elements(), 24);
+//! let input = VolumeInput {
+//!     mesh: grid.mesh,
+//!     material: MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.05),
+//!     damping: 0.0,
+//!     angular_inertia_density: 0.0,
+//! };
+//! let options = SystemOptions { gravity: Vector3::zeros(), dynamic: true, dt: 0.01 };
+//! let mut system = build_volume_system(&input, &options).unwrap();
+//! let n = system.potential.n_dofs();
+//! let mut grad = vec![0.0; n];
+//! let energy = system.potential.gradient(&vec![0.0; n], &mut grad).unwrap();
+//! assert!(energy.abs() < 1e-12 && grad.iter().all(|g| g.abs() < 1e-12));
+//! // A Poisson ratio of 0.5 is rejected before any computation.
+//! let mut bad = input.clone();
+//! bad.material.poisson_ratio = 0.5;
+//! assert!(build_volume_system(&bad, &options).is_err());
+//! ```
+
+pub mod builder;
+pub mod density;
+pub mod element;
+pub mod error;
+pub mod kernel;
+pub mod material;
+pub mod measure;
+pub mod mesh;
+pub mod newton_cg;
+pub mod oracle;
+pub mod pcg;
+pub mod stepper;
+pub mod term;
+pub mod tet4;
+
+pub use builder::{VolumeInput, VolumeSystem, build_volume_system};
+pub use error::{BuildError, CgError, CgNewtonError, MaterialError, MeshError};
+pub use material::{MicropolarMaterial, MicropolarModuli};
+pub use mesh::{SlabGrid, TetMesh};
+pub use newton_cg::{CgNewtonReport, CgNewtonSettings, CgNewtonSolver, ForcingTerm};
+pub use stepper::{CgStepError, CgStepReport, CgTimeStepSettings, CgTimeStepper};
+pub use term::{RestCurvature, Tet4Volume, VolumeTerm};

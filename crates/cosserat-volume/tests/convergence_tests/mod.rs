@@ -1,0 +1,3 @@
+mod coil;
+mod common;
+mod shell;

@@ -1,0 +1,2 @@
+//! Unit tests of the public API of `cosserat-volume`, one module per source module.
+mod unit_tests;

@@ -1,0 +1,47 @@
+//! Validation and derived moduli of the micropolar material.
+
+use cosserat_volume::{MaterialError, MicropolarMaterial};
+
+#[test]
+fn moduli_follow_from_young_and_poisson() {
+    let m = MicropolarMaterial::new(2.6e6, 0.3, 1000.0, 0.1).moduli().unwrap();
+    assert!((m.mu - 1e6).abs() < 1e-6);
+    // λ = E ν / ((1 + ν)(1 − 2ν)) = 2.6e6 · 0.3 / (1.3 · 0.4) = 1.5e6.
+    assert!((m.lambda - 1.5e6).abs() < 1e-6);
+    assert_eq!(m.mu_c, m.mu);
+    assert_eq!(m.curvature_coefficients, [1.0, 1.0, 0.0]);
+}
+
+#[test]
+fn invalid_parameters_are_named() {
+    let base = MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.1);
+    type Spoil = fn(&mut MicropolarMaterial);
+    let cases: [(&str, Spoil); 6] = [
+        ("poisson_ratio", |m| m.poisson_ratio = 0.5),
+        ("youngs_modulus", |m| m.youngs_modulus = f64::NAN),
+        ("density", |m| m.density = 0.0),
+        ("mu_c_factor", |m| m.mu_c_factor = -1.0),
+        ("length_scale", |m| m.length_scale = f64::INFINITY),
+        ("curvature_coefficients[2]", |m| m.curvature_coefficients[2] = -0.1),
+    ];
+    for (field, spoil) in cases {
+        let mut m = base;
+        spoil(&mut m);
+        match m.moduli() {
+            Err(MaterialError::InvalidParameter { name, .. }) => assert_eq!(name, field),
+            other => panic!("{field}: expected an error, got {other:?}"),
+        }
+    }
+}
+
+#[test]
+fn slab_curvature_under_rest_curvature_is_the_stiffness_weighted_mean() {
+    // E = 1e6, ν = 0.25, h = 0.02, L_c = 0.1, b₁ + b₂ = 2: D = 1e6·8e-6/(12·0.9375) = 0.71111…,
+    // C = 0.02 · 4e5 · 0.01 · 2 = 160, k/κ = C/(C + D).
+    let m = MicropolarMaterial::new(1e6, 0.25, 1000.0, 0.1);
+    let d = 1e6 * 8e-6 / (12.0 * 0.9375);
+    assert!((m.plate_bending_stiffness(0.02) - d).abs() < 1e-12);
+    assert!((m.curvature_stiffness(0.02) - 160.0).abs() < 1e-9);
+    let k = m.slab_curvature_under_rest_curvature(0.02, 3.0);
+    assert!((k - 3.0 * 160.0 / (160.0 + d)).abs() < 1e-12);
+}

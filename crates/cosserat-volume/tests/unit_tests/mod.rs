@@ -1,0 +1,10 @@
+mod builder;
+mod common;
+mod density;
+mod kernel;
+mod material;
+mod mesh;
+mod newton_cg;
+mod pcg;
+mod term;
+mod tet4;

@@ -1,0 +1,136 @@
+//! The volume term inside the incremental potential: derivatives of the assembled system, determinism
+//! across threads, the rest-curvature handle, non-finite input and the point-rotation update.
+
+use super::common::{amax, dense, material, perturb_state, rng, small_system, vec3};
+use cosserat_assembly::{AssemblyError, Parallelism};
+use cosserat_geometry::rotation::quaternion_update;
+use cosserat_volume::density::curvature_density;
+use nalgebra::{Matrix3, Vector3};
+
+#[test]
+fn assembled_gradient_and_hessian_match_central_differences() {
+    let mut sys = small_system([2, 1, 1], material(), true, 0.0);
+    perturb_state(&mut sys, 1);
+    sys.rest_curvature
+        .set(|p| Matrix3::from_fn(|r, c| 0.5 * (p as f64 + 1.0) * ((r + 2 * c) as f64 - 3.0)));
+    let p = &mut sys.potential;
+    let n = p.n_dofs();
+    let mut r = rng(2);
+    let u: Vec<f64> = (0..n).map(|_| vec3(&mut r, 0.5).x).collect();
+    let mut g = vec![0.0; n];
+    let mut values = vec![0.0; p.pattern().nnz()];
+    let e = p.hessian(&u, &mut g, &mut values).unwrap();
+    let h = dense(p.pattern(), &values);
+    let mut g2 = vec![0.0; n];
+    // The three paths sum the same element energies in different association orders.
+    assert!((p.gradient(&u, &mut g2).unwrap() - e).abs() < 1e-14 * e.abs());
+    assert_eq!(g, g2);
+    assert!((p.value(&u).unwrap() - e).abs() < 1e-14 * e.abs());
+    // Central differences with steps of 1e-6 (velocities ~0.5 m/s, angular velocities ~0.5 rad/s):
+    // truncation and round-off both below 1e-6 of the largest entry.
+    let step = 1e-6;
+    let (mut gp, mut gm) = (vec![0.0; n], vec![0.0; n]);
+    let mut max_g_err: f64 = 0.0;
+    let mut max_h_err: f64 = 0.0;
+    for i in 0..n {
+        let mut up = u.clone();
+        let mut um = u.clone();
+        up[i] += step;
+        um[i] -= step;
+        let fd = (p.gradient(&up, &mut gp).unwrap() - p.gradient(&um, &mut gm).unwrap()) / (2.0 * step);
+        max_g_err = max_g_err.max((fd - g[i]).abs());
+        for j in 0..n {
+            max_h_err = max_h_err.max(((gp[j] - gm[j]) / (2.0 * step) - h[(j, i)]).abs());
+        }
+    }
+    assert!(max_g_err < 1e-6 * amax(&g), "gradient error {max_g_err}");
+    assert!(max_h_err < 1e-6 * h.amax(), "hessian error {max_h_err}");
+}
+
+#[test]
+fn results_are_bit_identical_for_one_and_many_threads() {
+    // 6 × 4 × 2 cells = 288 elements: more than one chunk of the ordered parallel map.
+    let mut sys = small_system([6, 4, 2], material(), true, 0.0);
+    perturb_state(&mut sys, 3);
+    let p = &mut sys.potential;
+    let n = p.n_dofs();
+    let mut r = rng(4);
+    let u: Vec<f64> = (0..n).map(|_| vec3(&mut r, 0.5).y).collect();
+    let mut run = |par: Parallelism| {
+        p.parallelism = par;
+        let mut g = vec![0.0; n];
+        let mut h = vec![0.0; p.pattern().nnz()];
+        let e = p.hessian(&u, &mut g, &mut h).unwrap();
+        (e, g, h, p.value(&u).unwrap())
+    };
+    let seq = run(Parallelism::Sequential);
+    let par = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(|| run(Parallelism::Rayon));
+    assert_eq!(seq, par);
+}
+
+#[test]
+fn rest_curvature_at_rest_costs_its_curvature_energy() {
+    let m = material();
+    let mut sys = small_system([2, 2, 1], m, false, 0.0);
+    let gamma = Matrix3::new(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0);
+    sys.rest_curvature.set_uniform(gamma);
+    assert_eq!(sys.rest_curvature.get(3), gamma);
+    let n = sys.potential.n_dofs();
+    // At rest E = 0 and Γ = 0, so the energy is the volume times W_curv(−Γ_rest) (gravity does no work
+    // at zero velocity).
+    let e = sys.potential.value(&vec![0.0; n]).unwrap();
+    let expected = sys.volume() * curvature_density(&(-gamma), &m.moduli().unwrap());
+    assert!((e - expected).abs() < 1e-12 * expected, "{e} vs {expected}");
+    sys.rest_curvature.clear();
+    assert_eq!(sys.potential.value(&vec![0.0; n]).unwrap(), 0.0);
+}
+
+#[test]
+fn a_non_finite_position_is_reported_with_its_element() {
+    let mut sys = small_system([1, 1, 1], material(), false, 0.0);
+    sys.potential.parts.state.x[7].x = f64::NAN;
+    let n = sys.potential.n_dofs();
+    match sys.potential.value(&vec![0.0; n]) {
+        Err(AssemblyError::NonFinite { term, location, index }) => {
+            assert_eq!(term, "micropolar_tet4");
+            assert_eq!(location, "element");
+            assert!(sys.potential.parts.extra.len() == 1 && index < 6);
+        }
+        other => panic!("expected a non-finite error, got {other:?}"),
+    }
+    let mut g = vec![0.0; n];
+    assert!(matches!(
+        sys.potential.gradient(&vec![0.0; n], &mut g),
+        Err(AssemblyError::NonFinite { .. })
+    ));
+}
+
+#[test]
+fn commit_advances_point_rotations_with_the_mean_angular_velocity() {
+    let mut sys = small_system([1, 1, 1], material(), true, 0.0);
+    let n = sys.potential.n_dofs();
+    let n_nodes = sys.rest_positions.len();
+    let mut u = vec![0.0; n];
+    let w = Vector3::new(0.3, -0.2, 1.0);
+    for k in 0..n_nodes {
+        u[3 * (n_nodes + k)..3 * (n_nodes + k) + 3].copy_from_slice(w.as_slice());
+    }
+    sys.potential.commit(&u);
+    let st = &sys.potential.parts.state;
+    let expected = quaternion_update(&nalgebra::Quaternion::identity(), &w, 0.01);
+    assert!(st.q_points.iter().all(|q| (q - expected).norm() < 1e-15));
+    assert!(st.q.iter().all(|q| (q - expected).norm() < 1e-15));
+    assert_eq!(
+        sys.potential.active_terms(),
+        [
+            "inertia",
+            "external_loads",
+            "micropolar_stretch",
+            "micropolar_curvature"
+        ]
+    );
+}
