@@ -1,0 +1,185 @@
+//! Benchmarks of the contact layer: per-pair kernels (distance jets, pair energy with derivatives) and
+//! per-step costs of the term (candidate search with lagged friction, Hessian assembly, CCD) for two
+//! stacked plates in self-contact at three sizes.
+
+// `criterion_group!` generates undocumented items.
+#![allow(missing_docs)]
+
+use cosserat_assembly::term::{Evaluation, NodeRotations, PotentialTerm};
+use cosserat_assembly::{DofLayout, Parallelism, SparsityPattern, SystemState};
+use cosserat_contact::barrier::Barrier;
+use cosserat_contact::distance::{EdgeEdgeFeature, PointTriangleFeature, edge_edge_jet, point_triangle_jet};
+use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm};
+use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
+use nalgebra::{Rotation3, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::hint::black_box;
+use std::time::Duration;
+
+const TH: f64 = 5e-4;
+const DHAT: f64 = 1e-3;
+const DT: f64 = 0.01;
+
+fn grid(n: usize, offset: usize) -> Vec<[usize; 3]> {
+    let idx = |i: usize, j: usize| offset + i * (n + 1) + j;
+    (0..n)
+        .flat_map(|i| {
+            (0..n).flat_map(move |j| {
+                [
+                    [idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)],
+                    [idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)],
+                ]
+            })
+        })
+        .collect()
+}
+
+/// Two `n × n` plates of side 0.1 m, the upper one turned by 0.3 rad, 0.5 mm into each other's
+/// barrier (gap 0.5 mm at δ = 1 mm), with random velocities.
+struct Scene {
+    state: SystemState,
+    layout: DofLayout,
+    term: ContactTerm,
+    u: Vec<f64>,
+}
+
+fn scene(n: usize) -> Scene {
+    let mut rng = ChaCha8Rng::seed_from_u64(n as u64);
+    let h = 0.1 / n as f64;
+    let rot = Rotation3::from_axis_angle(&Vector3::z_axis(), 0.3);
+    let centre = Vector3::new(0.05, 0.05, 0.0);
+    let mut x = Vec::new();
+    for level in 0..2 {
+        for i in 0..=n {
+            for j in 0..=n {
+                let p = Vector3::new(i as f64 * h, j as f64 * h, rng.random_range(-1e-5..1e-5));
+                x.push(if level == 0 {
+                    p
+                } else {
+                    centre + rot * (p - centre) + Vector3::new(0.0, 0.0, 2.0 * TH + 0.5 * DHAT)
+                });
+            }
+        }
+    }
+    let half = x.len() / 2;
+    let surfaces = vec![
+        ContactSurface {
+            id: 0,
+            triangles: grid(n, 0),
+            thickness: TH,
+        },
+        ContactSurface {
+            id: 0,
+            triangles: grid(n, half),
+            thickness: TH,
+        },
+    ];
+    let mut params = ContactParameters::new(100.0, DHAT);
+    params.friction.set(0, 0, 0.5).unwrap();
+    params.stick_velocity = 0.05;
+    let term = ContactTerm::try_new(surfaces, Vec::new(), params, &x).unwrap();
+    let layout = DofLayout {
+        n_disp_nodes: x.len(),
+        n_rot_nodes: 0,
+    };
+    let u = (0..layout.n_dofs())
+        .map(|i| {
+            if i % 3 == 2 {
+                rng.random_range(-0.005..0.005)
+            } else {
+                rng.random_range(-0.05..0.05)
+            }
+        })
+        .collect();
+    Scene {
+        state: SystemState::at_rest(x, 0, 0),
+        layout,
+        term,
+        u,
+    }
+}
+
+fn kernels(c: &mut Criterion) {
+    let mut g = c.benchmark_group("pair_kernel");
+    let x = [
+        Vector3::new(0.2, 0.3, 0.01),
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.1, 0.0),
+        Vector3::new(0.1, 1.0, 0.02),
+    ];
+    g.bench_function("point_plane_jet", |b| {
+        b.iter(|| point_triangle_jet(black_box(&x), PointTriangleFeature::Face))
+    });
+    g.bench_function("point_line_jet", |b| {
+        b.iter(|| point_triangle_jet(black_box(&x), PointTriangleFeature::Edge(0)))
+    });
+    g.bench_function("line_line_jet", |b| {
+        b.iter(|| edge_edge_jet(black_box(&x), EdgeEdgeFeature::Interior))
+    });
+    let s = scene(4);
+    let mut s = s;
+    let zero = vec![0.0; s.layout.n_dofs()];
+    s.term.begin_step(&s.state, &s.layout, DT, &zero).unwrap();
+    let barrier = Barrier::try_new(100.0, DHAT).unwrap();
+    let positions = s.term.mesh().positions(|i| s.state.x[i], |_, _| Vector3::zeros());
+    let pair = *s
+        .term
+        .pairs()
+        .iter()
+        .find(|p| p.gap(&p.vertices.map(|v| positions[v as usize])) < DHAT)
+        .unwrap();
+    let px = pair.vertices.map(|v| positions[v as usize]);
+    g.bench_function("pair_energy", |b| b.iter(|| pair.energy(black_box(&px), &barrier)));
+    g.bench_function("pair_energy_jet", |b| {
+        b.iter(|| pair.energy_jet(black_box(&px), &barrier))
+    });
+    g.finish();
+}
+
+fn step(c: &mut Criterion) {
+    let mut g = c.benchmark_group("contact_step");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2));
+    for n in [8, 16, 32] {
+        let mut s = scene(n);
+        let n_tris = 4 * n * n;
+        g.throughput(Throughput::Elements(n_tris as u64));
+        let zero = vec![0.0; s.layout.n_dofs()];
+        g.bench_with_input(BenchmarkId::new("begin_step", n_tris), &n, |b, _| {
+            b.iter(|| s.term.begin_step(&s.state, &s.layout, DT, black_box(&s.u)).unwrap())
+        });
+        s.term.begin_step(&s.state, &s.layout, DT, &zero).unwrap();
+        let groups = s.term.coupling_groups();
+        let pattern = SparsityPattern::from_groups(s.layout.n_blocks(), groups.iter().map(|g| g.as_slice()));
+        let rotations = NodeRotations::Matrices(Vec::new());
+        let eval = Evaluation {
+            state: &s.state,
+            layout: &s.layout,
+            u: &s.u,
+            dt: DT,
+            rotations: &rotations,
+            parallelism: Parallelism::Rayon,
+        };
+        let mut grad = vec![0.0; s.layout.n_dofs()];
+        let mut values = vec![0.0; pattern.nnz()];
+        // Value and Hessian report throughput per candidate pair.
+        g.throughput(Throughput::Elements(s.term.pairs().len() as u64));
+        g.bench_with_input(BenchmarkId::new("value", n_tris), &n, |b, _| {
+            b.iter(|| s.term.value(&eval).unwrap())
+        });
+        g.bench_with_input(BenchmarkId::new("hessian", n_tris), &n, |b, _| {
+            b.iter(|| s.term.hessian(&eval, &mut grad, &pattern, &mut values).unwrap())
+        });
+        g.throughput(Throughput::Elements(n_tris as u64));
+        let du: Vec<f64> = s.u.iter().map(|v| -v).collect();
+        g.bench_with_input(BenchmarkId::new("max_step_fraction", n_tris), &n, |b, _| {
+            b.iter(|| s.term.max_step_fraction(&s.state, &s.layout, &s.u, black_box(&du), DT))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, kernels, step);
+criterion_main!(benches);

@@ -1,0 +1,202 @@
+//! Axis-aligned boxes and a bounding-volume hierarchy over them, for the broad phases.
+//!
+//! The hierarchy is a binary tree built top-down by splitting the box centroids at the median of their
+//! widest axis, with up to four boxes per leaf. Queries return the indices of all boxes overlapping a
+//! query box, sorted, so callers get the same order whatever the traversal.
+
+use nalgebra::Vector3;
+
+/// An axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Aabb {
+    /// Lower corner.
+    pub min: Vector3<f64>,
+    /// Upper corner.
+    pub max: Vector3<f64>,
+}
+
+impl Aabb {
+    /// The empty box (contains nothing, overlaps nothing).
+    pub fn empty() -> Self {
+        Self {
+            min: Vector3::repeat(f64::INFINITY),
+            max: Vector3::repeat(f64::NEG_INFINITY),
+        }
+    }
+
+    /// The smallest box containing the points.
+    pub fn from_points<'a>(points: impl IntoIterator<Item = &'a Vector3<f64>>) -> Self {
+        let mut b = Self::empty();
+        for p in points {
+            b.grow(p);
+        }
+        b
+    }
+
+    /// Extends the box to contain `p`.
+    pub fn grow(&mut self, p: &Vector3<f64>) {
+        self.min = self.min.inf(p);
+        self.max = self.max.sup(p);
+    }
+
+    /// The smallest box containing both.
+    pub fn union(&self, other: &Self) -> Self {
+        Self {
+            min: self.min.inf(&other.min),
+            max: self.max.sup(&other.max),
+        }
+    }
+
+    /// The box grown by `r` in every direction.
+    pub fn inflated(&self, r: f64) -> Self {
+        Self {
+            min: self.min.add_scalar(-r),
+            max: self.max.add_scalar(r),
+        }
+    }
+
+    /// Whether the closed boxes overlap.
+    #[inline]
+    pub fn overlaps(&self, other: &Self) -> bool {
+        (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
+    }
+
+    fn centroid(&self) -> Vector3<f64> {
+        (self.min + self.max) * 0.5
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    aabb: Aabb,
+    /// Leaves: `[start, end)` into `items`; inner nodes: `start` = left child, `end` = right child.
+    start: u32,
+    end: u32,
+    leaf: bool,
+}
+
+/// A bounding-volume hierarchy over a set of boxes.
+#[derive(Debug, Clone)]
+pub struct Bvh {
+    nodes: Vec<Node>,
+    items: Vec<u32>,
+    boxes: Vec<Aabb>,
+}
+
+const LEAF_SIZE: usize = 4;
+
+impl Bvh {
+    /// Builds the hierarchy of `boxes` (indices are positions in the slice).
+    pub fn build(boxes: Vec<Aabb>) -> Self {
+        let mut items: Vec<u32> = (0..boxes.len() as u32).collect();
+        let mut nodes = Vec::with_capacity(2 * boxes.len() / LEAF_SIZE + 1);
+        if !boxes.is_empty() {
+            build_node(&boxes, &mut items, 0, &mut nodes);
+        }
+        Self { nodes, items, boxes }
+    }
+
+    /// Number of boxes.
+    pub fn len(&self) -> usize {
+        self.boxes.len()
+    }
+
+    /// Whether there are no boxes.
+    pub fn is_empty(&self) -> bool {
+        self.boxes.is_empty()
+    }
+
+    /// Indices of all boxes overlapping `query`, appended to `out` in increasing order.
+    pub fn query(&self, query: &Aabb, out: &mut Vec<u32>) {
+        let first = out.len();
+        if self.nodes.is_empty() {
+            return;
+        }
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let node = &self.nodes[n as usize];
+            if !node.aabb.overlaps(query) {
+                continue;
+            }
+            if node.leaf {
+                for &i in &self.items[node.start as usize..node.end as usize] {
+                    if self.boxes[i as usize].overlaps(query) {
+                        out.push(i);
+                    }
+                }
+            } else {
+                stack.push(node.start);
+                stack.push(node.end);
+            }
+        }
+        out[first..].sort_unstable();
+    }
+}
+
+/// Builds the subtree over `items` (whose first entry has global offset `offset`) and returns its index.
+fn build_node(boxes: &[Aabb], items: &mut [u32], offset: usize, nodes: &mut Vec<Node>) -> u32 {
+    let aabb = items.iter().fold(Aabb::empty(), |acc, &i| acc.union(&boxes[i as usize]));
+    let index = nodes.len() as u32;
+    if items.len() <= LEAF_SIZE {
+        nodes.push(Node {
+            aabb,
+            start: offset as u32,
+            end: (offset + items.len()) as u32,
+            leaf: true,
+        });
+        return index;
+    }
+    nodes.push(Node {
+        aabb,
+        start: 0,
+        end: 0,
+        leaf: false,
+    });
+    let centroids = Aabb::from_points(items.iter().map(|&i| boxes[i as usize].centroid()).collect::<Vec<_>>().iter());
+    let extent = centroids.max - centroids.min;
+    let axis = if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    };
+    let mid = items.len() / 2;
+    items.select_nth_unstable_by(mid, |&a, &b| {
+        let (ca, cb) = (boxes[a as usize].centroid()[axis], boxes[b as usize].centroid()[axis]);
+        ca.total_cmp(&cb).then(a.cmp(&b))
+    });
+    let (left_items, right_items) = items.split_at_mut(mid);
+    let left = build_node(boxes, left_items, offset, nodes);
+    let right = build_node(boxes, right_items, offset + mid, nodes);
+    nodes[index as usize].start = left;
+    nodes[index as usize].end = right;
+    index
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    #[test]
+    fn queries_match_a_linear_scan() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        let boxes: Vec<Aabb> = (0..300)
+            .map(|_| {
+                let c = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                let h = Vector3::from_fn(|_, _| rng.random_range(0.0..0.1));
+                Aabb { min: c - h, max: c + h }
+            })
+            .collect();
+        let bvh = Bvh::build(boxes.clone());
+        for q in boxes.iter().take(50) {
+            let q = q.inflated(0.05);
+            let mut found = Vec::new();
+            bvh.query(&q, &mut found);
+            let expected: Vec<u32> = (0..boxes.len() as u32).filter(|&i| boxes[i as usize].overlaps(&q)).collect();
+            assert_eq!(found, expected);
+        }
+    }
+}

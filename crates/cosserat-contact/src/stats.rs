@@ -1,0 +1,54 @@
+//! Counters and coverage reports of the contact term, for run summaries and step control.
+
+use std::time::Duration;
+
+/// Counters of the contact term, for summaries.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactStats {
+    /// Candidate pairs of the current step.
+    pub n_candidates: usize,
+    /// Pairs within the barrier's reach at the last evaluation.
+    pub n_active: usize,
+    /// Pairs with lagged friction in the current step.
+    pub n_friction: usize,
+    /// The smallest gap (distance minus thickness) among the candidates at the last evaluation \[m\]
+    /// (`+∞` without candidates).
+    pub min_gap: f64,
+    /// Evaluations (value, gradient or Hessian) since construction.
+    pub n_evaluations: usize,
+    /// CCD queries (`max_step_fraction`, `obstacle_motion_fraction`) since construction.
+    pub n_ccd_queries: usize,
+    /// Time spent in broad phases since construction.
+    pub broad_phase_time: Duration,
+    /// Time spent in narrow-phase CCD since construction.
+    pub ccd_time: Duration,
+    /// Time spent evaluating energies and derivatives since construction.
+    pub energy_time: Duration,
+}
+
+impl Default for ContactStats {
+    fn default() -> Self {
+        Self {
+            n_candidates: 0,
+            n_active: 0,
+            n_friction: 0,
+            min_gap: f64::INFINITY,
+            n_evaluations: 0,
+            n_ccd_queries: 0,
+            broad_phase_time: Duration::ZERO,
+            ccd_time: Duration::ZERO,
+            energy_time: Duration::ZERO,
+        }
+    }
+}
+
+/// Pairs within reach of a configuration, and whether the candidates cover them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coverage {
+    /// The smallest gap over all pairs within reach \[m\] (`+∞` if none).
+    pub min_gap: f64,
+    /// Pairs with a gap below the barrier width.
+    pub n_active: usize,
+    /// Of those, pairs that are not candidates of the current step (their barrier is missing).
+    pub n_uncovered: usize,
+}

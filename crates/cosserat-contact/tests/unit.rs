@@ -1,0 +1,2 @@
+//! Unit tests of the public API of `cosserat-contact`.
+mod unit_tests;
