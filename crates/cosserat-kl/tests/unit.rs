@@ -1,0 +1,2 @@
+//! Tests of the public API of `cosserat-kl`, one module per source module.
+mod unit_tests;

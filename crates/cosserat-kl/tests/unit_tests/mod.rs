@@ -1,0 +1,11 @@
+mod common;
+mod couple;
+mod energy;
+mod fundamental_form;
+mod material;
+mod rest;
+mod scatter;
+mod stencil;
+mod system;
+mod term;
+mod thickness;
