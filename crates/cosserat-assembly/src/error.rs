@@ -16,6 +16,15 @@ pub enum AssemblyError {
         /// Index of the element or node.
         index: usize,
     },
+    /// A state outside a term's domain (e.g. two contact primitives touching or crossing). The Newton
+    /// line search treats it as an invalid trial and backs off.
+    #[error("infeasible state in energy term `{term}`: {reason}")]
+    Infeasible {
+        /// The term's name.
+        term: String,
+        /// What is infeasible.
+        reason: String,
+    },
     /// An unknown vector of the wrong length.
     #[error("unknown vector has {got} entries, expected {expected}")]
     WrongLength {

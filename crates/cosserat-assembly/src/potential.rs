@@ -188,18 +188,36 @@ impl IncrementalPotential {
         self.dynamic = Some(dynamic);
     }
 
+    /// Whether any dynamic term exists (contact).
+    pub fn has_dynamic_terms(&self) -> bool {
+        self.parts.extra.iter().any(|t| t.is_dynamic())
+    }
+
     /// Prepares the dynamic terms for a step from the current state with Newton's initial guess `u`.
     /// Returns whether the Hessian's pattern changed (the solver must then redo its symbolic analysis).
-    pub fn begin_step(&mut self, u: &[f64]) -> bool {
+    ///
+    /// # Errors
+    /// An infeasible start state.
+    pub fn begin_step(&mut self, u: &[f64]) -> Result<bool, AssemblyError> {
         let (state, layout, dt) = (&self.parts.state, &self.parts.layout, self.dt);
         let mut changed = false;
         for t in self.parts.extra.iter_mut().filter(|t| t.is_dynamic()) {
-            changed |= t.begin_step(state, layout, dt, u);
+            changed |= t.begin_step(state, layout, dt, u)?;
         }
         if changed {
             self.rebuild_dynamic();
         }
-        changed
+        Ok(changed)
+    }
+
+    /// Whether a converged `u` needs the dynamic terms prepared again and another solve.
+    pub fn needs_resolve(&mut self, u: &[f64]) -> bool {
+        if !self.has_dynamic_terms() {
+            return false;
+        }
+        self.update_rotations(u, false);
+        let eval = self.evaluation(u);
+        self.parts.extra.iter().any(|t| t.needs_resolve(&eval))
     }
 
     /// The largest fraction of the step `du` from `u` that keeps every term's state valid.

@@ -121,8 +121,29 @@ pub trait PotentialTerm: Send + Sync {
 
     /// Called before each step's Newton solve with the start-of-step state, the time step and Newton's
     /// initial guess. Returns whether the coupling groups changed (dynamic terms only).
-    fn begin_step(&mut self, _state: &SystemState, _layout: &DofLayout, _dt: f64, _u: &[f64]) -> bool {
+    ///
+    /// # Errors
+    /// An infeasible start state.
+    fn begin_step(
+        &mut self,
+        _state: &SystemState,
+        _layout: &DofLayout,
+        _dt: f64,
+        _u: &[f64],
+    ) -> Result<bool, AssemblyError> {
+        Ok(false)
+    }
+
+    /// Whether a converged solution `eval.u` left the set of couplings prepared by
+    /// [`PotentialTerm::begin_step`] (a contact came within reach that was not a candidate); the step is
+    /// then prepared again from `eval.u` and re-solved.
+    fn needs_resolve(&self, _eval: &Evaluation<'_>) -> bool {
         false
+    }
+
+    /// Access for scripts that drive a concrete term between steps (e.g. moving obstacles).
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        None
     }
 
     /// The largest fraction `α ∈ (0, 1]` of the Newton step `du` from `eval.u` that keeps the state

@@ -514,14 +514,16 @@ impl ContactTerm {
         })
     }
 
+    /// A pair whose gap is not positive (or whose energy is not finite): an infeasible trial state, which
+    /// the Newton line search backs off from.
     fn non_finite(&self, kind: PairKind, index: usize) -> AssemblyError {
-        AssemblyError::NonFinite {
+        let pair = match kind {
+            PairKind::PointTriangle => "point-triangle pair",
+            PairKind::EdgeEdge => "edge-edge pair",
+        };
+        AssemblyError::Infeasible {
             term: self.name(),
-            location: match kind {
-                PairKind::PointTriangle => "point-triangle pair",
-                PairKind::EdgeEdge => "edge-edge pair",
-            },
-            index,
+            reason: format!("{pair} {index} touches or crosses (no positive gap)"),
         }
     }
 
@@ -640,6 +642,35 @@ impl ContactTerm {
 impl PotentialTerm for ContactTerm {
     fn name(&self) -> String {
         "contact".into()
+    }
+
+    fn is_dynamic(&self) -> bool {
+        true
+    }
+
+    fn begin_step(
+        &mut self,
+        state: &SystemState,
+        layout: &DofLayout,
+        dt: f64,
+        u: &[f64],
+    ) -> Result<bool, AssemblyError> {
+        ContactTerm::begin_step(self, state, layout, dt, u).map_err(|e| AssemblyError::Infeasible {
+            term: self.name(),
+            reason: e.to_string(),
+        })
+    }
+
+    fn needs_resolve(&self, eval: &Evaluation<'_>) -> bool {
+        self.coverage(eval.state, eval.layout, eval.u, eval.dt).n_uncovered > 0
+    }
+
+    fn max_step_fraction(&self, eval: &Evaluation<'_>, du: &[f64]) -> f64 {
+        ContactTerm::max_step_fraction(self, eval.state, eval.layout, eval.u, du, eval.dt)
+    }
+
+    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
+        Some(self)
     }
 
     fn coupling_groups(&self) -> Vec<Vec<usize>> {

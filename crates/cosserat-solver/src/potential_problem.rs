@@ -18,7 +18,7 @@ impl<'a> PotentialProblem<'a> {
     }
 }
 
-fn map_error(e: AssemblyError) -> ProblemError {
+pub(crate) fn map_error(e: AssemblyError) -> ProblemError {
     match e {
         AssemblyError::NonFinite { index, .. } => ProblemError::NonFiniteEnergy { index },
         other => ProblemError::InvalidState {

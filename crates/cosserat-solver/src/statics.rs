@@ -98,7 +98,16 @@ pub fn solve_quasi_static(
                 }
                 _ => u.fill(0.0),
             }
-            if potential.begin_step(&u) {
+            let changed = potential.begin_step(&u).map_err(|e| StaticError {
+                from: current,
+                to: lambda,
+                error: NewtonError::Problem {
+                    iteration: 0,
+                    source: crate::potential_problem::map_error(e),
+                    residuals: Vec::new(),
+                },
+            })?;
+            if changed {
                 solver =
                     NewtonSolver::try_new(potential.pattern().symbolic(), *solver.settings()).map_err(|error| {
                         StaticError {

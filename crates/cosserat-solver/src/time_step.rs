@@ -170,14 +170,14 @@ impl TimeStepper {
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
             // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
-            if potential.begin_step(&self.u) {
-                match NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings()) {
-                    Ok(solver) => self.solver = solver,
-                    Err(error) => {
-                        attempts.push(FailedAttempt { dt, error });
-                        return Err(StepError { t: self.t, attempts });
-                    }
+            if let Err(error) = self.prepare_dynamic(potential) {
+                attempts.push(FailedAttempt { dt, error });
+                let next = dt * 0.5;
+                if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
+                    return Err(StepError { t: self.t, attempts });
                 }
+                dt = next;
+                continue;
             }
             let fixed = potential.fixed_dofs().map(|(mask, values)| {
                 for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
@@ -185,10 +185,23 @@ impl TimeStepper {
                 }
                 mask
             });
-            let result = {
-                let mut problem = PotentialProblem::new(potential, fixed);
+            let mut result = {
+                let mut problem = PotentialProblem::new(potential, fixed.clone());
                 self.solver.solve(&mut problem, &mut self.u)
             };
+            // A converged solution that reached contacts outside the prepared candidates is solved
+            // again with the candidates grown around it.
+            for _ in 0..3 {
+                if result.is_err() || !potential.needs_resolve(&self.u) {
+                    break;
+                }
+                if let Err(error) = self.refresh_dynamic(potential) {
+                    result = Err(error);
+                    break;
+                }
+                let mut problem = PotentialProblem::new(potential, fixed.clone());
+                result = self.solver.solve(&mut problem, &mut self.u);
+            }
             match result {
                 Ok(newton) => {
                     potential.commit(&self.u);
@@ -218,6 +231,34 @@ impl TimeStepper {
                 }
             }
         }
+    }
+
+    /// Prepares the dynamic terms (contact) for an attempt from the initial guess and limits the guess
+    /// by continuous collision detection.
+    fn prepare_dynamic(&mut self, potential: &mut IncrementalPotential) -> Result<(), NewtonError> {
+        if !potential.has_dynamic_terms() {
+            return Ok(());
+        }
+        self.refresh_dynamic(potential)?;
+        let zero = vec![0.0; self.u.len()];
+        let alpha = potential.max_step_fraction(&zero, &self.u);
+        if alpha < 1.0 {
+            self.u.iter_mut().for_each(|u| *u *= alpha);
+        }
+        Ok(())
+    }
+
+    /// Lets the dynamic terms prepare around `self.u`; a grown pattern gets a new symbolic analysis.
+    fn refresh_dynamic(&mut self, potential: &mut IncrementalPotential) -> Result<(), NewtonError> {
+        let changed = potential.begin_step(&self.u).map_err(|e| NewtonError::Problem {
+            iteration: 0,
+            source: crate::potential_problem::map_error(e),
+            residuals: Vec::new(),
+        })?;
+        if changed {
+            self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings())?;
+        }
+        Ok(())
     }
 
     fn initial_guess(&mut self, potential: &IncrementalPotential) {

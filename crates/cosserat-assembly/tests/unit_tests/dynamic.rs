@@ -38,15 +38,15 @@ impl PotentialTerm for Springs {
     fn coupling_groups(&self) -> Vec<Vec<usize>> {
         self.pairs.iter().map(|p| p.to_vec()).collect()
     }
-    fn begin_step(&mut self, _: &SystemState, _: &DofLayout, _: f64, _: &[f64]) -> bool {
-        match self.next.pop() {
+    fn begin_step(&mut self, _: &SystemState, _: &DofLayout, _: f64, _: &[f64]) -> Result<bool, AssemblyError> {
+        Ok(match self.next.pop() {
             Some(p) => {
                 let grew = p.iter().any(|q| !self.pairs.contains(q));
                 self.pairs = p;
                 grew
             }
             None => false,
-        }
+        })
     }
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
         Ok(self.energy(eval, |_, _, _| {}))
@@ -122,7 +122,7 @@ fn dynamic_couplings_are_merged_and_the_pattern_grows_only_when_needed() {
     );
     let u: Vec<f64> = (0..p.n_dofs()).map(|i| 0.01 * (i as f64).sin()).collect();
     // First step: two pairs (popped from the back); the pattern grows and couples far nodes.
-    assert!(p.begin_step(&u));
+    assert!(p.begin_step(&u).unwrap());
     assert!(p.pattern().entry(3 * far_a, 3 * far_b).is_some());
     let h = dense(&mut p, &u);
     // Finite differences of the gradient (the springs and the shell together).
@@ -145,5 +145,5 @@ fn dynamic_couplings_are_merged_and_the_pattern_grows_only_when_needed() {
         }
     }
     // Second step: a subset of the pairs: no growth, no new symbolic analysis needed.
-    assert!(!p.begin_step(&u));
+    assert!(!p.begin_step(&u).unwrap());
 }
