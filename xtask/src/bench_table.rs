@@ -11,6 +11,7 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use xtask::plot::{Mark, Plot, Series};
 
 /// One benchmark case.
 struct Case {
@@ -22,6 +23,8 @@ struct Case {
     /// The paper's Table 1 (32 cores, MKL): ms per step.
     paper_ms: Option<f64>,
     note: &'static str,
+    /// Threads of the child process (`RAYON_NUM_THREADS`); `None` uses all cores.
+    threads: Option<usize>,
 }
 
 fn plate(
@@ -49,7 +52,15 @@ fn plate(
         reference,
         paper_ms,
         note,
+        threads: None,
     }
+}
+
+/// The same case restricted to one thread, for the 1-vs-all-threads comparison.
+fn single_threaded(mut case: Case) -> Case {
+    case.name = Box::leak(format!("{} (1 thread)", case.name).into_boxed_str());
+    case.threads = Some(1);
+    case
 }
 
 fn cases(large: bool) -> Vec<Case> {
@@ -89,6 +100,7 @@ fn cases(large: bool) -> Vec<Case> {
             reference: Some((153.9, 4.21)),
             paper_ms: Some(78.0),
             note: "",
+            threads: None,
         },
         Case {
             name: "cylinder_coiling tri3 16x4",
@@ -97,6 +109,7 @@ fn cases(large: bool) -> Vec<Case> {
             reference: Some((11.7, 2.22)),
             paper_ms: Some(10.0),
             note: "",
+            threads: None,
         },
         Case {
             name: "cylinder_coiling tri6 16x4",
@@ -105,8 +118,13 @@ fn cases(large: bool) -> Vec<Case> {
             reference: Some((27.3, 2.23)),
             paper_ms: Some(25.0),
             note: "",
+            threads: None,
         },
     ];
+    c.extend([
+        single_threaded(plate("tri6", 8, None, None, None, "")),
+        single_threaded(plate("tri6", 16, None, None, None, "")),
+    ]);
     if large {
         c.push(plate(
             "tri6",
@@ -125,6 +143,8 @@ fn cases(large: bool) -> Vec<Case> {
 struct Row {
     case: String,
     dofs: usize,
+    /// Threads available to the run.
+    threads: usize,
     ms_per_step: f64,
     reference_ms_per_step: Option<f64>,
     ratio: Option<f64>,
@@ -151,6 +171,9 @@ fn cosserat_binary() -> Result<PathBuf> {
 
 fn run_case(bin: &Path, case: &Case, out: &Path) -> Result<Row> {
     let mut cmd = Command::new(bin);
+    if let Some(n) = case.threads {
+        cmd.env("RAYON_NUM_THREADS", n.to_string());
+    }
     cmd.arg("run").arg(case.scene).arg("--out").arg(out).arg("--quiet");
     for o in &case.overrides {
         cmd.arg("--set").arg(o);
@@ -164,6 +187,9 @@ fn run_case(bin: &Path, case: &Case, out: &Path) -> Result<Row> {
     Ok(Row {
         case: case.name.into(),
         dofs: s.n_displacement_dofs + s.n_rotation_dofs,
+        threads: case
+            .threads
+            .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get())),
         ms_per_step: s.avg_step_ms,
         reference_ms_per_step: case.reference.map(|r| r.0),
         ratio: case.reference.map(|r| r.0 / s.avg_step_ms),
@@ -252,7 +278,7 @@ pub fn run(large: bool) -> Result<()> {
     )?;
     writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
     let opt = |v: Option<f64>, p: usize| v.map_or("–".to_string(), |x| format!("{x:.p$}"));
-    for r in &rows {
+    for r in rows.iter().filter(|r| r.threads == cores) {
         writeln!(
             md,
             "| {}{} | {} | {:.1} | {} | {} | {:.2} | {} | {} | {:.0} % | {:.0} % | {} | {} |",
@@ -275,6 +301,8 @@ pub fn run(large: bool) -> Result<()> {
             r.peak_memory_mb.map_or("–".into(), |m| format!("{m:.0} MB")),
         )?;
     }
+    scaling_section(&mut md, &rows, cores)?;
+    threads_section(&mut md, &rows, cores)?;
     std::fs::write("docs/performance.json", serde_json::to_string_pretty(&rows)?)?;
     let path = Path::new("docs/performance.md");
     let previous = std::fs::read_to_string(path).unwrap_or_default();
@@ -288,5 +316,120 @@ pub fn run(large: bool) -> Result<()> {
     };
     std::fs::write(path, updated)?;
     eprintln!("wrote docs/performance.md and docs/performance.json");
+    Ok(())
+}
+
+/// The exponent `p` and factor `c` of the least-squares fit `t = c nᵖ` on log–log axes.
+fn power_fit(points: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let logs: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|(n, t)| *n > 0.0 && *t > 0.0)
+        .map(|(n, t)| (n.ln(), t.ln()))
+        .collect();
+    if logs.len() < 2 {
+        return None;
+    }
+    let k = logs.len() as f64;
+    let (mx, my) = logs.iter().fold((0.0, 0.0), |(a, b), (x, y)| (a + x / k, b + y / k));
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx).powi(2)).sum();
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let p = sxy / sxx;
+    Some((p, (my - p * mx).exp()))
+}
+
+/// Smallest size included in the fits: below it, fixed per-step costs (output, scripts, setup of the
+/// step) dominate and the exponent would describe them rather than the algorithms.
+const FIT_MIN_DOFS: usize = 2000;
+
+/// Time per step, assembly and linear solve against the number of unknowns for the plate series,
+/// with fitted exponents, as a table and a log–log plot (docs/img/scaling.svg).
+fn scaling_section(md: &mut String, rows: &[Row], cores: usize) -> Result<()> {
+    let mut series = Vec::new();
+    writeln!(md, "\n## Scaling with the number of unknowns\n")?;
+    writeln!(
+        md,
+        "Least-squares fits `t = c n^p` over the Plate under load rows with at least {FIT_MIN_DOFS} unknowns ({cores} threads). A sparse direct solve of a 2D mesh problem with a minimum-degree ordering grows like n^1.5 at best; assembly is linear.\n"
+    )?;
+    writeln!(md, "| elements | sizes | p (step) | p (assembly) | p (linear solve) |")?;
+    writeln!(md, "|---|---|---|---|---|")?;
+    for (k, element) in ["tri3", "tri6"].into_iter().enumerate() {
+        let plate: Vec<&Row> = rows
+            .iter()
+            .filter(|r| r.threads == cores && r.case.starts_with(&format!("plate_under_load {element} ")))
+            .collect();
+        let pick =
+            |f: &dyn Fn(&Row) -> f64| -> Vec<(f64, f64)> { plate.iter().map(|r| (r.dofs as f64, f(r))).collect() };
+        let step = pick(&|r| r.ms_per_step);
+        let assembly = pick(&|r| r.ms_per_step * r.assembly_share);
+        let solve = pick(&|r| r.ms_per_step * r.linear_solve_share);
+        let fitted = |pts: &[(f64, f64)]| {
+            let big: Vec<(f64, f64)> = pts.iter().copied().filter(|(n, _)| *n >= FIT_MIN_DOFS as f64).collect();
+            power_fit(&big).map_or("–".to_string(), |(p, _)| format!("{p:.2}"))
+        };
+        let n_big = plate.iter().filter(|r| r.dofs >= FIT_MIN_DOFS).count();
+        writeln!(
+            md,
+            "| {element} | {n_big} | {} | {} | {} |",
+            fitted(&step),
+            fitted(&assembly),
+            fitted(&solve)
+        )?;
+        for (label, points, mark) in [
+            ("step", step, Mark::LinePoints),
+            ("assembly", assembly, Mark::Points),
+            ("linear solve", solve, Mark::Points),
+        ] {
+            series.push(Series {
+                label: format!("{element} {label}"),
+                points,
+                mark,
+                color: 1 + 3 * k + series.len() % 3,
+            });
+        }
+    }
+    let plot = Plot {
+        title: "Plate under load: time per step".into(),
+        x_label: "unknowns".into(),
+        y_label: "ms per step".into(),
+        log_log: true,
+        series,
+    };
+    std::fs::create_dir_all("docs/img")?;
+    plot.write_svg(Path::new("docs/img/scaling.svg"))?;
+    writeln!(md, "\n![time per step against unknowns](img/scaling.svg)")?;
+    Ok(())
+}
+
+/// Single-threaded runs beside the same cases on all threads.
+fn threads_section(md: &mut String, rows: &[Row], cores: usize) -> Result<()> {
+    let single: Vec<&Row> = rows.iter().filter(|r| r.threads == 1 && cores > 1).collect();
+    if single.is_empty() {
+        return Ok(());
+    }
+    writeln!(md, "\n## One thread against {cores}\n")?;
+    writeln!(
+        md,
+        "| case | ms/step, 1 thread | ms/step, {cores} threads | speed-up | assembly speed-up | solve speed-up |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|---|")?;
+    for one in single {
+        let base = one.case.trim_end_matches(" (1 thread)");
+        let Some(all) = rows.iter().find(|r| r.threads == cores && r.case == base) else {
+            continue;
+        };
+        let part = |r: &Row, share: f64| r.ms_per_step * share;
+        writeln!(
+            md,
+            "| {base} | {:.1} | {:.1} | {:.2}× | {:.2}× | {:.2}× |",
+            one.ms_per_step,
+            all.ms_per_step,
+            one.ms_per_step / all.ms_per_step,
+            part(one, one.assembly_share) / part(all, all.assembly_share),
+            part(one, one.linear_solve_share) / part(all, all.linear_solve_share),
+        )?;
+    }
     Ok(())
 }

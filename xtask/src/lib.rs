@@ -1,8 +1,17 @@
 //! Developer tasks of the Cosserat shell workspace (the library behind `cargo xtask`): the paper's
-//! experiments, their post-processing and tables.
+//! experiments, their post-processing and tables; the validation benchmarks (`validate`), the
+//! speed–accuracy study (`study`) and the stability matrix with the locking study (`stability`).
 //!
 //! xtask only orchestrates: every physical computation goes through the `cosserat` crate.
 
 pub mod experiments;
+pub mod locking;
 pub mod paper;
+pub mod plot;
 pub mod postprocess;
+pub mod problem;
+pub mod reference;
+pub mod runner;
+pub mod stability;
+pub mod study;
+pub mod validate;

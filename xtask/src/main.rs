@@ -6,7 +6,7 @@
 mod bench_table;
 mod run;
 
-use xtask::experiments;
+use xtask::{experiments, runner, stability, study, validate};
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -36,6 +36,22 @@ enum Command {
         #[arg(long)]
         large: bool,
     },
+    /// Run the validation benchmarks and write docs/validation.md.
+    Validate(ValidateArgs),
+    /// Speed-accuracy study (refinement ladders per element pair) into docs/speed-accuracy.md.
+    Study(study::StudyArgs),
+    /// Stability matrix at extreme parameters and the locking study into docs/stability.md.
+    Stability(stability::StabilityArgs),
+    /// Run one scene and print the peak memory (used by the studies; one scene per process).
+    #[command(hide = true)]
+    MeasureRun(cosserat::cli::RunArgs),
+}
+
+#[derive(Debug, clap::Args)]
+struct ValidateArgs {
+    /// Only the scene's own mesh and the next ladder mesh (writes out/validation_quick.md instead).
+    #[arg(long)]
+    quick: bool,
 }
 
 #[derive(Debug, clap::Args)]
@@ -98,6 +114,32 @@ fn main() -> Result<()> {
             std::fs::write(&path, md)?;
             eprintln!("wrote {}", path.display());
             0
+        }
+        Command::Validate(a) => {
+            let options = validate::Options {
+                runner: runner::Runner::current_exe()?,
+                out: PathBuf::from("out/validation"),
+                images: PathBuf::from(if a.quick { "out/img" } else { "docs/img" }),
+                quick: a.quick,
+            };
+            let md = validate::run_all(&options)?;
+            let path = PathBuf::from(if a.quick {
+                "out/validation_quick.md"
+            } else {
+                "docs/validation.md"
+            });
+            std::fs::write(&path, md)?;
+            eprintln!("wrote {}", path.display());
+            0
+        }
+        Command::Study(a) => study::run(&a)?,
+        Command::Stability(a) => stability::run(&a)?,
+        Command::MeasureRun(a) => {
+            let (code, peak) = runner::measure_run(&a)?;
+            if let Some(kib) = peak {
+                println!("peak_rss_kib={kib}");
+            }
+            code
         }
         Command::Render(a) => {
             let path = cosserat::cli::render(&a)?;

@@ -17,7 +17,18 @@ fn every_experiment_runs_a_few_steps() {
     };
     let report = xtask::experiments::run_all(&options).unwrap();
     assert!(!report.contains("## Failures"), "{report}");
-    for name in ["twisting_strip", "plate_under_load", "cylinder_coiling", "lotus_flower", "curvature_modes", "buckling_circle", "moebius"] {
-        assert!(report.contains(&format!("| {name} |")), "{name} missing from the report");
+    for name in [
+        "twisting_strip",
+        "plate_under_load",
+        "cylinder_coiling",
+        "lotus_flower",
+        "curvature_modes",
+        "buckling_circle",
+        "moebius",
+    ] {
+        assert!(
+            report.contains(&format!("| {name} |")),
+            "{name} missing from the report"
+        );
     }
 }

@@ -387,7 +387,7 @@ impl IncrementalPotential {
         }
     }
 
-    /// The elastic energy of the shells in the start-of-step state (no motion over the step) [J].
+    /// The elastic energy of the shells in the start-of-step state (no motion over the step), in J.
     ///
     /// # Errors
     /// A non-finite contribution.
@@ -398,7 +398,7 @@ impl IncrementalPotential {
         self.parts.shells.iter().try_fold(0.0, |acc, s| Ok(acc + s.value(&eval)?))
     }
 
-    /// The kinetic energy `½ Σ m |v|² + ½ Σ I |ω|²` of the start-of-step state [J] (zero without inertia).
+    /// The kinetic energy `½ Σ m |v|² + ½ Σ I |ω|²` of the start-of-step state, in J (zero without inertia).
     pub fn kinetic_energy(&self) -> f64 {
         let Some(inertia) = &self.parts.inertia else { return 0.0 };
         let st = &self.parts.state;

@@ -1,6 +1,7 @@
-//! Benchmarks of the contact layer: per-pair kernels (distance jets, pair energy with derivatives) and
+//! Benchmarks of the contact layer: per-pair kernels (distance jets, pair energy with derivatives),
 //! per-step costs of the term (candidate search with lagged friction, Hessian assembly, CCD) for two
-//! stacked plates in self-contact at three sizes.
+//! stacked plates in self-contact at three sizes, and the cost of one contact step against the number
+//! of triangles for an icosphere shell (self-contact on) landing on a floor, 320 to 20 480 triangles.
 
 // `criterion_group!` generates undocumented items.
 #![allow(missing_docs)]
@@ -9,7 +10,9 @@ use cosserat_assembly::term::{Evaluation, NodeRotations, PotentialTerm};
 use cosserat_assembly::{DofLayout, Parallelism, SparsityPattern, SystemState};
 use cosserat_contact::barrier::Barrier;
 use cosserat_contact::distance::{EdgeEdgeFeature, PointTriangleFeature, edge_edge_jet, point_triangle_jet};
+use cosserat_contact::mesh::Obstacle;
 use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm};
+use cosserat_fem::mesh::procedural::icosphere;
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Rotation3, Vector3};
 use rand::{Rng, SeedableRng};
@@ -181,5 +184,115 @@ fn step(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, kernels, step);
+/// An icosphere shell of radius 0.1 m (subdivision `level`, self-contact on) whose lowest vertex is
+/// half the barrier width into the barrier of a 1 m floor square, falling at 2 cm/s with seeded
+/// random velocity perturbations of up to 5 mm/s (the end of the step stays feasible): the contact patch keeps its physical size while the mesh
+/// is refined, as in a refinement study of a scene.
+fn sphere_on_floor(level: usize) -> Scene {
+    let mut rng = ChaCha8Rng::seed_from_u64(level as u64);
+    let sphere = icosphere(0.1, level).unwrap();
+    let x = sphere.mesh.nodes.clone();
+    let bottom = x.iter().map(|p| p.z).fold(f64::INFINITY, f64::min);
+    let floor_z = bottom - 2.0 * TH - 0.5 * DHAT;
+    let floor = Obstacle {
+        id: 1,
+        positions: vec![
+            Vector3::new(-0.5, -0.5, floor_z),
+            Vector3::new(0.5, -0.5, floor_z),
+            Vector3::new(0.5, 0.5, floor_z),
+            Vector3::new(-0.5, 0.5, floor_z),
+        ],
+        triangles: vec![[0, 1, 2], [0, 2, 3]],
+        thickness: TH,
+    };
+    let surfaces = vec![ContactSurface {
+        id: 0,
+        triangles: sphere.mesh.elements.clone(),
+        thickness: TH,
+    }];
+    let mut params = ContactParameters::new(100.0, DHAT);
+    params.friction.set(0, 1, 0.5).unwrap();
+    params.friction.set(0, 0, 0.5).unwrap();
+    params.stick_velocity = 0.05;
+    let term = ContactTerm::try_new(surfaces, vec![floor], params, &x).unwrap();
+    let layout = DofLayout {
+        n_disp_nodes: x.len(),
+        n_rot_nodes: 0,
+    };
+    let u = (0..layout.n_dofs())
+        .map(|i| rng.random_range(-0.005..0.005) - if i % 3 == 2 { 0.02 } else { 0.0 })
+        .collect();
+    Scene {
+        state: SystemState::at_rest(x, 0, 0),
+        layout,
+        term,
+        u,
+    }
+}
+
+/// One contact step as the time stepper runs it with two Newton iterations: `begin_step`, two
+/// Hessian evaluations (with gradients) each followed by the CCD step limit, two line-search values,
+/// and the coverage check of the converged state. Returns the step's CCD fraction.
+fn contact_step(s: &mut Scene, pattern: &mut SparsityPattern, values: &mut Vec<f64>, grad: &mut [f64]) -> f64 {
+    s.term.begin_step(&s.state, &s.layout, DT, &s.u).unwrap();
+    if !s.term.fits_pattern(pattern) {
+        let groups = s.term.coupling_groups();
+        *pattern = SparsityPattern::from_groups(s.layout.n_blocks(), groups.iter().map(|g| g.as_slice()));
+        values.resize(pattern.nnz(), 0.0);
+    }
+    let rotations = NodeRotations::Matrices(Vec::new());
+    let eval = Evaluation {
+        state: &s.state,
+        layout: &s.layout,
+        u: &s.u,
+        dt: DT,
+        rotations: &rotations,
+        parallelism: Parallelism::Rayon,
+    };
+    let du: Vec<f64> = s.u.iter().map(|v| 0.1 * v).collect();
+    let mut alpha = 1.0_f64;
+    for _ in 0..2 {
+        grad.fill(0.0);
+        values.fill(0.0);
+        s.term.hessian(&eval, grad, pattern, values).unwrap();
+        alpha = alpha.min(s.term.max_step_fraction(&s.state, &s.layout, &s.u, &du, DT));
+        black_box(s.term.value(&eval).unwrap());
+    }
+    black_box(s.term.coverage(&s.state, &s.layout, &s.u, DT));
+    alpha
+}
+
+fn refinement(c: &mut Criterion) {
+    let mut g = c.benchmark_group("sphere_on_floor");
+    g.sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
+    for level in 2..=5 {
+        let mut s = sphere_on_floor(level);
+        let n_tris = s.term.mesh().triangles().len() - 2;
+        g.throughput(Throughput::Elements(n_tris as u64));
+        let zero = vec![0.0; s.layout.n_dofs()];
+        s.term.begin_step(&s.state, &s.layout, DT, &zero).unwrap();
+        let groups = s.term.coupling_groups();
+        let mut pattern = SparsityPattern::from_groups(s.layout.n_blocks(), groups.iter().map(|g| g.as_slice()));
+        let mut values = vec![0.0; pattern.nnz()];
+        let mut grad = vec![0.0; s.layout.n_dofs()];
+        g.bench_with_input(BenchmarkId::new("step", n_tris), &level, |b, _| {
+            b.iter(|| contact_step(&mut s, &mut pattern, &mut values, &mut grad))
+        });
+        g.bench_with_input(BenchmarkId::new("begin_step", n_tris), &level, |b, _| {
+            b.iter(|| s.term.begin_step(&s.state, &s.layout, DT, black_box(&s.u)).unwrap())
+        });
+        let du: Vec<f64> = s.u.iter().map(|v| 0.1 * v).collect();
+        g.bench_with_input(BenchmarkId::new("max_step_fraction", n_tris), &level, |b, _| {
+            b.iter(|| s.term.max_step_fraction(&s.state, &s.layout, &s.u, black_box(&du), DT))
+        });
+        g.bench_with_input(BenchmarkId::new("coverage", n_tris), &level, |b, _| {
+            b.iter(|| s.term.coverage(&s.state, &s.layout, black_box(&s.u), DT))
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, kernels, step, refinement);
 criterion_main!(benches);

@@ -10,6 +10,7 @@
 //!   transforms);
 //! - [`output`]: the files of a run (VTU frames with a `.pvd` collection, `probes.csv`, `summary.json`),
 //!   all written atomically and owned by [`output::RunWriter`];
+//! - [`grid`]: flat rectangular grids recognised in a mesh (the mid-surface of a volumetric slab);
 //! - [`render`]: a small software rasteriser that turns a frame into a PNG image for quick looks and
 //!   reports.
 //!
@@ -33,6 +34,7 @@
 
 pub mod error;
 pub mod expr;
+pub mod grid;
 pub mod mesh_source;
 pub mod obj;
 pub mod output;

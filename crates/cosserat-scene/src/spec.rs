@@ -146,6 +146,38 @@ pub struct SceneSpec {
     pub probes: Vec<ProbeSpec>,
     /// Output settings.
     pub output: OutputSpec,
+    /// Frictional contact; `None` builds no contact structure at all.
+    pub contact: Option<ContactSpec>,
+}
+
+/// The hyperelastic law of a Kirchhoff–Love shell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum HyperelasticLaw {
+    /// St. Venant–Kirchhoff.
+    StVenantKirchhoff,
+    /// Compressible neo-Hookean.
+    NeoHookean,
+}
+
+/// Which mechanical model a shell of a scene is simulated with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum ModelKind {
+    /// The three-director Cosserat shell (plate or curved shell, per [`ShellSpec::rest`]).
+    #[default]
+    Cosserat,
+    /// The Kirchhoff–Love thin shell of `cosserat-kl` on the Tri3 mesh: vertex positions only.
+    /// [`ShellSpec::material`] supplies thickness, Young's modulus, Poisson ratio, density; its
+    /// Cosserat-only entries are unused.
+    KirchhoffLove(HyperelasticLaw),
+    /// The volumetric micropolar continuum of `cosserat-volume`: the Tri3 rectangle mesh (the
+    /// mid-surface) extruded into a slab of `layers` Tet4 layers through the thickness. Selections of
+    /// the shell's nodes stand for the columns of slab nodes above them.
+    MicropolarVolume {
+        /// Element layers through the thickness (at least 1).
+        layers: usize,
+    },
 }
 
 /// One shell: its mesh, elements, material and model.
@@ -153,6 +185,8 @@ pub struct SceneSpec {
 pub struct ShellSpec {
     /// Name (for summaries and errors).
     pub name: String,
+    /// The mechanical model.
+    pub model: ModelKind,
     /// The rest mesh, already upgraded to the displacement element.
     pub mesh: ShellMesh,
     /// Displacement/rotation element pair.
@@ -239,6 +273,21 @@ impl MotionSpec {
             rotation: None,
             translation: None,
         }
+    }
+
+    /// The map `X ↦ R(t) (X − c) + c + d(t)` at time `t`.
+    pub fn map_at(&self, t: f64) -> impl Fn(&Vector3<f64>) -> Vector3<f64> + use<> {
+        let (rotation, center) = match &self.rotation {
+            Some((axis, center, angle)) => (
+                nalgebra::Rotation3::from_scaled_axis(axis * angle.eval(t)).into_inner(),
+                *center,
+            ),
+            None => (Matrix3::identity(), Vector3::zeros()),
+        };
+        let translation = self.translation.as_ref().map_or_else(Vector3::zeros, |d| {
+            Vector3::new(d[0].eval(t), d[1].eval(t), d[2].eval(t))
+        });
+        move |x: &Vector3<f64>| rotation * (x - center) + center + translation
     }
 }
 
@@ -391,4 +440,118 @@ pub struct OutputSpec {
     pub frames: bool,
     /// Subdivision level of quadratic elements in the frames (each level splits a triangle into 4).
     pub subdivision: usize,
+}
+
+/// Frictional contact of a scene: which shells take part, the obstacles, friction coefficients and
+/// the barrier parameters (the model of `cosserat-contact`: an IPC log barrier on the gap
+/// `d − (h_a + h_b)` with width `d̂`, lagged smoothed Coulomb friction, CCD-limited Newton steps).
+#[derive(Debug, Clone)]
+pub struct ContactSpec {
+    /// Barrier stiffness `κ` \[J/m²\] (energy per pair `−κ (g − d̂)² ln(g/d̂)`).
+    pub stiffness: f64,
+    /// Barrier width `d̂` \[m\]: pairs interact while their gap is below it.
+    pub barrier_width: f64,
+    /// Stick–slide velocity threshold `ε_v` \[m/s\] of the smoothed friction (default 0.1).
+    pub stick_velocity: f64,
+    /// Project each pair's barrier Hessian onto the positive semi-definite cone (default true).
+    pub project_pd: bool,
+    /// CCD: fraction of a pair's gap that a Newton step may close at most (default 0.1).
+    pub min_gap_fraction: f64,
+    /// The shells that take part (self-contact included), with their contact thickness.
+    pub surfaces: Vec<ContactSurfaceSpec>,
+    /// Triangle meshes whose vertices are not unknowns: static or moved by a script.
+    pub obstacles: Vec<ObstacleSpec>,
+    /// Friction coefficients between bodies; pairs not listed are frictionless.
+    pub friction: Vec<FrictionSpec>,
+}
+
+/// A triangle mesh: vertex positions \[m\] and triangles as vertex triples.
+pub type SurfaceMesh = (Vec<Vector3<f64>>, Vec<[usize; 3]>);
+
+/// A shell that takes part in contact.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactSurfaceSpec {
+    /// Index of the shell in [`SceneSpec::shells`].
+    pub shell: usize,
+    /// Contact thickness \[m\]: two bodies keep the sum of their thicknesses apart.
+    pub thickness: f64,
+}
+
+/// A contact obstacle: a triangle mesh that is not simulated.
+#[derive(Debug, Clone)]
+pub struct ObstacleSpec {
+    /// Name (friction entries refer to it).
+    pub name: String,
+    /// Vertex positions at rest (at `t = 0` before any motion) \[m\].
+    pub positions: Vec<Vector3<f64>>,
+    /// Triangles as vertex triples.
+    pub triangles: Vec<[usize; 3]>,
+    /// Contact thickness \[m\].
+    pub thickness: f64,
+    /// Scripted rigid motion of the rest positions, evaluated at the end of each step; `None` is a
+    /// static obstacle.
+    pub motion: Option<MotionSpec>,
+}
+
+impl ObstacleSpec {
+    /// The closed surface of an axis-aligned box with centre `center` and full edge lengths `size`
+    /// \[m\]: 8 vertices and 12 triangles, outward normals.
+    pub fn box_mesh(center: Vector3<f64>, size: Vector3<f64>) -> SurfaceMesh {
+        let half = size * 0.5;
+        // Vertex k has the sign pattern of its bits: bit 0 → x, bit 1 → y, bit 2 → z.
+        let positions = (0..8)
+            .map(|k| {
+                let s = |bit: usize| if k & (1 << bit) != 0 { 1.0 } else { -1.0 };
+                center + Vector3::new(s(0) * half.x, s(1) * half.y, s(2) * half.z)
+            })
+            .collect();
+        let triangles = vec![
+            // −z, +z
+            [0, 2, 3],
+            [0, 3, 1],
+            [4, 5, 7],
+            [4, 7, 6],
+            // −y, +y
+            [0, 1, 5],
+            [0, 5, 4],
+            [2, 6, 7],
+            [2, 7, 3],
+            // −x, +x
+            [0, 4, 6],
+            [0, 6, 2],
+            [1, 3, 7],
+            [1, 7, 5],
+        ];
+        (positions, triangles)
+    }
+
+    /// The positions at time `t` (the motion applied to the rest positions; the rest positions for a
+    /// static obstacle).
+    pub fn positions_at(&self, t: f64) -> Vec<Vector3<f64>> {
+        match &self.motion {
+            None => self.positions.clone(),
+            Some(m) => {
+                let map = m.map_at(t);
+                self.positions.iter().map(map).collect()
+            }
+        }
+    }
+}
+
+/// A body of the contact model, for friction coefficients.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ContactBody {
+    /// A shell, by index in [`SceneSpec::shells`].
+    Shell(usize),
+    /// An obstacle, by index in [`ContactSpec::obstacles`].
+    Obstacle(usize),
+}
+
+/// A friction coefficient between two bodies (the same body twice: self-friction).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrictionSpec {
+    /// The two bodies.
+    pub bodies: [ContactBody; 2],
+    /// The Coulomb coefficient `μ` \[-\].
+    pub coefficient: f64,
 }

@@ -9,7 +9,8 @@
 use faer::sparse::FaerError;
 use thiserror::Error;
 
-/// The numerical factorisation that produced (or failed to produce) a solution.
+/// The numerical factorisation (or, for [`Cg`](Self::Cg), the iterative solver) that produced or failed
+/// to produce a solution.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 #[non_exhaustive]
 pub enum Factorisation {
@@ -20,6 +21,8 @@ pub enum Factorisation {
     Lblt,
     /// Sparse LU with partial pivoting on the full (mirrored) matrix.
     Lu,
+    /// No factorisation: block-Jacobi preconditioned conjugate gradients, an inexact solve.
+    Cg,
 }
 
 impl std::fmt::Display for Factorisation {
@@ -28,6 +31,7 @@ impl std::fmt::Display for Factorisation {
             Self::Llt => "LLᵀ",
             Self::Lblt => "LBLᵀ",
             Self::Lu => "LU",
+            Self::Cg => "CG",
         };
         f.write_str(name)
     }
@@ -140,6 +144,22 @@ pub enum LinearSolveError {
         /// The rejected bound.
         value: f64,
     },
+    /// `LinearSolverSettings::cg.relative_tolerance` (or a tolerance set for one solve) lies outside
+    /// the open interval (0, 1).
+    #[error("the relative CG tolerance must lie in (0, 1), got {value}")]
+    InvalidCgTolerance {
+        /// The rejected tolerance.
+        value: f64,
+    },
+    /// `LinearSolverSettings::cg.max_iterations` is `Some(0)`.
+    #[error("the CG iteration cap must be positive")]
+    ZeroCgIterationCap,
+    /// The conjugate-gradient recursion produced a NaN or infinity (overflow on badly scaled input).
+    #[error("conjugate gradients broke down (non-finite value) in iteration {iteration}")]
+    CgBreakdown {
+        /// The CG iteration (0: the right-hand side's norm overflowed).
+        iteration: usize,
+    },
     /// `solve_in_place` was called before a successful `factorise`.
     #[error("no valid factorisation: call factorise successfully before solving")]
     NotFactorised,
@@ -208,6 +228,12 @@ pub enum SettingName {
     MinStepFraction,
     /// `linear_solver.max_backward_error` must be positive (infinity disables the check).
     MaxBackwardError,
+    /// `linear_solver.cg.relative_tolerance` must lie in (0, 1).
+    CgRelativeTolerance,
+    /// `linear_solver.cg.max_iterations` must not be `Some(0)`.
+    CgMaxIterations,
+    /// A fixed `cg_forcing` tolerance must lie in (0, 1).
+    CgForcing,
 }
 
 /// A failure of Newton's method.

@@ -10,11 +10,16 @@
 //!   [`NewtonError`] carrying the residual history. [`NewtonSettings`] holds the tolerances.
 //! - [`linear::SparseSolver`]: supernodal Cholesky, symmetric indefinite `L B Lᵀ` and LU from faer,
 //!   with the symbolic analysis done once per pattern, fixed unknowns eliminated without touching the
-//!   pattern, and an `Auto` mode that falls back from Cholesky to `L B Lᵀ` to LU.
+//!   pattern, and an `Auto` mode that falls back from Cholesky to `L B Lᵀ` to LU; and block-Jacobi
+//!   preconditioned conjugate gradients ([`LinearSolverKind::Cg`]) for large positive definite
+//!   systems, which Newton's method solves inexactly with the reference's forcing sequence
+//!   ([`CgForcing`]).
+//! - [`TimeStepper`] and [`solve_quasi_static`]: time steps and load levels with the same Newton solver.
 //!
 //! Non-goals: this crate knows nothing about meshes, elements or energies: the assembly layer adapts
 //! its incremental potential to [`NewtonProblem`]. It does not project Hessians to positive
-//! definiteness (that is per element, in assembly) and has no iterative linear solvers.
+//! definiteness (that is per element, in assembly), and its only iterative linear solver is the
+//! block-Jacobi CG (no multigrid, no incomplete factorisations).
 //!
 //! Feature flags: none.
 //!
@@ -72,7 +77,10 @@ pub mod time_step;
 pub use error::{
     Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, SettingName,
 };
-pub use linear::{FactorStats, FillOrdering, LinearSolverKind, LinearSolverSettings, SparseSolver};
+pub use linear::{
+    CgForcing, CgReport, CgSettings, CgStop, FactorStats, FillOrdering, LinearSolverKind, LinearSolverSettings,
+    SparseSolver,
+};
 pub use newton::{FactorisationCounts, NewtonReport, NewtonSettings, NewtonSolver};
 pub use problem::NewtonProblem;
 pub use statics::{LoadLevelReport, QuasiStaticSettings, StaticError, solve_quasi_static};

@@ -11,11 +11,13 @@ use cosserat_assembly::{ElementPair, IncrementalPotential, ShellInput, ShellMesh
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
-use cosserat_solver::potential_problem::PotentialProblem;
-use cosserat_solver::{QuasiStaticSettings, solve_quasi_static};
+use cosserat_solver::{
+    LinearSolverKind, LinearSolverSettings, NewtonSettings, QuasiStaticSettings, TimeStepSettings, TimeStepper,
+    solve_quasi_static,
+};
 use cosserat_volume::measure::{fit_circle, hausdorff_distance};
 use cosserat_volume::mesh::{SlabGrid, slab};
-use cosserat_volume::{CgNewtonSettings, CgNewtonSolver, MicropolarMaterial, VolumeInput, build_volume_system};
+use cosserat_volume::{MicropolarMaterial, VolumeInput, build_volume_system};
 use nalgebra::{Matrix3, Vector2, Vector3};
 use std::time::Instant;
 
@@ -26,6 +28,17 @@ const LEVELS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 
 fn material(lc: f64) -> MicropolarMaterial {
     MicropolarMaterial::new(1e6, 0.3, 1000.0, lc)
+}
+
+/// Newton settings with block-Jacobi CG steps and the reference's forcing sequence.
+fn cg_newton() -> NewtonSettings {
+    NewtonSettings {
+        linear_solver: LinearSolverSettings {
+            kind: LinearSolverKind::Cg,
+            ..Default::default()
+        },
+        ..Default::default()
+    }
 }
 
 fn rest_curvature(lambda: f64) -> Matrix3<f64> {
@@ -82,42 +95,22 @@ fn volume_coil(h: f64, cells: [usize; 3], lc: f64, cg: bool) -> (SlabGrid, Outco
     let handle = sys.rest_curvature.clone();
     let n_dofs = sys.potential.n_dofs();
     let start = Instant::now();
-    let (iterations, assembly_seconds, solve_seconds, cg_iterations) = if cg {
-        let p = &mut sys.potential;
-        p.dt = 1.0;
-        let mut u = vec![0.0; n_dofs];
-        let (mut it, mut asm, mut sol, mut cgi) = (0, 0.0, 0.0, 0);
-        let settings = CgNewtonSettings::default();
-        for lambda in LEVELS {
-            handle.set_uniform(rest_curvature(lambda));
-            u.fill(0.0);
-            let fixed = p.fixed_dofs().map(|(m, _)| m);
-            let mut problem = PotentialProblem::new(p, fixed);
-            let mut solver = CgNewtonSolver::for_problem(&problem, settings).unwrap();
-            let report = solver.solve(&mut problem, &mut u).unwrap();
-            it += report.iterations;
-            asm += report.assembly_seconds;
-            sol += report.linear_solve_seconds;
-            cgi += report.total_cg_iterations();
-            p.commit(&u);
-        }
-        (it, asm, sol, cgi)
-    } else {
-        let reports = solve_quasi_static(
-            &mut sys.potential,
-            &LEVELS,
-            &QuasiStaticSettings::default(),
-            &mut |_, lambda| handle.set_uniform(rest_curvature(lambda)),
-            &mut |_, _| {},
-        )
-        .unwrap();
-        (
-            reports.iter().map(|r| r.total_iterations).sum(),
-            reports.iter().map(|r| r.newton.assembly_seconds).sum(),
-            reports.iter().map(|r| r.newton.linear_solve_seconds).sum(),
-            0,
-        )
+    let settings = QuasiStaticSettings {
+        newton: if cg { cg_newton() } else { NewtonSettings::default() },
+        ..Default::default()
     };
+    let reports = solve_quasi_static(
+        &mut sys.potential,
+        &LEVELS,
+        &settings,
+        &mut |_, lambda| handle.set_uniform(rest_curvature(lambda)),
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let iterations = reports.iter().map(|r| r.total_iterations).sum();
+    let assembly_seconds = reports.iter().map(|r| r.newton.assembly_seconds).sum();
+    let solve_seconds = reports.iter().map(|r| r.newton.linear_solve_seconds).sum();
+    let cg_iterations = reports.iter().map(|r| r.newton.cg_iterations).sum();
     let seconds = start.elapsed().as_secs_f64();
     let mid_surface = grid.mid_surface(&sys.potential.parts.state.x);
     (
@@ -253,9 +246,12 @@ fn lotus(n: usize, t_end: f64) {
     pin_centre(&mut vol.potential, &vol.rest_positions, 1e-9);
     let points = vol.point_positions.clone();
     let handle = vol.rest_curvature.clone();
-    let mut stepper =
-        cosserat_volume::CgTimeStepper::new(&mut vol.potential, cosserat_volume::CgTimeStepSettings::fixed(dt))
-            .unwrap();
+    let mut settings = TimeStepSettings::fixed(dt);
+    settings.newton = NewtonSettings {
+        min_iterations: 1,
+        ..cg_newton()
+    };
+    let mut stepper = TimeStepper::new(&vol.potential, settings).unwrap();
     let (mut newton, mut cg, mut asm, mut sol) = (0, 0, 0.0, 0.0);
     let start = Instant::now();
     for _ in 0..steps {
@@ -265,7 +261,7 @@ fn lotus(n: usize, t_end: f64) {
             })
             .unwrap();
         newton += r.newton.iterations;
-        cg += r.newton.total_cg_iterations();
+        cg += r.newton.cg_iterations;
         asm += r.newton.assembly_seconds;
         sol += r.newton.linear_solve_seconds;
     }
@@ -290,8 +286,7 @@ fn lotus(n: usize, t_end: f64) {
     let rest = shell.shells[0].rest_disp_positions.clone();
     let shell_points = shell.shells[0].rest_point_positions.clone();
     pin_centre(&mut shell.potential, &rest, 1e-9);
-    let mut shell_stepper =
-        cosserat_solver::TimeStepper::new(&shell.potential, cosserat_solver::TimeStepSettings::fixed(dt)).unwrap();
+    let mut shell_stepper = TimeStepper::new(&shell.potential, TimeStepSettings::fixed(dt)).unwrap();
     let (mut shell_newton, mut shell_asm, mut shell_sol) = (0, 0.0, 0.0);
     let start = Instant::now();
     for _ in 0..steps {
@@ -497,9 +492,9 @@ fn main() {
     println!();
     println!("Shell comparison (Tri6/Tri3 plate, nx/2 × ny/2 cells, same nodes as the slab mid-surface):");
     println!(
-        "| L_c | h | slab cells | shell k_fit/κ | Hausdorff/L | max node dist/L | slab: it., asm s, solve s | shell: it., asm s, solve s |"
+        "| L_c | h | slab cells | shell k_fit/κ | Hausdorff/L | slab: it., asm s, solve s | shell: it., asm s, solve s |"
     );
-    println!("|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|");
     for (lc, h) in [(0.1, 0.01), (0.1, 0.02)] {
         for (nx, ny) in [(32, 4), (64, 8)] {
             let (grid, vol) = volume_coil(h, [nx, ny, 1], lc, false);
@@ -520,7 +515,7 @@ fn main() {
         }
     }
     println!();
-    println!("Newton-CG on the same solves (block-Jacobi PCG, reference forcing):");
+    println!("Newton-CG on the same solves (LinearSolverKind::Cg: block-Jacobi PCG, reference forcing):");
     println!(
         "| h | cells | DOFs | Newton it. | CG it. | asm s | CG s | total s | direct total s | max node diff [m] |"
     );

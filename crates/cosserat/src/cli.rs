@@ -131,6 +131,9 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
             return Ok(1);
         }
     };
+    for warning in sim.advice() {
+        eprintln!("warning: {warning}");
+    }
     let stop = Arc::new(AtomicBool::new(false));
     {
         let stop = stop.clone();

@@ -16,6 +16,12 @@ pub enum SimulationError {
     /// A scene item cannot be set up.
     #[error("{0}")]
     Setup(String),
+    /// The contact term could not be built, or the initial state violates a contact thickness.
+    #[error("contact: {0}")]
+    Contact(#[from] cosserat_contact::ContactError),
+    /// Evaluating a term of the potential failed (e.g. an infeasible contact state).
+    #[error(transparent)]
+    Evaluation(#[from] cosserat_assembly::AssemblyError),
     /// The solver could not be set up.
     #[error(transparent)]
     Solver(#[from] cosserat_solver::NewtonError),

@@ -10,7 +10,13 @@
 //! - [`cli::run`]: the `cosserat` binary (`cosserat run <scene.toml> [--out DIR] [--set key=value]`,
 //!   `cosserat render <out dir>`);
 //! - the layers below are re-exported: [`geometry`], [`fem`], [`material`], [`assembly`], [`solver`],
-//!   [`scene`].
+//!   [`scene`], [`contact`];
+//! - [`contact_run`]: the contact term of a scene with a `[contact]` section (built only then) and
+//!   the contact statistics of a run.
+//!
+//! - [`kl_model`] and [`volume_model`]: scenes with the comparison models (`[material] model =
+//!   "kirchhoff_love"` on `cosserat-kl`, `"micropolar_volume"` on `cosserat-volume`) run through the same
+//!   [`Simulation`];
 //!
 //! Non-goals: no physics lives here; this crate composes the layers.
 //!
@@ -25,14 +31,19 @@
 //! println!("{} steps, {:.1} Newton iterations per step", summary.n_steps, summary.avg_newton_iterations);
 //! ```
 
+pub mod advice;
 pub mod cli;
+pub mod contact_run;
 pub mod error;
 pub mod frames;
+pub mod kl_model;
 pub mod probes;
 pub mod scripts;
 pub mod simulation;
+pub mod volume_model;
 
 pub use cosserat_assembly as assembly;
+pub use cosserat_contact as contact;
 pub use cosserat_fem as fem;
 pub use cosserat_geometry as geometry;
 pub use cosserat_material as material;

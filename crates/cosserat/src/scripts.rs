@@ -1,9 +1,10 @@
 //! Scripted boundary conditions, loads and rest fields: what a scene changes before every step.
 //!
 //! Built once from a [`SceneSpec`]: regions become global node lists, distributions become nodal
-//! weights, and each step only evaluates the scene's time functions and writes targets, forces and rest
-//! fields into the potential's parts.
+//! weights, and each step only evaluates the scene's time functions and writes targets, forces, rest
+//! fields and the end-of-step positions of kinematic contact obstacles into the potential's parts.
 
+use crate::contact_run::contact_parts;
 use crate::error::SimulationError;
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionConstraint, PositionPenalty, RotationPenalty};
 use cosserat_assembly::{IncrementalPotential, ShellLayout};
@@ -51,12 +52,48 @@ struct RestFieldScript {
     applied: bool,
 }
 
+/// A contact obstacle: where it is, and its scripted motion if it moves.
+#[derive(Debug)]
+struct ObstacleScript {
+    /// Rest positions (the motion maps these).
+    rest: Vec<Vector3<f64>>,
+    /// Triangles (for output frames).
+    triangles: Vec<[usize; 3]>,
+    motion: Option<MotionSpec>,
+    /// The end-of-step positions last given to the contact term.
+    current: Vec<Vector3<f64>>,
+}
+
+/// The contact obstacles of a scene and the position of the contact term in the potential.
+#[derive(Debug)]
+struct ObstacleScripts {
+    /// Index of the contact term in `PotentialParts::extra`.
+    term: usize,
+    obstacles: Vec<ObstacleScript>,
+    /// The largest distance of an obstacle vertex from its scripted target at the end of a step \[m\].
+    max_lag: f64,
+    /// The same at the end of the last step \[m\].
+    last_lag: f64,
+}
+
+/// The position, rest position and triangles of a contact obstacle, for output frames.
+#[derive(Debug, Clone, Copy)]
+pub struct ObstacleView<'a> {
+    /// Current positions \[m\].
+    pub positions: &'a [Vector3<f64>],
+    /// Rest positions \[m\].
+    pub rest: &'a [Vector3<f64>],
+    /// Triangles (local vertex triples).
+    pub triangles: &'a [[usize; 3]],
+}
+
 /// All scripted quantities of a scene.
 #[derive(Debug)]
 pub struct Scripts {
     boundaries: Vec<BoundaryScript>,
     loads: Vec<LoadScript>,
     rest_fields: Vec<RestFieldScript>,
+    obstacles: Option<ObstacleScripts>,
 }
 
 fn global_disp(layouts: &[ShellLayout], sel: &NodeSelection) -> Vec<usize> {
@@ -163,11 +200,103 @@ impl Scripts {
                 }
             }
         }
+        let obstacles = spec.contact.as_ref().and_then(|c| {
+            let term = (0..potential.parts.extra.len()).find(|&k| contact_parts(potential, k).is_some())?;
+            Some(ObstacleScripts {
+                term,
+                obstacles: c
+                    .obstacles
+                    .iter()
+                    .map(|o| ObstacleScript {
+                        rest: o.positions.clone(),
+                        triangles: o.triangles.clone(),
+                        motion: o.motion.clone(),
+                        current: o.positions_at(0.0),
+                    })
+                    .collect(),
+                max_lag: 0.0,
+                last_lag: 0.0,
+            })
+        });
         Ok(Self {
             boundaries,
             loads,
             rest_fields,
+            obstacles,
         })
+    }
+
+    /// The contact obstacles where they are now (positions last given to the contact term), for
+    /// output frames; empty without contact.
+    pub fn obstacles(&self) -> Vec<ObstacleView<'_>> {
+        self.obstacles.as_ref().map_or_else(Vec::new, |o| {
+            o.obstacles
+                .iter()
+                .map(|s| ObstacleView {
+                    positions: &s.current,
+                    rest: &s.rest,
+                    triangles: &s.triangles,
+                })
+                .collect()
+        })
+    }
+
+    /// The largest distance between a kinematic obstacle's vertex and its scripted target at the end of
+    /// a step so far \[m\]: positive when an obstacle was held back so as not to cross a shell at the
+    /// start of a step (it then catches up over the following steps).
+    pub fn max_obstacle_lag(&self) -> f64 {
+        self.obstacles.as_ref().map_or(0.0, |o| o.max_lag)
+    }
+
+    /// The largest distance between a kinematic obstacle's vertex and its scripted target at the end of
+    /// the last step \[m\].
+    pub fn last_obstacle_lag(&self) -> f64 {
+        self.obstacles.as_ref().map_or(0.0, |o| o.last_lag)
+    }
+
+    /// Moves the kinematic obstacles to their targets at `t_end`, as far as the shells at the start of
+    /// the step allow: if the full motion would bring an obstacle closer to a shell than CCD's minimum
+    /// gap, all kinematic obstacles go the safe fraction of the way.
+    fn move_obstacles(&mut self, potential: &mut IncrementalPotential, t_end: f64) {
+        let Some(scripts) = &mut self.obstacles else { return };
+        if scripts.obstacles.iter().all(|o| o.motion.is_none()) {
+            return;
+        }
+        let Some((term, state, _)) = contact_parts(potential, scripts.term) else {
+            return;
+        };
+        let mut targets: Vec<Option<Vec<Vector3<f64>>>> = Vec::with_capacity(scripts.obstacles.len());
+        for (k, o) in scripts.obstacles.iter().enumerate() {
+            let target = o.motion.as_ref().map(|m| {
+                let map = m.map_at(t_end);
+                o.rest.iter().map(map).collect::<Vec<_>>()
+            });
+            if let Some(target) = &target
+                && let Err(e) = term.set_obstacle_positions(k, target.clone())
+            {
+                log::warn!("obstacle {k}: its scripted position at t = {t_end} is unusable ({e}); it stays");
+                targets.push(None);
+                continue;
+            }
+            targets.push(target);
+        }
+        let alpha = term.obstacle_motion_fraction(state);
+        scripts.last_lag = 0.0;
+        for (k, (o, target)) in scripts.obstacles.iter_mut().zip(&targets).enumerate() {
+            let Some(target) = target else { continue };
+            let start = term.obstacle_positions(k).to_vec();
+            let end: Vec<Vector3<f64>> = if alpha < 1.0 {
+                start.iter().zip(target).map(|(a, b)| a + (b - a) * alpha).collect()
+            } else {
+                target.clone()
+            };
+            let lag = end.iter().zip(target).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
+            scripts.max_lag = scripts.max_lag.max(lag);
+            scripts.last_lag = scripts.last_lag.max(lag);
+            if term.set_obstacle_positions(k, end.clone()).is_ok() {
+                o.current = end;
+            }
+        }
     }
 
     fn boundary(bc: &BoundarySpec, layouts: &[ShellLayout], potential: &mut IncrementalPotential) -> BoundaryScript {
@@ -298,8 +427,9 @@ impl Scripts {
         }
     }
 
-    /// Sets targets, loads and rest fields for the step from `t` to `t + dt`.
+    /// Sets targets, loads, rest fields and kinematic obstacles for the step from `t` to `t + dt`.
     pub fn apply(&mut self, potential: &mut IncrementalPotential, t: f64, dt: f64) {
+        self.move_obstacles(potential, t + dt);
         let at = |timing: Timing| match timing {
             Timing::StartOfStep => t,
             Timing::EndOfStep => t + dt,

@@ -4,15 +4,25 @@
 //! [`Simulation`] composes independently built parts — the system (potential and shell layouts), the
 //! scripts, the probes, the output sampling — and only orchestrates them.
 
+use crate::contact_run::{ContactMonitor, build_contact_term, contact_parts};
 use crate::error::SimulationError;
-use crate::frames::OutputMesh;
+use crate::frames::{OutputMesh, append_obstacles};
+use crate::kl_model::{self, KlModel};
+use crate::volume_model::{self, VolumeModel};
 use crate::probes::Probes;
 use crate::scripts::Scripts;
-use cosserat_assembly::{ElementPair, ShellInput, System, SystemOptions, build_system};
+use cosserat_assembly::term::{Evaluation, NodeRotations};
+use cosserat_assembly::{
+    ElementPair, IncrementalPotential, Parallelism, PotentialTerm, ShellInput, System, SystemOptions, build_system,
+};
+use cosserat_contact::ContactTerm;
 use cosserat_scene::output::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
-use cosserat_scene::spec::{SceneSpec, SolverSpec, TimeSpec};
-use cosserat_solver::{QuasiStaticSettings, StepReport, TimeStepSettings, TimeStepper, solve_quasi_static};
+use cosserat_scene::output::VtuFrame;
+use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, SurfaceMesh, TimeSpec};
+use cosserat_solver::{QuasiStaticSettings, StepError, StepReport, TimeStepSettings, TimeStepper, solve_quasi_static};
+use nalgebra::Vector3;
 use serde_json::json;
+use std::cell::RefCell;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -51,6 +61,8 @@ struct RunStats {
     energies: Vec<(f64, f64, f64)>,
     /// Numeric factorisations performed.
     factorisations: usize,
+    /// Conjugate-gradient iterations (CG linear solver only).
+    cg_iterations: usize,
     /// Structure of the symmetric factor (last symbolic analysis): `(nnz of L, flops per factorisation)`.
     factor: Option<(usize, f64)>,
 }
@@ -68,6 +80,44 @@ pub struct Simulation {
     rest_bbox: BoundingBox,
     elements: (String, String),
     stats: RunStats,
+    /// Index of the contact term in the potential's extra terms, and its run statistics.
+    contact: Option<(usize, ContactMonitor)>,
+    /// Warnings about settings that physics or the discretisation limits ([`crate::advice`]).
+    advice: Vec<String>,
+    /// The mechanical model and what it needs beyond the system.
+    model: Model,
+}
+
+/// The mechanical model of a scene: the Cosserat shells of `cosserat-assembly`, or one of the
+/// comparison models, which bring their own frames, rest-field scripts and elastic energy.
+enum Model {
+    Cosserat,
+    KirchhoffLove(KlModel),
+    Volume(VolumeModel),
+}
+
+impl Model {
+    /// Sets what the model scripts itself (the volume's rest curvature) for the step from `t`.
+    fn apply(&mut self, t: f64, dt: f64) {
+        if let Model::Volume(v) = self {
+            v.apply(t, dt);
+        }
+    }
+
+    /// The output frame of a state.
+    fn frame(
+        &self,
+        mesh: &OutputMesh,
+        shells: &[cosserat_assembly::ShellLayout],
+        state: &cosserat_assembly::SystemState,
+        t: f64,
+    ) -> VtuFrame {
+        match self {
+            Model::Cosserat => mesh.frame(shells, state, t),
+            Model::KirchhoffLove(m) => m.frame(state, t),
+            Model::Volume(m) => m.frame(state, t),
+        }
+    }
 }
 
 fn element_names(pairs: &[ElementPair]) -> (String, String) {
@@ -85,6 +135,7 @@ impl Simulation {
     /// # Errors
     /// Invalid meshes or materials (named by shell), unusable loads.
     pub fn new(spec: SceneSpec) -> Result<Self, SimulationError> {
+        let advice = crate::advice::advise(&spec);
         let inputs: Vec<ShellInput> = spec
             .shells
             .iter()
@@ -103,19 +154,46 @@ impl Simulation {
             TimeSpec::Dynamic { dt, .. } => (true, *dt),
             TimeSpec::QuasiStatic { .. } => (false, 1.0),
         };
-        let mut system = build_system(
-            &inputs,
-            Vec::new(),
-            &SystemOptions {
-                gravity: spec.gravity,
-                dynamic,
-                dt,
-            },
-        )?;
+        let options = SystemOptions {
+            gravity: spec.gravity,
+            dynamic,
+            dt,
+        };
+        let (mut system, model, spec) = match spec.shells.first().map(|s| s.model) {
+            Some(ModelKind::KirchhoffLove(law)) => {
+                let (system, m) = kl_model::build(&spec.shells[0], law, &options)?;
+                (system, Model::KirchhoffLove(m), spec)
+            }
+            Some(ModelKind::MicropolarVolume { layers }) => {
+                let (system, m, spec) = volume_model::build(spec, layers, &options)?;
+                (system, Model::Volume(m), spec)
+            }
+            _ => (build_system(&inputs, Vec::new(), &options)?, Model::Cosserat, spec),
+        };
+        let contact = match &spec.contact {
+            None => None,
+            Some(c) => {
+                // The term needs the final node layout, and the pattern must know it is there: rebuild
+                // the potential around the same parts with the term added.
+                let term = build_contact_term(c, &system.shells, &system.potential.parts.state.x)?;
+                let System { potential, shells } = system;
+                let (dt, parallelism) = (potential.dt, potential.parallelism);
+                let mut parts = potential.parts;
+                parts.extra.push(Box::new(term));
+                let index = parts.extra.len() - 1;
+                let mut potential = IncrementalPotential::new(parts, dt);
+                potential.parallelism = parallelism;
+                system = System { potential, shells };
+                Some((index, ContactMonitor::default()))
+            }
+        };
         for (shell, layout) in spec.shells.iter().zip(&system.shells) {
             if let Some(x0) = &shell.initial_positions {
                 system.potential.parts.state.x[layout.disp_nodes.clone()].copy_from_slice(x0);
             }
+        }
+        if let Some((index, _)) = &contact {
+            check_initial_gaps(&mut system.potential, *index)?;
         }
         for s in &mut system.potential.parts.shells {
             s.set_project_pd(spec.solver.project_pd);
@@ -133,6 +211,11 @@ impl Simulation {
             max: [0.0; 3],
         });
         let pairs: Vec<ElementPair> = spec.shells.iter().map(|s| s.pair).collect();
+        let elements = match &model {
+            Model::Cosserat => element_names(&pairs),
+            Model::KirchhoffLove(_) => ("tri3".into(), "-".into()),
+            Model::Volume(_) => ("tet4".into(), "tet4".into()),
+        };
         Ok(Self {
             name: spec.name.clone(),
             time: spec.time.clone(),
@@ -143,12 +226,128 @@ impl Simulation {
             output_mesh,
             write_frames: spec.output.frames,
             rest_bbox,
-            elements: element_names(&pairs),
+            elements,
             stats: RunStats {
                 min_area_ratio: f64::INFINITY,
                 ..RunStats::default()
             },
+            contact,
+            advice,
+            model,
         })
+    }
+
+    /// Warnings about the scene's settings (also in `summary.json` under `extra.warnings`).
+    pub fn advice(&self) -> &[String] {
+        &self.advice
+    }
+
+    /// The contact term, when the scene has contact.
+    pub fn contact_term_mut(&mut self) -> Option<&mut ContactTerm> {
+        let index = self.contact.as_ref()?.0;
+        contact_parts(&mut self.system.potential, index).map(|(term, ..)| term)
+    }
+
+    /// The contact statistics of the steps so far, when the scene has contact.
+    pub fn contact_monitor(&self) -> Option<&ContactMonitor> {
+        self.contact.as_ref().map(|c| &c.1)
+    }
+
+    /// Positions of the contact vertices in the current state (shell nodes, then obstacle vertices at
+    /// their start-of-step positions) and the contact triangles over them, when the scene has contact.
+    pub fn contact_geometry(&mut self) -> Option<SurfaceMesh> {
+        let index = self.contact.as_ref()?.0;
+        let (term, state, _) = contact_parts(&mut self.system.potential, index)?;
+        let mesh = term.mesh();
+        let positions = mesh.positions(|i| state.x[i], |o, v| term.obstacle_positions(o)[v]);
+        let triangles = mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect();
+        Some((positions, triangles))
+    }
+
+    /// All contact pairs within reach of the current state: the smallest gap, the number of pairs
+    /// within the barrier (a broad phase over every primitive); `None` without contact.
+    pub fn contact_coverage(&mut self) -> Option<cosserat_contact::Coverage> {
+        let index = self.contact.as_ref()?.0;
+        let dt = self.system.potential.dt;
+        let (term, state, layout) = contact_parts(&mut self.system.potential, index)?;
+        let u = vec![0.0; layout.n_dofs()];
+        Some(term.coverage(state, layout, &u, dt))
+    }
+
+    /// Pairs of contact triangles (shells split into flat triangles, and obstacles) that intersect in
+    /// the current state, by an exact-sign test over the whole mesh; `None` without contact.
+    pub fn contact_intersections(&mut self) -> Option<Vec<(usize, usize)>> {
+        let (positions, triangles) = self.contact_geometry()?;
+        Some(cosserat_contact::intersecting_pairs(&triangles, &positions))
+    }
+
+    /// The contact force on every displacement node in the current state \[N\] (minus the gradient of
+    /// the barrier energy with respect to the positions; friction acts over a step and is zero for a
+    /// state at rest), or `None` without contact.
+    ///
+    /// # Errors
+    /// [`SimulationError::Evaluation`] if the current state is infeasible for the barrier.
+    pub fn contact_forces(&mut self) -> Result<Option<Vec<Vector3<f64>>>, SimulationError> {
+        let Some((index, _)) = self.contact else {
+            return Ok(None);
+        };
+        let dt = self.system.potential.dt;
+        let Some((term, state, &layout)) = contact_parts(&mut self.system.potential, index) else {
+            return Ok(None);
+        };
+        let u = vec![0.0; layout.n_dofs()];
+        let rotations = NodeRotations::Matrices(vec![nalgebra::Matrix3::identity(); layout.n_rot_nodes]);
+        let eval = Evaluation {
+            state,
+            layout: &layout,
+            u: &u,
+            dt,
+            rotations: &rotations,
+            parallelism: Parallelism::Sequential,
+        };
+        let mut grad = vec![0.0; layout.n_dofs()];
+        PotentialTerm::gradient(&*term, &eval, &mut grad)?;
+        // The term's gradient is with respect to the velocity unknowns: Δt times the positional one.
+        Ok(Some(
+            (0..layout.n_disp_nodes).map(|i| -layout.velocity(&grad, i) / dt).collect(),
+        ))
+    }
+
+    /// A time stepper with the scene's time-step and solver settings, starting at `t = 0`.
+    ///
+    /// # Errors
+    /// [`SimulationError::Setup`] for a quasi-static scene; a symbolic analysis failure.
+    pub fn time_stepper(&self) -> Result<TimeStepper, SimulationError> {
+        match &self.time {
+            TimeSpec::Dynamic { dt, adaptive, .. } => Ok(TimeStepper::new(
+                &self.system.potential,
+                self.time_step_settings(*dt, *adaptive),
+            )?),
+            TimeSpec::QuasiStatic { .. } => Err(SimulationError::Setup(
+                "a quasi-static scene has no time stepper; use `run`".into(),
+            )),
+        }
+    }
+
+    /// Advances one time step with `stepper` (from [`Simulation::time_stepper`]): scripts, the Newton
+    /// solve with its retries, and the run statistics (contact included). Writes no output.
+    ///
+    /// # Errors
+    /// [`StepError`] when every allowed attempt failed; the state is then unchanged.
+    pub fn step(&mut self, stepper: &mut TimeStepper) -> Result<StepReport, StepError> {
+        let t0 = Instant::now();
+        let (scripts, model) = (&mut self.scripts, &mut self.model);
+        let report = stepper.step(&mut self.system.potential, &mut |p, t, dt| {
+            scripts.apply(p, t, dt);
+            model.apply(t, dt);
+        })?;
+        if let Some((index, monitor)) = &mut self.contact
+            && let Some((term, ..)) = contact_parts(&mut self.system.potential, *index)
+        {
+            monitor.record(term);
+        }
+        self.record_step(&report, t0.elapsed().as_secs_f64());
+        Ok(report)
     }
 
     /// The system (potential, state and shell layouts).
@@ -179,14 +378,20 @@ impl Simulation {
     }
 
     fn record_output(&mut self, writer: &mut RunWriter, t: f64) -> Result<(), SimulationError> {
-        let elastic = self.system.potential.elastic_energy().unwrap_or(f64::NAN);
+        let elastic = match self.model {
+            Model::Cosserat => self.system.potential.elastic_energy().ok(),
+            _ => kl_model::extra_elastic_energy(&self.system.potential).ok(),
+        }
+        .unwrap_or(f64::NAN);
         self.stats.energies.push((t, self.system.potential.kinetic_energy(), elastic));
         let state = &self.system.potential.parts.state;
         for s in &self.system.potential.parts.shells {
             self.stats.min_area_ratio = self.stats.min_area_ratio.min(s.min_area_ratio(state));
         }
         if self.write_frames {
-            writer.write_frame(&self.output_mesh.frame(&self.system.shells, state, t))?;
+            let mut frame = self.model.frame(&self.output_mesh, &self.system.shells, state, t);
+            append_obstacles(&mut frame, &self.scripts.obstacles());
+            writer.write_frame(&frame)?;
             self.stats.frames += 1;
         }
         writer.write_probes(t, &self.probes.values(&self.system.shells, state))?;
@@ -205,6 +410,7 @@ impl Simulation {
         s.step_seconds += seconds;
         let f = &r.newton.factorisations;
         s.factorisations += f.llt + f.lblt + f.lu;
+        s.cg_iterations += r.newton.cg_iterations;
     }
 
     /// Runs the scene and writes its outputs into `dir` (frames, `probes.csv`, `summary.json`).
@@ -260,12 +466,8 @@ impl Simulation {
             if stop.load(Ordering::Relaxed) {
                 return Ok(Outcome::Interrupted(stepper.time()));
             }
-            let t0 = Instant::now();
-            let scripts = &mut self.scripts;
-            let result = stepper.step(&mut self.system.potential, &mut |p, t, dt| scripts.apply(p, t, dt));
-            match result {
+            match self.step(&mut stepper) {
                 Ok(report) => {
-                    self.record_step(&report, t0.elapsed().as_secs_f64());
                     progress(&StepInfo {
                         step: self.stats.steps,
                         t: report.t,
@@ -299,7 +501,8 @@ impl Simulation {
             ..QuasiStaticSettings::default()
         };
         let end = levels.last().copied().unwrap_or(1.0);
-        let scripts = &mut self.scripts;
+        let scripts = RefCell::new(&mut self.scripts);
+        let model = RefCell::new(&mut self.model);
         let output_mesh = &self.output_mesh;
         let (probes, shells, write_frames) = (&self.probes, &self.system.shells, self.write_frames);
         let mut output_error = None;
@@ -311,7 +514,10 @@ impl Simulation {
             &mut self.system.potential,
             levels,
             &settings,
-            &mut |p, lambda| scripts.apply(p, lambda, 0.0),
+            &mut |p, lambda| {
+                scripts.borrow_mut().apply(p, lambda, 0.0);
+                model.borrow_mut().apply(lambda, 0.0);
+            },
             &mut |p, lambda| {
                 let state = &p.parts.state;
                 for s in &p.parts.shells {
@@ -319,7 +525,9 @@ impl Simulation {
                 }
                 let mut write = || -> Result<(), SimulationError> {
                     if write_frames {
-                        writer.write_frame(&output_mesh.frame(shells, state, lambda))?;
+                        let mut frame = model.borrow().frame(output_mesh, shells, state, lambda);
+                        append_obstacles(&mut frame, &scripts.borrow().obstacles());
+                        writer.write_frame(&frame)?;
                         frames += 1;
                     }
                     writer.write_probes(lambda, &probes.values(shells, state))?;
@@ -346,6 +554,12 @@ impl Simulation {
         }
         self.stats.frames += frames;
         self.stats.min_area_ratio = self.stats.min_area_ratio.min(min_area);
+        // Contact statistics of the last equilibrium reached (load levels have no per-step hook here).
+        if let Some((index, monitor)) = &mut self.contact
+            && let Some((term, ..)) = contact_parts(&mut self.system.potential, *index)
+        {
+            monitor.record(term);
+        }
         match result {
             Ok(reports) => {
                 for r in &reports {
@@ -356,6 +570,7 @@ impl Simulation {
                     s.reductions += r.bisections;
                     s.assembly_seconds += r.newton.assembly_seconds;
                     s.solve_seconds += r.newton.linear_solve_seconds;
+                    s.cg_iterations += r.newton.cg_iterations;
                 }
                 self.stats.step_seconds += t0.elapsed().as_secs_f64();
                 Ok(Outcome::Completed)
@@ -364,7 +579,12 @@ impl Simulation {
         }
     }
 
-    fn summary(&self, wall: f64, outcome: Outcome) -> RunSummary {
+    fn summary(&mut self, wall: f64, outcome: Outcome) -> RunSummary {
+        let step_seconds = self.stats.step_seconds;
+        let contact = self.contact.as_ref().map(|c| c.1.clone()).and_then(|monitor| {
+            let term = self.contact_term_mut()?;
+            Some(monitor.summary(term, step_seconds))
+        });
         let s = &self.stats;
         let layouts = &self.system.shells;
         let potential = &self.system.potential;
@@ -384,6 +604,9 @@ impl Simulation {
         let steps = s.steps.max(1) as f64;
         let mut extra = std::collections::BTreeMap::new();
         extra.insert("max_newton_iterations".into(), json!(s.max_newton_iterations));
+        if !self.advice.is_empty() {
+            extra.insert("warnings".into(), json!(self.advice));
+        }
         extra.insert("wasted_newton_iterations".into(), json!(s.wasted_iterations));
         extra.insert("n_frames".into(), json!(s.frames));
         extra.insert("n_shells".into(), json!(layouts.len()));
@@ -395,6 +618,26 @@ impl Simulation {
             extra.insert("min_area_ratio".into(), json!(s.min_area_ratio));
         }
         extra.insert("hessian_nnz".into(), json!(potential.pattern().nnz()));
+        match &self.model {
+            Model::Cosserat => {
+                extra.insert("model".into(), json!("cosserat"));
+            }
+            Model::KirchhoffLove(m) => {
+                extra.insert("model".into(), json!("kirchhoff_love"));
+                extra.insert("law".into(), json!(m.law_name()));
+            }
+            Model::Volume(m) => {
+                extra.insert("model".into(), json!("micropolar_volume"));
+                extra.insert("n_tetrahedra".into(), json!(m.n_elements()));
+            }
+        }
+        if s.cg_iterations > 0 {
+            extra.insert("cg_iterations".into(), json!(s.cg_iterations));
+            extra.insert(
+                "cg_iterations_per_newton".into(),
+                json!(s.cg_iterations as f64 / s.newton_iterations.max(1) as f64),
+            );
+        }
         extra.insert("factorisations".into(), json!(s.factorisations));
         if let Some((nnz_l, flops)) = s.factor {
             extra.insert("factor_nnz".into(), json!(nnz_l));
@@ -406,6 +649,11 @@ impl Simulation {
                     json!(flops * s.factorisations as f64 / s.solve_seconds / 1e9),
                 );
             }
+        }
+        if let Some(contact) = contact {
+            extra.insert("contact".into(), contact);
+            extra.insert("max_obstacle_lag".into(), json!(self.scripts.max_obstacle_lag()));
+            extra.insert("final_obstacle_lag".into(), json!(self.scripts.last_obstacle_lag()));
         }
         if let Some(mb) = peak_memory_mb() {
             extra.insert("peak_memory_mb".into(), json!(mb));
@@ -467,5 +715,23 @@ enum Outcome {
 /// I/O failures.
 pub fn write_setup_failure(dir: &Path, scene: &str, reason: &str) -> Result<(), SimulationError> {
     write_failure_summary(dir, &RunSummary::failed(scene, RunStatus::Error, reason))?;
+    Ok(())
+}
+
+/// Fails setup if a contact pair starts closer than its thickness (or crossing).
+fn check_initial_gaps(potential: &mut IncrementalPotential, index: usize) -> Result<(), SimulationError> {
+    let dt = potential.dt;
+    let Some((term, state, layout)) = contact_parts(potential, index) else {
+        return Ok(());
+    };
+    let u = vec![0.0; layout.n_dofs()];
+    let coverage = term.coverage(state, layout, &u, dt);
+    if coverage.min_gap.is_nan() || coverage.min_gap <= 0.0 {
+        return Err(SimulationError::Setup(format!(
+            "contact: the initial state has a pair of contact primitives closer than their thicknesses \
+             (smallest gap {:e} m); move the bodies apart or reduce the thicknesses",
+            coverage.min_gap
+        )));
+    }
     Ok(())
 }

@@ -99,7 +99,7 @@ fn dense(p: &mut cosserat_assembly::IncrementalPotential, u: &[f64]) -> DMatrix<
 
 #[test]
 fn dynamic_couplings_are_merged_and_the_pattern_grows_only_when_needed() {
-    let mut sys = strip(ElementPair::Tri3Tri3, 6, 1, ShellModel::Plate, true);
+    let sys = strip(ElementPair::Tri3Tri3, 6, 1, ShellModel::Plate, true);
     let n_nodes = sys.potential.parts.layout.n_disp_nodes;
     let (far_a, far_b) = (0, n_nodes - 1);
     let fixed_nnz = sys.potential.pattern().nnz();

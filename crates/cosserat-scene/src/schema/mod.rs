@@ -41,14 +41,19 @@
 //! and probes name their shell with `shell = "name"` or `shell = 0` (index); with a single shell the
 //! key may be omitted.
 //!
+//! Contact: an optional `\[contact\]` section with obstacles and friction coefficients (see
+//! [`ContactSection`]); a scene without it builds no contact structure.
+//!
 //! Expressions: wherever a scripted value is allowed ([`ExprValue`]), write a number or a string with
 //! a formula (see [`crate::expr`] for the syntax). Time functions use the variable `t` (seconds; in
 //! quasi-static runs the load factor), rest fields `x, y, z, t` (the rest position of the quadrature
 //! point), region predicates `x, y, z` (the rest position of the node). Named helper functions can be
 //! declared in `\[functions\]`.
 
+mod contact;
 mod value;
 
+pub use contact::{ContactSection, ContactSurfaceSection, FrictionSection, ObstacleSection};
 pub use value::{AxisName, AxisValue, ExprValue, ShellRef};
 
 use serde::Deserialize;
@@ -87,6 +92,8 @@ pub struct SceneFile {
     pub probe: Option<Vec<ProbeSection>>,
     /// Output settings.
     pub output: Option<OutputSection>,
+    /// Frictional contact (default: none; then no contact structure is built).
+    pub contact: Option<ContactSection>,
 }
 
 /// A user function for expressions.
@@ -144,6 +151,9 @@ pub enum LinearSolverName {
     Ldlt,
     /// Sparse LU.
     Lu,
+    /// Block-Jacobi preconditioned conjugate gradients (large positive definite systems, e.g. the
+    /// volumetric model).
+    Cg,
 }
 
 /// Newton start names.
@@ -292,6 +302,10 @@ pub struct MeshSection {
     pub transform: Option<TransformSection>,
     /// Initial positions as a rigid motion of the rest positions.
     pub initial: Option<InitialSection>,
+    /// Displace every node (corners and Tri6 nodes) by `[dx, dy, dz]`, functions of the node's
+    /// position `x, y, z` after the transform (e.g. the Papyrus scroll's wavy sheet); applied before
+    /// `initial`.
+    pub displace: Option<[ExprValue; 3]>,
 }
 
 /// `project_to_sphere = { center, radius }`.
@@ -358,6 +372,22 @@ pub enum ModelName {
     Plate,
     /// The curved-shell energy.
     Shell,
+    /// The Kirchhoff–Love thin shell with a hyperelastic material (Wen & Barbič 2023; `cosserat-kl`):
+    /// Tri3 displacements only, no rotations; needs `law`.
+    KirchhoffLove,
+    /// The volumetric micropolar continuum on Tet4 elements (`cosserat-volume`): a rectangle mesh
+    /// extruded into a slab of `layers` element layers through the thickness.
+    MicropolarVolume,
+}
+
+/// Hyperelastic law names of the Kirchhoff–Love model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LawName {
+    /// St. Venant–Kirchhoff.
+    Stvk,
+    /// Compressible neo-Hookean.
+    NeoHookean,
 }
 
 /// Curved-term counting names.
@@ -420,8 +450,14 @@ pub enum NormalWeightingName {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct MaterialSection {
-    /// `"plate"` or `"shell"`.
+    /// `"plate"`, `"shell"`, `"kirchhoff_love"` or `"micropolar_volume"`.
     pub model: ModelName,
+    /// Hyperelastic law of the Kirchhoff–Love model: `"stvk"` or `"neo_hookean"` (required there, not
+    /// allowed otherwise).
+    pub law: Option<LawName>,
+    /// Element layers through the thickness of the micropolar volume model (default 1, the paper's
+    /// Lotus Tet4 row; not allowed otherwise).
+    pub layers: Option<usize>,
     /// Thickness `h` \[m\].
     pub thickness: f64,
     /// Young's modulus `E` \[Pa\].
@@ -430,8 +466,9 @@ pub struct MaterialSection {
     pub poisson_ratio: f64,
     /// Volumetric density `ρ` \[kg/m³\].
     pub density: f64,
-    /// Internal length `L_c` \[m\].
-    pub length_scale: f64,
+    /// Internal length `L_c` \[m\] (required by the Cosserat models; not allowed for
+    /// `"kirchhoff_love"`).
+    pub length_scale: Option<f64>,
     /// `μ_c / μ` (default 1).
     pub mu_c_factor: Option<f64>,
     /// `(b₁, b₂, b₃)` of the curvature energy (default `[1, 1, 0]`).

@@ -6,8 +6,8 @@ use super::shell::ValidShell;
 use crate::error::{RegionError, SceneError};
 use crate::region::{Region, Selected};
 use crate::schema::{
-    AxisName, BoundarySection, DistributionName, ExprValue, LoadSection, ProbeSection, QuantityName, ReductionName,
-    RegionSection, RestFieldSection, ShellRef, TimingName,
+    AxisName, BoundarySection, DistributionName, ExprValue, LoadSection, MotionSection, ProbeSection, QuantityName,
+    ReductionName, RegionSection, RestFieldSection, ShellRef, TimingName,
 };
 use crate::spec::{
     BoundarySpec, ForceDistribution, LoadKind, LoadSpec, MotionSpec, NodeSelection, PositionEnforcement, ProbeQuantity,
@@ -24,7 +24,12 @@ enum Needs {
 
 impl Ctx<'_> {
     /// The index of the shell an item acts on.
-    fn shell_index(&self, field: &str, shell: Option<&ShellRef>, shells: &[ValidShell]) -> Result<usize, SceneError> {
+    pub(super) fn shell_index(
+        &self,
+        field: &str,
+        shell: Option<&ShellRef>,
+        shells: &[ValidShell],
+    ) -> Result<usize, SceneError> {
         let names = || shells.iter().map(|s| s.spec.name.as_str()).collect::<Vec<_>>().join(", ");
         match shell {
             None if shells.len() == 1 => Ok(0),
@@ -166,7 +171,7 @@ impl Ctx<'_> {
         }
     }
 
-    fn unique_name(&self, field: &str, name: &str, previous: &[String]) -> Result<(), SceneError> {
+    pub(super) fn unique_name(&self, field: &str, name: &str, previous: &[String]) -> Result<(), SceneError> {
         if name.trim().is_empty() {
             return Err(self.invalid(field, "must not be empty"));
         }
@@ -182,6 +187,27 @@ impl Ctx<'_> {
             self.time_function(&format!("{field}.1"), &values[1])?,
             self.time_function(&format!("{field}.2"), &values[2])?,
         ])
+    }
+
+    /// A scripted rigid motion `X ↦ R(t) (X − c) + c + d(t)`.
+    pub(super) fn motion(&self, mf: &str, m: &MotionSection) -> Result<MotionSpec, SceneError> {
+        let rotation = match &m.rotate {
+            None => None,
+            Some(r) => {
+                let axis = self.axis(&format!("{mf}.rotate.axis"), &r.axis)?.into_inner();
+                let center = match r.center {
+                    Some(c) => self.vector(&format!("{mf}.rotate.center"), c)?,
+                    None => Vector3::zeros(),
+                };
+                let angle = self.time_function(&format!("{mf}.rotate.angle"), &r.angle)?;
+                Some((axis, center, angle))
+            }
+        };
+        let translation = match &m.translate {
+            None => None,
+            Some(t) => Some(self.time_functions(&format!("{mf}.translate"), t)?),
+        };
+        Ok(MotionSpec { rotation, translation })
     }
 
     pub(super) fn boundaries(
@@ -264,26 +290,7 @@ impl Ctx<'_> {
             }
             let motion = match &b.motion {
                 None => MotionSpec::fixed(),
-                Some(m) => {
-                    let mf = format!("{f}.motion");
-                    let rotation = match &m.rotate {
-                        None => None,
-                        Some(r) => {
-                            let axis = self.axis(&format!("{mf}.rotate.axis"), &r.axis)?.into_inner();
-                            let center = match r.center {
-                                Some(c) => self.vector(&format!("{mf}.rotate.center"), c)?,
-                                None => Vector3::zeros(),
-                            };
-                            let angle = self.time_function(&format!("{mf}.rotate.angle"), &r.angle)?;
-                            Some((axis, center, angle))
-                        }
-                    };
-                    let translation = match &m.translate {
-                        None => None,
-                        Some(t) => Some(self.time_functions(&format!("{mf}.translate"), t)?),
-                    };
-                    MotionSpec { rotation, translation }
-                }
+                Some(m) => self.motion(&format!("{f}.motion"), m)?,
             };
             let active = match b.active {
                 None => (f64::NEG_INFINITY, f64::INFINITY),

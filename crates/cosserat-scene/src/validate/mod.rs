@@ -7,13 +7,16 @@
 //! 3. deserialise the [`crate::schema`] types from it (unknown keys, missing keys, wrong types);
 //! 4. check values and build the spec: time and solver ([`time`]), shells with their meshes and
 //!    materials ([`shell`]), and boundary conditions, loads, rest fields and probes, whose regions are
-//!    resolved against the rest nodes ([`conditions`]).
+//!    resolved against the rest nodes ([`conditions`]), and contact with its obstacles ([`contact`]);
+//! 5. check the conditions against the shells' models ([`model`]: no rotations for Kirchhoff–Love).
 //!
 //! Locations come from field paths looked up in the document ([`source`]) rather than from
 //! `toml::Spanned` fields in the schema: a path works the same for values from the file and values
 //! from overrides, and through the custom number-or-string deserialisers where a span would be lost.
 
 mod conditions;
+mod contact;
+mod model;
 mod shell;
 mod source;
 mod time;
@@ -182,6 +185,17 @@ impl Ctx<'_> {
         let rest_fields = self.rest_fields(file.rest_field.as_deref().unwrap_or(&[]), &shells)?;
         let probes = self.probes(file.probe.as_deref().unwrap_or(&[]), &shells)?;
         let output = self.output(file.output.as_ref())?;
+        let contact = self.contact(file.contact.as_ref(), &shells)?;
+        self.check_models(
+            &shells,
+            &model::Conditions {
+                boundaries: &boundaries,
+                loads: &loads,
+                rest_fields: &rest_fields,
+                probes: &probes,
+                contact: contact.as_ref(),
+            },
+        )?;
         Ok(SceneSpec {
             name: file.name,
             source: None,
@@ -194,6 +208,7 @@ impl Ctx<'_> {
             rest_fields,
             probes,
             output,
+            contact,
         })
     }
 

@@ -8,14 +8,15 @@ use crate::mesh_source::{
 };
 use crate::region::ShellNodes;
 use crate::schema::{
-    AxlName, CurvatureSourceName, CurvedTermsName, ElementName, GeneratorName, MaterialSection, MembraneVolumeName,
-    MeshSection, ModelName, NormalWeightingName, SceneFile,
+    AxlName, CurvatureSourceName, CurvedTermsName, ElementName, ExprValue, GeneratorName, LawName, MaterialSection,
+    MembraneVolumeName, MeshSection, ModelName, NormalWeightingName, SceneFile,
 };
-use crate::spec::ShellSpec;
-use cosserat_assembly::ElementPair;
+use crate::grid::PlanarGrid;
+use crate::spec::{HyperelasticLaw, ModelKind, ShellSpec, SurfaceMesh};
+use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::mesh::procedural::AnnulusSettings;
 use cosserat_fem::mesh::{CurvatureSource, NormalWeighting};
-use cosserat_fem::{MeshError, QuadratureRule};
+use cosserat_fem::{ElementKind, MeshError, QuadratureRule};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{
     AxlVariant, CurvedTerms, MaterialError, MaterialParameters, MembraneVolume, ModelOptions, ShellModel,
@@ -86,8 +87,35 @@ impl Ctx<'_> {
         material: &MaterialSection,
     ) -> Result<ValidShell, SceneError> {
         let m = format!("{prefix}mesh");
+        let model_kind = self.model_kind(&format!("{prefix}material"), material)?;
+        let default_element = if model_kind == ModelKind::Cosserat {
+            ElementName::Tri6
+        } else {
+            ElementName::Tri3
+        };
+        if model_kind != ModelKind::Cosserat {
+            let model = model_label(model_kind);
+            if mesh.element == Some(ElementName::Tri6) {
+                return Err(self.invalid(
+                    &format!("{m}.element"),
+                    format!("the {model} model is built on the Tri3 mesh (`element = \"tri3\"`, the default for it); Tri6 elements are not available"),
+                ));
+            }
+            if mesh.rotation_element.is_some() {
+                return Err(self.invalid(
+                    &format!("{m}.rotation_element"),
+                    format!("does not apply to the {model} model"),
+                ));
+            }
+            if mesh.quadrature_degree.is_some() {
+                return Err(self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!("does not apply to the {model} model (its quadrature is fixed)"),
+                ));
+            }
+        }
         let pair = match (
-            mesh.element.unwrap_or(ElementName::Tri6),
+            mesh.element.unwrap_or(default_element),
             mesh.rotation_element.unwrap_or(ElementName::Tri3),
         ) {
             (ElementName::Tri3, ElementName::Tri3) => ElementPair::Tri3Tri3,
@@ -101,7 +129,17 @@ impl Ctx<'_> {
             }
         };
         let recipe = self.recipe(&m, mesh, pair)?;
-        let built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(&m, e))?;
+        let mut built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(&m, e))?;
+        if let Some(d) = &mesh.displace {
+            self.displace(&m, d, &mut built.mesh)?;
+            built.initial_positions = recipe.initial.map(|motion| {
+                let rest = match (&built.mesh.tri6, pair.displacement()) {
+                    (Some(t6), ElementKind::Tri6) => &t6.nodes,
+                    _ => &built.mesh.corners.nodes,
+                };
+                rest.iter().map(|x| motion.apply(x)).collect()
+            });
+        }
         let quadrature = match mesh.quadrature_degree {
             None => None,
             Some(d) => Some(QuadratureRule::for_degree(d).ok_or_else(|| {
@@ -112,6 +150,14 @@ impl Ctx<'_> {
             })?),
         };
         let (params, rest, damping, angular_inertia_density) = self.material(&format!("{prefix}material"), material)?;
+        if let ModelKind::MicropolarVolume { .. } = model_kind
+            && let Err(reason) = PlanarGrid::detect(&built.mesh.corners.nodes)
+        {
+            return Err(self.invalid(
+                &m,
+                format!("the micropolar volume model extrudes a flat rectangular grid (e.g. `generator = \"rectangle\"`): {reason}"),
+            ));
+        }
         let nodes = ShellNodes::new(name, &built.mesh, pair).map_err(|source| SceneError::Region {
             location: self.location(&m),
             field: m.clone(),
@@ -126,6 +172,7 @@ impl Ctx<'_> {
         Ok(ValidShell {
             spec: ShellSpec {
                 name: name.to_string(),
+                model: model_kind,
                 mesh: built.mesh,
                 pair,
                 material: params,
@@ -138,6 +185,73 @@ impl Ctx<'_> {
             nodes,
             sample_points,
         })
+    }
+
+    /// Moves every node (corners and Tri6 nodes alike, so the two stay consistent) by the displacement
+    /// field `d(x, y, z)` and checks the result.
+    fn displace(&self, m: &str, d: &[ExprValue; 3], mesh: &mut ShellMesh) -> Result<(), SceneError> {
+        let f = format!("{m}.displace");
+        let mut points = mesh.corners.nodes.clone();
+        if let Some(t6) = &mesh.tri6 {
+            points.extend_from_slice(&t6.nodes);
+        }
+        let mut fields = Vec::with_capacity(3);
+        for (k, value) in d.iter().enumerate() {
+            let field = self.field_function(&format!("{f}.{k}"), value, &points)?;
+            if field.is_time_dependent() {
+                return Err(self.invalid(
+                    &format!("{f}.{k}"),
+                    "a rest-shape displacement depends on the position only, not on `t`",
+                ));
+            }
+            fields.push(field);
+        }
+        let shift = |x: &mut Vector3<f64>| {
+            let at = *x;
+            *x += Vector3::new(
+                fields[0].eval(&at, 0.0),
+                fields[1].eval(&at, 0.0),
+                fields[2].eval(&at, 0.0),
+            );
+        };
+        mesh.corners.nodes.iter_mut().for_each(shift);
+        if let Some(t6) = &mut mesh.tri6 {
+            t6.nodes.iter_mut().for_each(shift);
+        }
+        let invalid = |source: MeshError| SceneError::Mesh {
+            location: self.location(&f),
+            field: f.clone(),
+            source: Box::new(source),
+        };
+        mesh.corners.validate().map_err(invalid)?;
+        if let Some(t6) = &mesh.tri6 {
+            t6.validate().map_err(invalid)?;
+        }
+        Ok(())
+    }
+
+    /// The flat triangle mesh of a contact obstacle given as a mesh section (generator or OBJ, with
+    /// the shaping steps; no elements, quadrature or initial pose).
+    pub(super) fn obstacle_mesh(&self, m: &str, mesh: &MeshSection) -> Result<SurfaceMesh, SceneError> {
+        let unused = [
+            ("element", mesh.element.is_some()),
+            ("rotation_element", mesh.rotation_element.is_some()),
+            ("quadrature_degree", mesh.quadrature_degree.is_some()),
+            ("initial", mesh.initial.is_some()),
+        ];
+        if let Some((key, _)) = unused.iter().find(|(_, given)| *given) {
+            return Err(self.invalid(
+                &format!("{m}.{key}"),
+                "does not apply to an obstacle (a flat triangle mesh that is not simulated)",
+            ));
+        }
+        let recipe = self.recipe(m, mesh, ElementPair::Tri3Tri3)?;
+        let mut built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(m, e))?;
+        if let Some(d) = &mesh.displace {
+            self.displace(m, d, &mut built.mesh)?;
+        }
+        let corners = built.mesh.corners;
+        Ok((corners.nodes, corners.elements))
     }
 
     fn mesh_source_error(&self, m: &str, error: MeshSourceError) -> SceneError {
@@ -395,13 +509,12 @@ impl Ctx<'_> {
         p: &str,
         m: &MaterialSection,
     ) -> Result<(MaterialParameters, RestOptions, f64, f64), SceneError> {
-        let mut params = MaterialParameters::new(
-            m.thickness,
-            m.youngs_modulus,
-            m.poisson_ratio,
-            m.density,
-            m.length_scale,
-        );
+        let length_scale = match (m.model, m.length_scale) {
+            (ModelName::KirchhoffLove, _) => 0.0,
+            (_, Some(l)) => l,
+            (_, None) => return Err(self.invalid(&format!("{p}.length_scale"), "required by the Cosserat models")),
+        };
+        let mut params = MaterialParameters::new(m.thickness, m.youngs_modulus, m.poisson_ratio, m.density, length_scale);
         if let Some(v) = m.mu_c_factor {
             params.mu_c_factor = v;
         }
@@ -428,7 +541,7 @@ impl Ctx<'_> {
         )?;
         let model = ModelOptions {
             model: match m.model {
-                ModelName::Plate => ShellModel::Plate,
+                ModelName::Plate | ModelName::KirchhoffLove | ModelName::MicropolarVolume => ShellModel::Plate,
                 ModelName::Shell => ShellModel::Shell,
             },
             curved_terms: match m.curved_terms {
@@ -467,6 +580,80 @@ impl Ctx<'_> {
             };
         }
         Ok((params, rest, damping, angular_inertia_density))
+    }
+}
+
+/// The scene-file name of a non-Cosserat model, for messages.
+fn model_label(kind: ModelKind) -> &'static str {
+    match kind {
+        ModelKind::KirchhoffLove(_) => "Kirchhoff–Love (`kirchhoff_love`)",
+        ModelKind::MicropolarVolume { .. } => "micropolar volume (`micropolar_volume`)",
+        _ => "Cosserat shell",
+    }
+}
+
+impl Ctx<'_> {
+    /// The model of a material section, with the keys that belong to other models rejected.
+    fn model_kind(&self, p: &str, m: &MaterialSection) -> Result<ModelKind, SceneError> {
+        let kind = match m.model {
+            ModelName::Plate | ModelName::Shell => ModelKind::Cosserat,
+            ModelName::KirchhoffLove => ModelKind::KirchhoffLove(match m.law {
+                Some(LawName::Stvk) => HyperelasticLaw::StVenantKirchhoff,
+                Some(LawName::NeoHookean) => HyperelasticLaw::NeoHookean,
+                None => {
+                    return Err(self.invalid(
+                        &format!("{p}.law"),
+                        "required by the Kirchhoff–Love model: \"stvk\" or \"neo_hookean\"",
+                    ));
+                }
+            }),
+            ModelName::MicropolarVolume => {
+                let layers = m.layers.unwrap_or(1);
+                if layers == 0 {
+                    return Err(self.invalid(&format!("{p}.layers"), "must be at least 1"));
+                }
+                ModelKind::MicropolarVolume { layers }
+            }
+        };
+        if m.law.is_some() && !matches!(kind, ModelKind::KirchhoffLove(_)) {
+            return Err(self.invalid(
+                &format!("{p}.law"),
+                "only the Kirchhoff–Love model (`model = \"kirchhoff_love\"`) takes a hyperelastic law",
+            ));
+        }
+        if m.layers.is_some() && !matches!(kind, ModelKind::MicropolarVolume { .. }) {
+            return Err(self.invalid(
+                &format!("{p}.layers"),
+                "only the micropolar volume model (`model = \"micropolar_volume\"`) has layers",
+            ));
+        }
+        let cosserat_only = [
+            ("length_scale", m.length_scale.is_some()),
+            ("mu_c_factor", m.mu_c_factor.is_some()),
+            ("curvature_coefficients", m.curvature_coefficients.is_some()),
+            ("bending_correction", m.bending_correction.is_some()),
+            ("angular_inertia_density", m.angular_inertia_density.is_some()),
+            ("curved_terms", m.curved_terms.is_some()),
+            ("membrane_volume", m.membrane_volume.is_some()),
+            ("axl", m.axl.is_some()),
+            ("curvature_source", m.curvature_source.is_some()),
+            ("normal_weighting", m.normal_weighting.is_some()),
+        ];
+        let not_for_volume = ["bending_correction", "curved_terms", "membrane_volume", "axl", "curvature_source", "normal_weighting"];
+        let rejected = match kind {
+            ModelKind::KirchhoffLove(_) => cosserat_only.iter().find(|(_, given)| *given),
+            ModelKind::MicropolarVolume { .. } => {
+                cosserat_only.iter().find(|(key, given)| *given && not_for_volume.contains(key))
+            }
+            _ => None,
+        };
+        if let Some((key, _)) = rejected {
+            return Err(self.invalid(
+                &format!("{p}.{key}"),
+                format!("does not apply to the {} model", model_label(kind)),
+            ));
+        }
+        Ok(kind)
     }
 }
 

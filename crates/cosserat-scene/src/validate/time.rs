@@ -118,6 +118,7 @@ impl Ctx<'_> {
                 Some(LinearSolverName::Cholesky) => LinearSolverKind::Cholesky,
                 Some(LinearSolverName::Ldlt) => LinearSolverKind::Ldlt,
                 Some(LinearSolverName::Lu) => LinearSolverKind::Lu,
+                Some(LinearSolverName::Cg) => LinearSolverKind::Cg,
             },
             initial_guess: match s.initial_guess {
                 None | Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,

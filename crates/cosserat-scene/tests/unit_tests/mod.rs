@@ -9,6 +9,7 @@ mod output_run;
 mod output_summary;
 mod output_vtu;
 mod render;
+mod scene_contact;
 mod scene_errors;
 mod scene_expr;
 mod scene_files;

@@ -83,7 +83,8 @@ fn unknown_keys_list_the_expected_names() {
     assert_eq!(
         top,
         "scene.toml:2: gravty: unknown field `gravty`, expected one of `name`, `description`, `time`, `solver`, \
-         `gravity`, `functions`, `mesh`, `material`, `shell`, `boundary`, `load`, `rest_field`, `probe`, `output`"
+         `gravity`, `functions`, `mesh`, `material`, `shell`, `boundary`, `load`, `rest_field`, `probe`, `output`, \
+         `contact`"
     );
     let nested = message(
         &[("position = { stiffness = 1e6 }", "position = { stifness = 1e6 }")],

@@ -8,19 +8,24 @@
 //! Input is the upper triangle including the diagonal in compressed sparse column form (a faer
 //! [`SymbolicSparseColMatRef`] plus a values slice in pattern order).
 //!
-//! Factorisations ([`LinearSolverKind`]):
+//! Solvers ([`LinearSolverKind`]), four direct ones:
 //! - supernodal Cholesky `L Lᵀ` for positive definite matrices (`cholesky.rs`, which also holds the
 //!   shared symbolic analysis);
 //! - supernodal Bunch–Kaufman `L B Lᵀ` with rook pivoting inside supernodes for indefinite ones
 //!   (`ldlt.rs`);
 //! - sparse LU with partial pivoting on the mirrored full matrix (`lu.rs`);
 //! - `Auto`: Cholesky, then `L B Lᵀ` if the matrix is not positive definite, then LU if `L B Lᵀ` breaks
-//!   down or its solution is inaccurate. The factorisation actually used is reported.
+//!   down or its solution is inaccurate. The factorisation actually used is reported;
+//!
+//! and one iterative solver, `Cg`: block-Jacobi preconditioned conjugate gradients (`cg.rs`), which
+//! needs no symbolic analysis and no factor storage, for large positive definite systems solved
+//! inexactly to a relative residual that Newton's method chooses per iteration.
 //!
 //! Fixed unknowns are eliminated without touching the pattern: their rows and columns are replaced by
 //! those of the identity in a copy of the values and their right-hand-side entries are zeroed, so the
 //! solve returns the reduced system's solution on the free unknowns and exact zeros on the fixed ones.
 
+mod cg;
 mod cholesky;
 mod ldlt;
 mod lu;
@@ -30,6 +35,9 @@ mod pattern;
 use faer::Par;
 use faer::sparse::SymbolicSparseColMatRef;
 
+pub use self::cg::{CgForcing, CgReport, CgSettings, CgStop};
+
+use self::cg::CgSolver;
 use self::cholesky::SymmetricFactor;
 use self::ldlt::LbltFactor;
 use self::lu::LuFactor;
@@ -53,6 +61,14 @@ pub enum LinearSolverKind {
     /// use only and then kept.
     #[default]
     Auto,
+    /// Conjugate gradients with a 3×3 block-Jacobi preconditioner ([`CgSettings`]), for large positive
+    /// definite systems whose factorisation would be too expensive (volumetric meshes). Inexact by
+    /// design: each solve stops at the relative residual `settings.cg.relative_tolerance` (Newton's
+    /// method sets it per iteration, see [`CgForcing`]) or at the iteration cap, and no backward-error
+    /// check is made. Not meant for indefinite matrices: at a direction of non-positive curvature it
+    /// stops and returns the last iterate, which for a right-hand side `−∇Π` is still a descent
+    /// direction (truncated Newton-CG), not a solution. No symbolic analysis is run.
+    Cg,
 }
 
 /// The fill-reducing ordering of the symmetric factorisations. LU always uses faer's COLAMD column
@@ -86,8 +102,11 @@ pub struct LinearSolverSettings {
     /// Largest accepted normwise backward error `‖b − A x‖∞ / (‖A‖∞ ‖x‖∞ + ‖b‖∞)` of a solution
     /// (dimensionless, default 1e-8). A backward-stable factorisation reaches about 1e-15; a larger
     /// value signals pivot growth. `Auto` then falls back to LU; otherwise the solve fails with
-    /// [`LinearSolveError::Inaccurate`]. `f64::INFINITY` disables the check.
+    /// [`LinearSolveError::Inaccurate`]. `f64::INFINITY` disables the check. Not used by
+    /// [`LinearSolverKind::Cg`].
     pub max_backward_error: f64,
+    /// Tolerance and iteration cap of [`LinearSolverKind::Cg`] (ignored by the factorisations).
+    pub cg: CgSettings,
 }
 
 impl Default for LinearSolverSettings {
@@ -97,6 +116,7 @@ impl Default for LinearSolverSettings {
             ordering: FillOrdering::Amd,
             parallelism: Par::Seq,
             max_backward_error: 1e-8,
+            cg: CgSettings::default(),
         }
     }
 }
@@ -135,6 +155,7 @@ pub struct SparseSolver {
     symmetric: Option<SymmetricFactor>,
     lblt: Option<LbltFactor>,
     lu: Option<LuFactor>,
+    cg: Option<CgSolver>,
     /// The values actually factorised (fixed rows and columns replaced by the identity).
     values: Vec<f64>,
     /// The fixed mask of the current factorisation (all `false` without one).
@@ -145,14 +166,26 @@ pub struct SparseSolver {
     product: Vec<f64>,
     symbolic_analyses: usize,
     last_backward_error: Option<f64>,
+    last_cg: Option<CgReport>,
+}
+
+/// Checks the settings' numerical values.
+fn validate(settings: &LinearSolverSettings) -> Result<(), LinearSolveError> {
+    let bound = settings.max_backward_error;
+    if bound.is_nan() || bound <= 0.0 {
+        return Err(LinearSolveError::InvalidBackwardErrorBound { value: bound });
+    }
+    settings.cg.validate()
 }
 
 impl SparseSolver {
     /// Validates and copies the pattern (upper triangle with every diagonal entry stored) and runs the
-    /// symbolic analysis the chosen kind needs.
+    /// symbolic analysis the chosen kind needs (none for [`LinearSolverKind::Cg`]).
     ///
     /// # Errors
-    /// [`LinearSolveError::InvalidBackwardErrorBound`] for a bound that is not positive, a pattern
+    /// [`LinearSolveError::InvalidBackwardErrorBound`] for a bound that is not positive,
+    /// [`LinearSolveError::InvalidCgTolerance`] or [`LinearSolveError::ZeroCgIterationCap`] for invalid
+    /// CG settings, a pattern
     /// error ([`LinearSolveError::NotSquare`], [`LinearSolveError::LowerTriangleEntry`],
     /// [`LinearSolveError::MissingDiagonal`], ...) or [`LinearSolveError::Faer`] if faer runs out of
     /// memory.
@@ -160,10 +193,7 @@ impl SparseSolver {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         settings: LinearSolverSettings,
     ) -> Result<Self, LinearSolveError> {
-        let bound = settings.max_backward_error;
-        if bound.is_nan() || bound <= 0.0 {
-            return Err(LinearSolveError::InvalidBackwardErrorBound { value: bound });
-        }
+        validate(&settings)?;
         let pattern = UpperPattern::try_new(pattern)?;
         let n = pattern.n();
         let nnz = pattern.nnz();
@@ -173,6 +203,7 @@ impl SparseSolver {
             symmetric: None,
             lblt: None,
             lu: None,
+            cg: None,
             values: vec![0.0; nnz],
             fixed: vec![false; n],
             norm_a: 0.0,
@@ -181,14 +212,22 @@ impl SparseSolver {
             product: vec![0.0; n],
             symbolic_analyses: 0,
             last_backward_error: None,
+            last_cg: None,
         };
         solver.prepare_symbolic()?;
         Ok(solver)
     }
 
-    /// Runs the symbolic analyses the current kind needs and that are not done yet.
+    /// Runs the symbolic analyses the current kind needs and that are not done yet (for CG: allocates
+    /// its vectors).
     fn prepare_symbolic(&mut self) -> Result<(), LinearSolveError> {
         let kind = self.settings.kind;
+        if kind == LinearSolverKind::Cg {
+            if self.cg.is_none() {
+                self.cg = Some(CgSolver::new(self.pattern.n()));
+            }
+            return Ok(());
+        }
         if kind != LinearSolverKind::Lu && self.symmetric.is_none() {
             self.symmetric = Some(SymmetricFactor::try_new(
                 &self.pattern,
@@ -221,25 +260,41 @@ impl SparseSolver {
 
     /// Changes the settings. Symbolic analyses that remain valid are kept; a new ordering or
     /// parallelism discards them and redoes the ones the new kind needs. The current factorisation is
-    /// discarded.
+    /// discarded, unless only the CG settings changed (they do not enter the preconditioner).
     ///
     /// # Errors
-    /// As [`try_new`](Self::try_new) for the symbolic analysis.
+    /// As [`try_new`](Self::try_new) for the settings and the symbolic analysis.
     pub fn set_settings(&mut self, settings: LinearSolverSettings) -> Result<(), LinearSolveError> {
         if settings == self.settings {
             return Ok(());
         }
-        let bound = settings.max_backward_error;
-        if bound.is_nan() || bound <= 0.0 {
-            return Err(LinearSolveError::InvalidBackwardErrorBound { value: bound });
-        }
+        validate(&settings)?;
         if settings.ordering != self.settings.ordering || settings.parallelism != self.settings.parallelism {
             self.symmetric = None;
             self.lu = None;
         }
+        let only_cg_changed = LinearSolverSettings {
+            cg: self.settings.cg,
+            ..settings
+        } == self.settings;
         self.settings = settings;
-        self.current = None;
+        if !only_cg_changed {
+            self.current = None;
+        }
         self.prepare_symbolic()
+    }
+
+    /// Sets the relative tolerance of the next [`LinearSolverKind::Cg`] solves
+    /// (`settings().cg.relative_tolerance`) without discarding the preconditioner. Newton's method calls
+    /// it before every solve with the tolerance of its forcing sequence.
+    ///
+    /// # Errors
+    /// [`LinearSolveError::InvalidCgTolerance`] for a tolerance outside (0, 1); the settings are then
+    /// unchanged.
+    pub fn set_cg_relative_tolerance(&mut self, relative_tolerance: f64) -> Result<(), LinearSolveError> {
+        cg::check_tolerance(relative_tolerance)?;
+        self.settings.cg.relative_tolerance = relative_tolerance;
+        Ok(())
     }
 
     /// The dimension `n` of the system.
@@ -259,7 +314,7 @@ impl SparseSolver {
     }
 
     /// How many symbolic analyses this solver has run: one for the symmetric factorisations, one for
-    /// LU, each at most once per pattern and settings.
+    /// LU, each at most once per pattern and settings (none for CG).
     pub fn symbolic_analysis_count(&self) -> usize {
         self.symbolic_analyses
     }
@@ -276,13 +331,26 @@ impl SparseSolver {
         self.current
     }
 
-    /// The normwise backward error of the last solution.
+    /// The normwise backward error of the last solution (`None` after a CG solve, which is inexact by
+    /// design and is not checked).
     pub fn last_backward_error(&self) -> Option<f64> {
         self.last_backward_error
     }
 
+    /// The report of the last [`LinearSolverKind::Cg`] solve (iterations, relative residual, why it
+    /// stopped); `None` before the first CG solve and after a solve by a factorisation.
+    pub fn last_cg_report(&self) -> Option<CgReport> {
+        self.last_cg
+    }
+
+    /// The number of CG iterations of the last solve (0 unless it was a CG solve).
+    pub fn last_cg_iterations(&self) -> usize {
+        self.last_cg.map_or(0, |r| r.iterations)
+    }
+
     /// Factorises the symmetric matrix whose upper triangle (pattern order) is `values`, with the
-    /// unknowns marked in `fixed` eliminated.
+    /// unknowns marked in `fixed` eliminated. For [`LinearSolverKind::Cg`] it keeps the values and
+    /// builds the block-Jacobi preconditioner instead.
     ///
     /// # Errors
     /// - [`LinearSolveError::NonFiniteValue`] naming the first NaN or infinite value;
@@ -315,6 +383,7 @@ impl SparseSolver {
             LinearSolverKind::Cholesky => self.factorise_llt()?,
             LinearSolverKind::Ldlt => self.factorise_lblt()?,
             LinearSolverKind::Lu => self.factorise_lu()?,
+            LinearSolverKind::Cg => self.prepare_cg(),
             LinearSolverKind::Auto => match self.factorise_llt() {
                 Ok(f) => f,
                 Err(LinearSolveError::NotPositiveDefinite { .. }) => match self.factorise_lblt() {
@@ -342,6 +411,12 @@ impl SparseSolver {
         Ok(Factorisation::Lblt)
     }
 
+    fn prepare_cg(&mut self) -> Factorisation {
+        let cg = self.cg.get_or_insert_with(|| CgSolver::new(self.pattern.n()));
+        cg.preconditioner.update(&self.pattern, &self.values);
+        Factorisation::Cg
+    }
+
     fn factorise_lu(&mut self) -> Result<Factorisation, LinearSolveError> {
         self.ensure_lu()?;
         let lu = self.lu.as_mut().expect("the LU factor was just built");
@@ -353,11 +428,16 @@ impl SparseSolver {
     /// Returns the factorisation that produced the solution: in `Auto` mode an inaccurate `L B Lᵀ`
     /// solution triggers an LU factorisation of the same values and a second solve.
     ///
+    /// With [`LinearSolverKind::Cg`] it runs preconditioned conjugate gradients from zero to the relative
+    /// tolerance `settings().cg.relative_tolerance` or the iteration cap, without a backward-error check;
+    /// [`last_cg_report`](Self::last_cg_report) tells how it stopped.
+    ///
     /// # Errors
     /// - [`LinearSolveError::NotFactorised`] without a successful [`factorise`](Self::factorise);
     /// - [`LinearSolveError::NonFiniteRhs`] naming the first NaN or infinite entry;
     /// - [`LinearSolveError::Singular`] if the solution is not finite;
-    /// - [`LinearSolveError::Inaccurate`] if its backward error exceeds the bound.
+    /// - [`LinearSolveError::Inaccurate`] if its backward error exceeds the bound;
+    /// - [`LinearSolveError::CgBreakdown`] if the CG recursion overflows.
     ///
     /// # Panics
     /// If `rhs.len() != self.n()`.
@@ -379,6 +459,7 @@ impl SparseSolver {
             }
         }
         self.rhs_copy.copy_from_slice(rhs);
+        self.last_cg = None;
         match self.solve_checked(current, rhs) {
             Err(LinearSolveError::Singular { .. } | LinearSolveError::Inaccurate { .. })
                 if current == Factorisation::Lblt && self.settings.kind == LinearSolverKind::Auto =>
@@ -395,10 +476,28 @@ impl SparseSolver {
         }
     }
 
+    /// Runs CG for `rhs_copy` into `rhs` and zeroes the fixed entries (which CG keeps at zero anyway:
+    /// their rows and columns are those of the identity and their right-hand side is zero).
+    fn solve_cg(&mut self, rhs: &mut [f64]) -> Result<(), LinearSolveError> {
+        self.last_backward_error = None;
+        let cap = self.settings.cg.iteration_cap(self.pattern.n());
+        let tolerance = self.settings.cg.relative_tolerance;
+        let cg = self.cg.as_mut().expect("the preconditioner exists after a CG factorise");
+        let report = cg.solve(&self.pattern, &self.values, &self.rhs_copy, rhs, tolerance, cap)?;
+        for (x, &f) in rhs.iter_mut().zip(&self.fixed) {
+            if f {
+                *x = 0.0;
+            }
+        }
+        self.last_cg = Some(report);
+        Ok(())
+    }
+
     /// Solves with `factorisation`, zeroes the fixed entries and checks the solution against
-    /// `rhs_copy`.
+    /// `rhs_copy` (CG: solves only, see [`solve_cg`](Self::solve_cg)).
     fn solve_checked(&mut self, factorisation: Factorisation, rhs: &mut [f64]) -> Result<(), LinearSolveError> {
         match factorisation {
+            Factorisation::Cg => return self.solve_cg(rhs),
             Factorisation::Llt => self.symmetric.as_mut().expect("factorised").solve_llt_in_place(rhs),
             Factorisation::Lblt => {
                 let sym = self.symmetric.as_mut().expect("factorised");

@@ -1,5 +1,6 @@
 //! Test modules mirroring `src/`, plus shared fixtures (sparse matrices and toy problems).
 
+mod cg;
 mod error;
 mod fixtures;
 mod linear;

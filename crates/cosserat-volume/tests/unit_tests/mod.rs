@@ -4,7 +4,6 @@ mod density;
 mod kernel;
 mod material;
 mod mesh;
-mod newton_cg;
-mod pcg;
+mod solver;
 mod term;
 mod tet4;

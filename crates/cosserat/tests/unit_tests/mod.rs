@@ -1,1 +1,3 @@
+mod advice;
+mod contact;
 mod run;

@@ -59,13 +59,22 @@ fn write_scene(dir: &Path, text: &str) -> PathBuf {
 }
 
 fn files(dir: &Path) -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
     v.sort();
     v
 }
 
 fn args(scene: PathBuf, out: PathBuf, overrides: &[&str]) -> RunArgs {
-    RunArgs { scene, out: Some(out), overrides: overrides.iter().map(|s| s.to_string()).collect(), threads: Some(1), quiet: true }
+    RunArgs {
+        scene,
+        out: Some(out),
+        overrides: overrides.iter().map(|s| s.to_string()).collect(),
+        threads: Some(1),
+        quiet: true,
+    }
 }
 
 #[test]
@@ -78,11 +87,16 @@ fn a_run_writes_the_output_contract() {
     let summary = read_summary(&out.join("summary.json")).unwrap();
     assert_eq!(summary.status, RunStatus::Ok);
     assert_eq!(summary.n_steps, 10);
-    assert_eq!((summary.displacement_element.as_str(), summary.rotation_element.as_str()), ("tri6", "tri3"));
+    assert_eq!(
+        (summary.displacement_element.as_str(), summary.rotation_element.as_str()),
+        ("tri6", "tri3")
+    );
     assert_eq!(summary.n_cells, 40);
     assert_eq!(summary.n_displacement_dofs, 3 * 21 * 5);
     assert_eq!(summary.n_rotation_dofs, 3 * 11 * 3);
-    assert!(summary.active_terms.iter().any(|t| t == "membrane") && summary.active_terms.iter().any(|t| t == "inertia"));
+    assert!(
+        summary.active_terms.iter().any(|t| t == "membrane") && summary.active_terms.iter().any(|t| t == "inertia")
+    );
     let probes = std::fs::read_to_string(out.join("probes.csv")).unwrap();
     let mut lines = probes.lines();
     assert_eq!(lines.next().unwrap(), "t,tip.ux,tip.uy,tip.uz");
@@ -101,14 +115,20 @@ fn a_run_writes_the_output_contract() {
 #[test]
 fn invalid_input_leaves_only_a_summary_with_the_reason() {
     let d = dir("invalid");
-    let scene = write_scene(&d, &STRIP.replace("poisson_ratio = 0.3", "poisson_ratio = 0.3\nyoungs_modulu = 1.0"));
+    let scene = write_scene(
+        &d,
+        &STRIP.replace("poisson_ratio = 0.3", "poisson_ratio = 0.3\nyoungs_modulu = 1.0"),
+    );
     let out = d.join("out");
     assert_eq!(run_scene(&args(scene, out.clone(), &[])).unwrap(), 1);
     assert_eq!(files(&out), ["summary.json"]);
     let summary = read_summary(&out.join("summary.json")).unwrap();
     assert_eq!(summary.status, RunStatus::Error);
     let reason = summary.reason.unwrap();
-    assert!(reason.contains("scene.toml") && reason.contains("youngs_modulu"), "{reason}");
+    assert!(
+        reason.contains("scene.toml") && reason.contains("youngs_modulu"),
+        "{reason}"
+    );
 }
 
 #[test]
@@ -117,7 +137,11 @@ fn a_newton_failure_stops_the_run_and_leaves_only_the_diagnostic() {
     let scene = write_scene(&d, STRIP);
     let out = d.join("out");
     // An unreachable tolerance with one iteration and no step reduction allowed.
-    let overrides = ["solver.tolerance=1e-300", "solver.max_newton_iterations=1", "solver.max_step_reductions=0"];
+    let overrides = [
+        "solver.tolerance=1e-300",
+        "solver.max_newton_iterations=1",
+        "solver.max_step_reductions=0",
+    ];
     assert_eq!(run_scene(&args(scene, out.clone(), &overrides)).unwrap(), 1);
     assert_eq!(files(&out), ["summary.json"]);
     let summary = read_summary(&out.join("summary.json")).unwrap();
@@ -134,7 +158,17 @@ fn an_interrupted_run_keeps_complete_frames_and_says_where_it_stopped() {
     let spec = cosserat::scene::load_scene(&scene, &[]).unwrap();
     let mut sim = Simulation::new(spec).unwrap();
     let stop = AtomicBool::new(false);
-    let summary = sim.run(&out, &mut |info| if info.step == 4 { stop.store(true, Ordering::Relaxed) }, &stop).unwrap();
+    let summary = sim
+        .run(
+            &out,
+            &mut |info| {
+                if info.step == 4 {
+                    stop.store(true, Ordering::Relaxed)
+                }
+            },
+            &stop,
+        )
+        .unwrap();
     assert_eq!(summary.status, RunStatus::Interrupted);
     assert!((summary.stopped_at.unwrap() - 0.04).abs() < 1e-12);
     assert_eq!(summary.n_steps, 4);
@@ -143,5 +177,8 @@ fn an_interrupted_run_keeps_complete_frames_and_says_where_it_stopped() {
     for f in &frames {
         read_vtu(&out.join("frames").join(&f.file)).unwrap();
     }
-    assert_eq!(read_summary(&out.join("summary.json")).unwrap().status, RunStatus::Interrupted);
+    assert_eq!(
+        read_summary(&out.join("summary.json")).unwrap().status,
+        RunStatus::Interrupted
+    );
 }

@@ -11,7 +11,8 @@
 //! - the residual ignores fixed unknowns, whose gradient entries are reaction forces.
 //!
 //! One iteration: assemble the Hessian and gradient; solve `H dx = −∇Π` with fixed unknowns
-//! eliminated; flip `dx` if it is not a descent direction (or fail); cap the step by the problem's
+//! eliminated (with [`LinearSolverKind::Cg`] inexactly, to the relative residual of the forcing
+//! sequence [`NewtonSettings::cg_forcing`]: an inexact, truncated Newton-CG method); flip `dx` if it is not a descent direction (or fail); cap the step by the problem's
 //! feasible fraction and halve it until the state is valid; evaluate the gradient at the full feasible
 //! step and stop if the residual is below the tolerance; otherwise backtrack until the Armijo test
 //! passes. NaN or infinity in any returned quantity is an error, never an accepted state.
@@ -20,176 +21,16 @@ use std::time::Instant;
 
 use faer::sparse::SymbolicSparseColMatRef;
 
-use crate::error::{Factorisation, NewtonError, NonFiniteQuantity, ProblemError, SettingName};
+use crate::error::{NewtonError, NonFiniteQuantity, ProblemError};
 use crate::line_search::ArmijoTest;
-use crate::linear::{LinearSolverSettings, SparseSolver};
+use crate::linear::{CgStop, LinearSolverKind, SparseSolver};
 use crate::problem::NewtonProblem;
 
-/// Settings of Newton's method. Defaults are those of the paper's shell scenes (model.md §7.3).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct NewtonSettings {
-    /// Convergence tolerance on the residual `max_i |∂Π/∂x_i| / residual_scale` over free unknowns
-    /// (default 1e-7, in the residual's units; see `residual_scale`).
-    pub residual_tolerance: f64,
-    /// Divisor turning gradient entries into the residual (default 1). When the unknowns are
-    /// velocities and `Π` is the incremental potential of a step of length `Δt`, `∂Π/∂v = Δt · f`, so
-    /// `residual_scale = Δt` (in s) makes the residual a force in N for velocity unknowns and a torque
-    /// in N·m for angular-velocity unknowns, compared with one common tolerance.
-    pub residual_scale: f64,
-    /// Maximum number of Newton iterations (linear solves), default 100.
-    pub max_iterations: usize,
-    /// Minimum number of Newton iterations before convergence may be declared, default 0. With an
-    /// absolute residual tolerance, a good initial guess can already satisfy it; one iteration then still
-    /// adds the step's linear response (the time stepper uses 1, so small but growing forces — an
-    /// unstable mode — are always integrated).
-    pub min_iterations: usize,
-    /// Reuse the last factorisation (a chord step: gradient only, no Hessian assembly or numeric
-    /// factorisation) while Newton converges fast: after a full step that cut the residual to below
-    /// `reuse_max_ratio` times its previous value. A chord step that makes slower progress turns reuse
-    /// off until the next factorisation. Off by default (`None`); on large systems, where the
-    /// factorisation dominates, `Some(0.1)` trades a few cheap iterations for fewer factorisations.
-    pub reuse_max_ratio: Option<f64>,
-    /// Maximum number of step reductions in one line search, default 20.
-    pub max_line_search_iterations: usize,
-    /// Armijo constant `c` of the sufficient-decrease test `ΔΠ ≤ c α dx·∇Π` (default 1e-4).
-    pub armijo_constant: f64,
-    /// Factor by which the line search shortens the step (default 0.5).
-    pub backtracking_factor: f64,
-    /// Use the noise-resistant line search of Longva et al. 2023 (default on): when the Armijo test
-    /// fails but `|ΔΠ| ≤ 0.1 |Π₀|`, estimate `ΔΠ` from gradients and accept if the estimate plus its
-    /// error bound passes the test.
-    pub noise_resistant_line_search: bool,
-    /// Negate the Newton direction when it is not a descent direction (default on); otherwise fail with
-    /// [`NewtonError::NotDescent`].
-    pub flip_on_non_descent: bool,
-    /// Smallest accepted fraction of the Newton step when the problem limits it or rejects states
-    /// (default 0.01); below it the iteration fails with [`NewtonError::InfeasibleStep`].
-    pub min_step_fraction: f64,
-    /// The sparse linear solver (default: `Auto`, AMD ordering, sequential).
-    pub linear_solver: LinearSolverSettings,
-}
+mod report;
+mod settings;
 
-impl Default for NewtonSettings {
-    fn default() -> Self {
-        Self {
-            residual_tolerance: 1e-7,
-            residual_scale: 1.0,
-            max_iterations: 100,
-            min_iterations: 0,
-            reuse_max_ratio: None,
-            max_line_search_iterations: 20,
-            armijo_constant: 1e-4,
-            backtracking_factor: 0.5,
-            noise_resistant_line_search: true,
-            flip_on_non_descent: true,
-            min_step_fraction: 0.01,
-            linear_solver: LinearSolverSettings::default(),
-        }
-    }
-}
-
-impl NewtonSettings {
-    /// Checks the ranges of the numerical settings.
-    ///
-    /// # Errors
-    /// [`NewtonError::InvalidSetting`] naming the first setting out of range.
-    pub fn validate(&self) -> Result<(), NewtonError> {
-        let positive = |v: f64| v.is_finite() && v > 0.0;
-        let open_unit = |v: f64| v > 0.0 && v < 1.0;
-        let checks = [
-            (
-                SettingName::ResidualTolerance,
-                self.residual_tolerance,
-                positive(self.residual_tolerance),
-            ),
-            (
-                SettingName::ResidualScale,
-                self.residual_scale,
-                positive(self.residual_scale),
-            ),
-            (
-                SettingName::ArmijoConstant,
-                self.armijo_constant,
-                open_unit(self.armijo_constant),
-            ),
-            (
-                SettingName::BacktrackingFactor,
-                self.backtracking_factor,
-                open_unit(self.backtracking_factor),
-            ),
-            (
-                SettingName::MinStepFraction,
-                self.min_step_fraction,
-                self.min_step_fraction > 0.0 && self.min_step_fraction <= 1.0,
-            ),
-            (
-                SettingName::MaxBackwardError,
-                self.linear_solver.max_backward_error,
-                self.linear_solver.max_backward_error > 0.0,
-            ),
-        ];
-        match checks.into_iter().find(|c| !c.2) {
-            Some((name, value, _)) => Err(NewtonError::InvalidSetting { name, value }),
-            None => Ok(()),
-        }
-    }
-}
-
-/// How often each factorisation produced a Newton step.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub struct FactorisationCounts {
-    /// Steps solved by Cholesky.
-    pub llt: usize,
-    /// Steps solved by the symmetric indefinite `L B Lᵀ`.
-    pub lblt: usize,
-    /// Steps solved by LU.
-    pub lu: usize,
-}
-
-impl FactorisationCounts {
-    fn record(&mut self, f: Factorisation) {
-        match f {
-            Factorisation::Llt => self.llt += 1,
-            Factorisation::Lblt => self.lblt += 1,
-            Factorisation::Lu => self.lu += 1,
-        }
-    }
-}
-
-/// The outcome of a converged Newton solve.
-#[derive(Debug, Clone, PartialEq)]
-pub struct NewtonReport {
-    /// Number of Newton iterations (linear solves whose step was taken); 0 if the initial state had
-    /// already converged.
-    pub iterations: usize,
-    /// Residual history: `residuals[0]` at the initial state, `residuals[k]` after iteration `k`.
-    pub residuals: Vec<f64>,
-    /// The energy `Π` at the solution.
-    pub energy: f64,
-    /// Total number of step reductions in all line searches (not counting feasibility halvings).
-    pub line_search_backtracks: usize,
-    /// Iterations that reused an earlier factorisation (chord steps).
-    pub chord_iterations: usize,
-    /// Total number of step halvings to reach a valid state.
-    pub feasibility_halvings: usize,
-    /// Number of Newton directions negated because they did not descend.
-    pub direction_flips: usize,
-    /// Which factorisation solved each step, counted.
-    pub factorisations: FactorisationCounts,
-    /// Wall-clock seconds in Hessian assembly (`NewtonProblem::hessian` calls).
-    pub assembly_seconds: f64,
-    /// Wall-clock seconds in energy and gradient evaluations (`value` and `gradient` calls).
-    pub evaluation_seconds: f64,
-    /// Wall-clock seconds in linear solves (numerical factorisation and triangular solves).
-    pub linear_solve_seconds: f64,
-}
-
-impl NewtonReport {
-    /// The final residual.
-    pub fn residual(&self) -> f64 {
-        self.residuals.last().copied().unwrap_or(f64::NAN)
-    }
-}
+pub use report::{FactorisationCounts, NewtonReport};
+pub use settings::NewtonSettings;
 
 /// Newton's method with all buffers and the symbolic factorisation of one Hessian pattern.
 ///
@@ -311,6 +152,9 @@ impl NewtonSolver {
                 feasibility_halvings: 0,
                 direction_flips: 0,
                 factorisations: FactorisationCounts::default(),
+                cg_iterations: 0,
+                cg_negative_curvature_stops: 0,
+                cg_iteration_cap_stops: 0,
                 assembly_seconds: 0.0,
                 evaluation_seconds: 0.0,
                 linear_solve_seconds: 0.0,
@@ -362,6 +206,12 @@ impl NewtonSolver {
                 }
             }
             let r0 = run.last_residual();
+            if r0 == 0.0 {
+                // Exactly stationary: the Newton step is zero whatever the Hessian, and no direction
+                // (least of all a descent direction) exists.
+                run.residuals.push(0.0);
+                return Ok(run.finish(k, e0));
+            }
 
             let slope = match chord.then(|| self.chord_direction(k, &mut run)) {
                 Some(Ok(slope)) => {
@@ -415,7 +265,9 @@ impl NewtonSolver {
                 }
                 energy_current = e1;
                 // A full step with fast progress lets the next iteration keep the factorisation.
-                reuse_next = alpha == 1.0 && s.reuse_max_ratio.is_some_and(|ratio| r1 < ratio * r0);
+                reuse_next = alpha == 1.0
+                    && s.linear_solver.kind != LinearSolverKind::Cg
+                    && s.reuse_max_ratio.is_some_and(|ratio| r1 < ratio * r0);
                 continue;
             }
 
@@ -610,16 +462,34 @@ impl NewtonSolver {
         Ok(e)
     }
 
-    /// Solves `H dx = −∇Π`, makes `dx` a descent direction and returns the slope `dx·∇Π < 0`.
+    /// Solves `H dx = −∇Π` (with CG to the forcing tolerance), makes `dx` a descent direction and
+    /// returns the slope `dx·∇Π < 0`.
     fn newton_direction(&mut self, iteration: usize, run: &mut Run) -> Result<f64, NewtonError> {
         for (d, g) in self.dx.iter_mut().zip(&self.grad) {
             *d = -g;
         }
         let t = Instant::now();
         let fixed = self.has_fixed.then_some(self.fixed.as_slice());
-        let result = self
-            .linear
-            .factorise(&self.hess_values, fixed)
+        let cg = self.settings.linear_solver.kind == LinearSolverKind::Cg;
+        let tolerance = if cg {
+            let g_norm = self
+                .grad
+                .iter()
+                .zip(&self.fixed)
+                .filter(|(_, f)| !**f)
+                .map(|(g, _)| g * g)
+                .sum::<f64>()
+                .sqrt();
+            self.linear.set_cg_relative_tolerance(
+                self.settings
+                    .cg_forcing
+                    .relative_tolerance(g_norm / self.settings.residual_scale),
+            )
+        } else {
+            Ok(())
+        };
+        let result = tolerance
+            .and_then(|()| self.linear.factorise(&self.hess_values, fixed))
             .and_then(|_| self.linear.solve_in_place(&mut self.dx));
         run.report.linear_solve_seconds += t.elapsed().as_secs_f64();
         let used = result.map_err(|source| NewtonError::LinearSolve {
@@ -628,6 +498,14 @@ impl NewtonSolver {
             residuals: run.residuals.clone(),
         })?;
         run.report.factorisations.record(used);
+        if let Some(cg) = self.linear.last_cg_report() {
+            run.report.cg_iterations += cg.iterations;
+            match cg.stop {
+                CgStop::NegativeCurvature => run.report.cg_negative_curvature_stops += 1,
+                CgStop::IterationCap => run.report.cg_iteration_cap_stops += 1,
+                CgStop::Converged => {}
+            }
+        }
         let mut slope: f64 = self.dx.iter().zip(&self.grad).map(|(d, g)| d * g).sum();
         if slope > 0.0 && self.settings.flip_on_non_descent {
             self.dx.iter_mut().for_each(|d| *d = -*d);

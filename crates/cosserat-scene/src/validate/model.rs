@@ -1,0 +1,109 @@
+//! Checks that tie the scene's conditions to the shells' models: the Kirchhoff–Love model has no
+//! rotations (no rotation or angular-velocity conditions, torques, director probes) and takes its rest
+//! curvature from the rest mesh (no rest fields); the micropolar volume model has no line loads, no
+//! growth and no contact; and a scene with either of them has exactly one shell.
+
+use super::Ctx;
+use super::shell::ValidShell;
+use crate::error::SceneError;
+use crate::spec::{
+    BoundarySpec, ContactSpec, ForceDistribution, LoadKind, LoadSpec, ModelKind, ProbeQuantity, ProbeSpec,
+    RestFieldSpec,
+};
+
+/// The conditions of a scene, to be checked against the models of its shells.
+pub(super) struct Conditions<'a> {
+    pub boundaries: &'a [BoundarySpec],
+    pub loads: &'a [LoadSpec],
+    pub rest_fields: &'a [RestFieldSpec],
+    pub probes: &'a [ProbeSpec],
+    pub contact: Option<&'a ContactSpec>,
+}
+
+impl Ctx<'_> {
+    pub(super) fn check_models(&self, shells: &[ValidShell], c: &Conditions<'_>) -> Result<(), SceneError> {
+        let kind = |shell: usize| shells[shell].spec.model;
+        let single = shells.len() == 1;
+        for (k, s) in shells.iter().enumerate() {
+            if s.spec.model != ModelKind::Cosserat && !single {
+                return Err(self.invalid(
+                    &format!("shell.{k}.material.model"),
+                    "the Kirchhoff–Love and micropolar volume models run a scene of exactly one shell",
+                ));
+            }
+        }
+        for (k, b) in c.boundaries.iter().enumerate() {
+            if matches!(kind(b.selection.shell), ModelKind::KirchhoffLove(_)) {
+                let rejected = [("rotation", b.rotation.is_some()), ("angular_velocity", b.angular_velocity.is_some())];
+                if let Some((key, _)) = rejected.iter().find(|(_, given)| *given) {
+                    return Err(self.invalid(
+                        &format!("boundary.{k}.{key}"),
+                        "the Kirchhoff–Love model has no rotation unknowns: clamp an edge by fixing the positions of two rows of vertices",
+                    ));
+                }
+            }
+        }
+        for (k, l) in c.loads.iter().enumerate() {
+            let model = kind(l.selection.shell);
+            match (&l.kind, model) {
+                (LoadKind::Torque { .. }, ModelKind::KirchhoffLove(_)) => {
+                    return Err(self.invalid(
+                        &format!("load.{k}.torque"),
+                        "the Kirchhoff–Love model has no rotation unknowns to carry a torque",
+                    ));
+                }
+                (
+                    LoadKind::Force { distribution, .. } | LoadKind::Torque { distribution, .. },
+                    ModelKind::MicropolarVolume { .. },
+                ) if matches!(
+                    distribution,
+                    ForceDistribution::PerLength | ForceDistribution::TotalOverLength
+                ) =>
+                {
+                    return Err(self.invalid(
+                        &format!("load.{k}.distribution"),
+                        "line loads are not available for the micropolar volume model: use `equal` or `per_node`",
+                    ));
+                }
+                _ => {}
+            }
+        }
+        for (k, r) in c.rest_fields.iter().enumerate() {
+            match kind(r.shell) {
+                ModelKind::KirchhoffLove(_) => {
+                    return Err(self.invalid(
+                        &format!("rest_field.{k}"),
+                        "the Kirchhoff–Love model takes its rest state from the rest mesh; prescribed rest fields are not available",
+                    ));
+                }
+                ModelKind::MicropolarVolume { .. } if r.growth.is_some() => {
+                    return Err(self.invalid(
+                        &format!("rest_field.{k}.growth"),
+                        "the micropolar volume model has no rest-metric growth (only rest curvature)",
+                    ));
+                }
+                _ => {}
+            }
+        }
+        for (k, p) in c.probes.iter().enumerate() {
+            if p.quantity == ProbeQuantity::Director && matches!(kind(p.selection.shell), ModelKind::KirchhoffLove(_)) {
+                return Err(self.invalid(
+                    &format!("probe.{k}.quantity"),
+                    "the Kirchhoff–Love model has no directors (no rotation unknowns)",
+                ));
+            }
+        }
+        if let Some(contact) = c.contact
+            && contact
+                .surfaces
+                .iter()
+                .any(|s| matches!(kind(s.shell), ModelKind::MicropolarVolume { .. }))
+        {
+            return Err(self.invalid(
+                "contact",
+                "contact is not available for the micropolar volume model",
+            ));
+        }
+        Ok(())
+    }
+}

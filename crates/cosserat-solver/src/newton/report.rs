@@ -1,0 +1,68 @@
+//! What a converged Newton solve reports: iterations, residual history, factorisations and timings.
+
+use crate::error::Factorisation;
+
+/// How often each factorisation produced a Newton step.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct FactorisationCounts {
+    /// Steps solved by Cholesky.
+    pub llt: usize,
+    /// Steps solved by the symmetric indefinite `L B Lᵀ`.
+    pub lblt: usize,
+    /// Steps solved by LU.
+    pub lu: usize,
+    /// Steps solved by preconditioned conjugate gradients (no factorisation).
+    pub cg: usize,
+}
+
+impl FactorisationCounts {
+    pub(super) fn record(&mut self, f: Factorisation) {
+        match f {
+            Factorisation::Llt => self.llt += 1,
+            Factorisation::Lblt => self.lblt += 1,
+            Factorisation::Lu => self.lu += 1,
+            Factorisation::Cg => self.cg += 1,
+        }
+    }
+}
+
+/// The outcome of a converged Newton solve.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NewtonReport {
+    /// Number of Newton iterations (linear solves whose step was taken); 0 if the initial state had
+    /// already converged.
+    pub iterations: usize,
+    /// Residual history: `residuals[0]` at the initial state, `residuals[k]` after iteration `k`.
+    pub residuals: Vec<f64>,
+    /// The energy `Π` at the solution.
+    pub energy: f64,
+    /// Total number of step reductions in all line searches (not counting feasibility halvings).
+    pub line_search_backtracks: usize,
+    /// Iterations that reused an earlier factorisation (chord steps).
+    pub chord_iterations: usize,
+    /// Total number of step halvings to reach a valid state.
+    pub feasibility_halvings: usize,
+    /// Number of Newton directions negated because they did not descend.
+    pub direction_flips: usize,
+    /// Which factorisation solved each step, counted.
+    pub factorisations: FactorisationCounts,
+    /// Conjugate-gradient iterations over all CG solves (0 without [`LinearSolverKind::Cg`](crate::LinearSolverKind::Cg)).
+    pub cg_iterations: usize,
+    /// CG solves stopped by a direction of non-positive curvature (an indefinite Hessian).
+    pub cg_negative_curvature_stops: usize,
+    /// CG solves stopped by the iteration cap before reaching their tolerance.
+    pub cg_iteration_cap_stops: usize,
+    /// Wall-clock seconds in Hessian assembly (`NewtonProblem::hessian` calls).
+    pub assembly_seconds: f64,
+    /// Wall-clock seconds in energy and gradient evaluations (`value` and `gradient` calls).
+    pub evaluation_seconds: f64,
+    /// Wall-clock seconds in linear solves (numerical factorisation and triangular solves).
+    pub linear_solve_seconds: f64,
+}
+
+impl NewtonReport {
+    /// The final residual.
+    pub fn residual(&self) -> f64 {
+        self.residuals.last().copied().unwrap_or(f64::NAN)
+    }
+}

@@ -1,0 +1,137 @@
+//! The settings of Newton's method and their validation.
+
+use crate::error::{NewtonError, SettingName};
+use crate::linear::{CgForcing, LinearSolverSettings};
+
+/// Settings of Newton's method. Defaults are those of the paper's shell scenes (model.md §7.3).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NewtonSettings {
+    /// Convergence tolerance on the residual `max_i |∂Π/∂x_i| / residual_scale` over free unknowns
+    /// (default 1e-7, in the residual's units; see `residual_scale`).
+    pub residual_tolerance: f64,
+    /// Divisor turning gradient entries into the residual (default 1). When the unknowns are
+    /// velocities and `Π` is the incremental potential of a step of length `Δt`, `∂Π/∂v = Δt · f`, so
+    /// `residual_scale = Δt` (in s) makes the residual a force in N for velocity unknowns and a torque
+    /// in N·m for angular-velocity unknowns, compared with one common tolerance.
+    pub residual_scale: f64,
+    /// Maximum number of Newton iterations (linear solves), default 100.
+    pub max_iterations: usize,
+    /// Minimum number of Newton iterations before convergence may be declared, default 0. With an
+    /// absolute residual tolerance, a good initial guess can already satisfy it; one iteration then still
+    /// adds the step's linear response (the time stepper uses 1, so small but growing forces — an
+    /// unstable mode — are always integrated). At an exactly stationary point (every free gradient entry
+    /// zero) that response is zero: such an iteration takes the zero step and converges.
+    pub min_iterations: usize,
+    /// Reuse the last factorisation (a chord step: gradient only, no Hessian assembly or numeric
+    /// factorisation) while Newton converges fast: after a full step that cut the residual to below
+    /// `reuse_max_ratio` times its previous value. A chord step that makes slower progress turns reuse
+    /// off until the next factorisation. Off by default (`None`); on large systems, where the
+    /// factorisation dominates, `Some(0.1)` trades a few cheap iterations for fewer factorisations.
+    /// Ignored with [`LinearSolverKind::Cg`](crate::LinearSolverKind::Cg), which has no factors to reuse.
+    pub reuse_max_ratio: Option<f64>,
+    /// Maximum number of step reductions in one line search, default 20.
+    pub max_line_search_iterations: usize,
+    /// Armijo constant `c` of the sufficient-decrease test `ΔΠ ≤ c α dx·∇Π` (default 1e-4).
+    pub armijo_constant: f64,
+    /// Factor by which the line search shortens the step (default 0.5).
+    pub backtracking_factor: f64,
+    /// Use the noise-resistant line search of Longva et al. 2023 (default on): when the Armijo test
+    /// fails but `|ΔΠ| ≤ 0.1 |Π₀|`, estimate `ΔΠ` from gradients and accept if the estimate plus its
+    /// error bound passes the test.
+    pub noise_resistant_line_search: bool,
+    /// Negate the Newton direction when it is not a descent direction (default on); otherwise fail with
+    /// [`NewtonError::NotDescent`].
+    pub flip_on_non_descent: bool,
+    /// Smallest accepted fraction of the Newton step when the problem limits it or rejects states
+    /// (default 0.01); below it the iteration fails with [`NewtonError::InfeasibleStep`].
+    pub min_step_fraction: f64,
+    /// The sparse linear solver (default: `Auto`, AMD ordering, sequential).
+    pub linear_solver: LinearSolverSettings,
+    /// With [`LinearSolverKind::Cg`](crate::LinearSolverKind::Cg): how the relative CG tolerance of each Newton step is chosen
+    /// (default [`CgForcing::Reference`], `η = min(0.1, ‖g‖ · min(0.5, √‖g‖))` with `‖g‖` the 2-norm of
+    /// the gradient over free unknowns divided by `residual_scale`). It overrides
+    /// `linear_solver.cg.relative_tolerance` before every solve; the iteration cap stays
+    /// `linear_solver.cg.max_iterations` (default `max(1000, n)`). Ignored by the factorisations.
+    pub cg_forcing: CgForcing,
+}
+
+impl Default for NewtonSettings {
+    fn default() -> Self {
+        Self {
+            residual_tolerance: 1e-7,
+            residual_scale: 1.0,
+            max_iterations: 100,
+            min_iterations: 0,
+            reuse_max_ratio: None,
+            max_line_search_iterations: 20,
+            armijo_constant: 1e-4,
+            backtracking_factor: 0.5,
+            noise_resistant_line_search: true,
+            flip_on_non_descent: true,
+            min_step_fraction: 0.01,
+            linear_solver: LinearSolverSettings::default(),
+            cg_forcing: CgForcing::Reference,
+        }
+    }
+}
+
+impl NewtonSettings {
+    /// Checks the ranges of the numerical settings.
+    ///
+    /// # Errors
+    /// [`NewtonError::InvalidSetting`] naming the first setting out of range.
+    pub fn validate(&self) -> Result<(), NewtonError> {
+        let positive = |v: f64| v.is_finite() && v > 0.0;
+        let open_unit = |v: f64| v > 0.0 && v < 1.0;
+        let checks = [
+            (
+                SettingName::ResidualTolerance,
+                self.residual_tolerance,
+                positive(self.residual_tolerance),
+            ),
+            (
+                SettingName::ResidualScale,
+                self.residual_scale,
+                positive(self.residual_scale),
+            ),
+            (
+                SettingName::ArmijoConstant,
+                self.armijo_constant,
+                open_unit(self.armijo_constant),
+            ),
+            (
+                SettingName::BacktrackingFactor,
+                self.backtracking_factor,
+                open_unit(self.backtracking_factor),
+            ),
+            (
+                SettingName::MinStepFraction,
+                self.min_step_fraction,
+                self.min_step_fraction > 0.0 && self.min_step_fraction <= 1.0,
+            ),
+            (
+                SettingName::MaxBackwardError,
+                self.linear_solver.max_backward_error,
+                self.linear_solver.max_backward_error > 0.0,
+            ),
+            (
+                SettingName::CgRelativeTolerance,
+                self.linear_solver.cg.relative_tolerance,
+                open_unit(self.linear_solver.cg.relative_tolerance),
+            ),
+            (
+                SettingName::CgMaxIterations,
+                0.0,
+                self.linear_solver.cg.max_iterations != Some(0),
+            ),
+            match self.cg_forcing {
+                CgForcing::Fixed(eta) => (SettingName::CgForcing, eta, open_unit(eta)),
+                CgForcing::Reference => (SettingName::CgForcing, 0.0, true),
+            },
+        ];
+        match checks.into_iter().find(|c| !c.2) {
+            Some((name, value, _)) => Err(NewtonError::InvalidSetting { name, value }),
+            None => Ok(()),
+        }
+    }
+}

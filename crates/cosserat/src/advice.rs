@@ -1,0 +1,86 @@
+//! Warnings about settings a scene can run with but whose results physics or the discretisation
+//! limits: the combinations `cargo xtask stability` found (docs/stability.md), each with its remedy.
+//!
+//! The checks look only at the scene (material, thickness, mesh), before anything is built, so a user
+//! sees them before a long run. They never stop a run: a scene may mean it (a locking study, say).
+
+use cosserat_assembly::ElementPair;
+use cosserat_scene::spec::{SceneSpec, ShellSpec};
+
+/// Element length over thickness above which linear (Tri3) displacements lock in bending: measured on
+/// the Sze end-shear cantilever, Tri3/Tri3 is 6 % too stiff at ℓ/h = 0.5 and four times too stiff at
+/// ℓ/h = 3 (docs/stability.md, locking table).
+const TRI3_LOCKING_RATIO: f64 = 1.0;
+
+/// Element length over thickness above which quadratic (Tri6) displacements lose more than a few per
+/// cent to locking: 4 % at ℓ/h = 50 and 24 % at ℓ/h = 100 on the same benchmark.
+const TRI6_LOCKING_RATIO: f64 = 50.0;
+
+/// The warnings for a scene, one line each, naming the shell, the setting and the remedy.
+pub fn advise(spec: &SceneSpec) -> Vec<String> {
+    spec.shells.iter().flat_map(advise_shell).collect()
+}
+
+fn advise_shell(shell: &ShellSpec) -> Vec<String> {
+    let mut out = Vec::new();
+    let m = &shell.material;
+    if m.mu_c_factor == 0.0 && m.length_scale == 0.0 {
+        out.push(format!(
+            "shell `{}`: with material.mu_c_factor = 0 and material.length_scale = 0 the drilling rotation \
+             (about the normal) has no stiffness and is not determined by the energy; Newton needs many more \
+             iterations and may stall. Remedy: any length_scale > 0 (1e-3 × thickness changes the bending \
+             stiffness by a relative 1.2e-5) or mu_c_factor > 0",
+            shell.name
+        ));
+    }
+    let Some(length) = median_edge_length(&shell.mesh.corners.nodes, &shell.mesh.corners.elements) else {
+        return out;
+    };
+    let ratio = length / m.thickness;
+    let (limit, element) = match shell.pair {
+        ElementPair::Tri3Tri3 => (TRI3_LOCKING_RATIO, "tri3"),
+        ElementPair::Tri6Tri3 | ElementPair::Tri6Tri6 => (TRI6_LOCKING_RATIO, "tri6"),
+    };
+    if ratio > limit {
+        let remedy = match shell.pair {
+            ElementPair::Tri3Tri3 => "use quadratic displacements (mesh.element = \"tri6\", the paper's Tri6/Tri3 pair)",
+            _ => "refine the mesh towards elements of about ten thicknesses and compare with a finer mesh",
+        };
+        out.push(format!(
+            "shell `{}`: {element} elements {ratio:.3} times longer than the thickness (median edge {length:.3e} m, \
+             h = {:.3e} m) are expected to lock in bending, i.e. to be too stiff (docs/stability.md, \
+             locking). Remedy: {remedy}",
+            shell.name, m.thickness
+        ));
+    }
+    out
+}
+
+/// Median edge length over the triangles of a corner mesh (`None` without elements).
+fn median_edge_length(nodes: &[nalgebra::Vector3<f64>], elements: &[[usize; 3]]) -> Option<f64> {
+    let mut lengths: Vec<f64> = elements
+        .iter()
+        .flat_map(|e| (0..3).map(move |k| (e[k], e[(k + 1) % 3])))
+        .filter_map(|(a, b)| Some((nodes.get(a)? - nodes.get(b)?).norm()))
+        .filter(|l| l.is_finite())
+        .collect();
+    if lengths.is_empty() {
+        return None;
+    }
+    let mid = lengths.len() / 2;
+    let (_, median, _) = lengths.select_nth_unstable_by(mid, f64::total_cmp);
+    Some(*median)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::median_edge_length;
+    use nalgebra::Vector3;
+
+    #[test]
+    fn median_edge_of_a_right_triangle_is_its_middle_edge() {
+        let nodes = [Vector3::zeros(), Vector3::new(3.0, 0.0, 0.0), Vector3::new(0.0, 4.0, 0.0)];
+        assert_eq!(median_edge_length(&nodes, &[[0, 1, 2]]), Some(4.0));
+        assert_eq!(median_edge_length(&nodes, &[]), None);
+    }
+}
