@@ -76,7 +76,7 @@ fn cases(large: bool) -> Vec<Case> {
             Some((4665.1, 2.00)),
             Some(694.0),
             None,
-            "reference timing partly disturbed by other load (refdata)",
+            "reference timing partly disturbed by other load, see refdata",
         ),
         plate("tri6", 1, Some((3.8, 2.39)), Some(10.0), None, ""),
         plate("tri6", 2, Some((16.0, 2.33)), Some(32.0), None, ""),

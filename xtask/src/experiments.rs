@@ -14,6 +14,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
+mod comparison;
 mod contact;
 
 /// How the experiments run.
@@ -167,6 +168,20 @@ pub fn registry() -> Vec<Experiment> {
             runs: contact::bunny_runs,
             check: contact::bunny_check,
             render_each: true,
+        },
+        Experiment {
+            name: "bunny_kl",
+            title: "Bunny, Kirchhoff–Love comparison model",
+            runs: comparison::bunny_kl_runs,
+            check: comparison::bunny_kl_check,
+            render_each: true,
+        },
+        Experiment {
+            name: "lotus_flower_tet4",
+            title: "Lotus flower, volumetric Tet4 comparison model",
+            runs: comparison::lotus_tet4_runs,
+            check: comparison::lotus_tet4_check,
+            render_each: false,
         },
         Experiment {
             name: "dumpling",
@@ -678,6 +693,7 @@ pub fn run_all(o: &Options) -> Result<String> {
     let mut table = String::new();
     let mut checks = String::new();
     let mut failures = Vec::new();
+    let mut all_results = Vec::new();
     for exp in registry() {
         if o.only.as_ref().is_some_and(|f| !exp.name.contains(f.as_str())) {
             continue;
@@ -723,6 +739,7 @@ pub fn run_all(o: &Options) -> Result<String> {
         for line in (exp.check)(&results) {
             writeln!(checks, "{line}")?;
         }
+        all_results.push((exp.name, results));
     }
     let date = std::process::Command::new("date")
         .arg("-u")
@@ -761,6 +778,7 @@ pub fn run_all(o: &Options) -> Result<String> {
     )?;
     md.push_str(&table);
     writeln!(md, "\n## What each experiment shows\n{checks}")?;
+    md.push_str(&comparison::section(&all_results));
     if !failures.is_empty() {
         writeln!(md, "\n## Failures\n")?;
         for f in &failures {

@@ -417,13 +417,17 @@ pub fn remedy(settings: &Settings, result: &CellResult) -> Option<(Settings, Str
         let mut fixed = settings.clone();
         let mut why = Vec::new();
         let turns_per_element = settings.turns / settings.mesh.0 as f64;
-        if turns_per_element > 1.0 || settings.mesh.1 < 2 {
+        if settings.mesh.1 < 2 {
             let nx = settings.mesh.0.max(settings.turns.ceil() as usize);
-            fixed.mesh = (nx, settings.mesh.1.max(2));
+            fixed.mesh = (nx, 2);
             why.push(format!(
-                "{turns_per_element:.1} turns per element along a strip {} element(s) wide does not get through the coiling snap: use at most one turn per element along and two across ({nx} × {} quads)",
-                settings.mesh.1,
-                fixed.mesh.1
+                "a strip one element wide with {turns_per_element:.1} turns per element along it does not get through the coiling snap: use two elements across and at most one turn per element along ({nx} × 2 quads)"
+            ));
+        } else if turns_per_element >= 1.0 {
+            let nx = (4.0 * settings.turns).ceil() as usize;
+            fixed.mesh.0 = nx;
+            why.push(format!(
+                "{turns_per_element:.1} turns per element along the strip: refine along it to a quarter turn per element ({nx} quads)"
             ));
         }
         if settings.dt > 0.01 {
@@ -524,6 +528,13 @@ pub fn run_all(runner: &Runner, out: &Path, images: &Path, only: Option<&str>, r
                         }
                     )?;
                 }
+                None if r.outcome.is_ok() && r.inverted() => writeln!(
+                    remedies,
+                    "- **{} = {}**: every step converged, but elements turned inside out (smallest area ratio {:.3}); the run warns about it. No setting of this cell avoids it; the coarse-strip remedy above does.",
+                    c.group,
+                    c.label,
+                    r.min_area_ratio.unwrap_or(f64::NAN)
+                )?,
                 None => writeln!(
                     remedies,
                     "- **{} = {}**: no remedy known: {}",
@@ -582,7 +593,7 @@ const FINDINGS: &str = "
 
 - **Material and thickness extremes alone are fine.** One setting at a time, E from 1e3 to 1e11 Pa, ν up to 0.499, h/L down to 1e-5, μ_c/μ from 0 to 10, L_c from 0 to h and dt from 1e-4 to 0.1 s all converge with the default solver settings, without non-finite values or inverted elements; thin strips need more Newton iterations in their hardest steps (the *max* column). ν = 0.5 is rejected when the scene is read (`material.poisson_ratio: must lie in (-1, 0.5)`).
 - **μ_c = 0 together with L_c = 0** leaves the drilling rotation (about the normal) without any stiffness of its own: it is held only through the clamps. The runs converge, but with many more Newton iterations in the hardest steps, and the interior drilling rotation is not determined by the energy. Remedy: any L_c > 0 (1e-3·h changes the bending stiffness by a relative 1.2e-5) or μ_c > 0. The simulator warns about this combination when it builds the scene (on stderr and in `summary.json` under `extra.warnings`), as it does about elements much longer than the thickness (locking, below).
-- **Coiling, and why halving the step does not help.** Once the twisted strip buckles into a coil (near 3.8 turns here), steps can fail, and the step halving then runs down to its floor (dt ≈ 1e-6 s) with the residual stalled well above the tolerance, which ends the run (the failed corners). Measured at dt = 0.01 s with ten turns: 4 × 1 quads stop at t = 3.79 s, 10 × 1 at t = 4.37 s and 40 × 1 at t = 3.93 s, while 10 × 2 (the matrix's ten-turn row, also run in CI) completes with 38 step reductions. A strip one element wide does not get through the snap whatever its length resolution. Giving the rotations their inertia (`material.angular_inertia_density = ρh²/12`) lets the one-element-wide runs reach the end, but through inverted elements (smallest area ratio −0.94 on 4 × 1, −0.75 on 40 × 1, the ρ_θ corner's last column): that is not a remedy, and a run with a negative *min area ratio* must not be trusted. Remedy: at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second).
+- **Coiling, and why halving the step does not help.** Once the twisted strip buckles into a coil (near 3.8 turns here), steps can fail, and the step halving then runs down to its floor (dt ≈ 1e-6 s) with the residual stalled well above the tolerance, which ends the run (the failed corners). Measured at dt = 0.01 s with ten turns: 4 × 1 quads stop at t = 3.79 s, 10 × 1 at t = 4.37 s and 40 × 1 at t = 3.93 s, while 10 × 2 (the matrix's ten-turn row, also run in CI) completes with 38 step reductions. A strip one element wide does not get through the snap whatever its length resolution, and finer is not always safer: 40 × 2 gets past the first snap but stops at t = 8.23 s. Newton's robustness in strongly coiled states is the weak point this matrix found; it is not a property of the model, and it is open work. Giving the rotations their inertia (`material.angular_inertia_density = ρh²/12`) lets the one-element-wide runs reach the end, but through inverted elements (smallest area ratio −0.94 on 4 × 1, −0.75 on 40 × 1, the ρ_θ corner's last column): that is not a remedy, and a run with a negative *min area ratio* must not be trusted. Remedy: at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second).
 - **Resolution.** Aspect ratio 100 by itself (4×40 quads, 25 mm × 0.25 mm) converges; the thin four-turn sliver corner fails on the twist per element along the strip (one turn per element), not on the aspect ratio.
 - **The residual tolerance is absolute.** Its round-off floor is about 1e-16·E·h times a factor that grows with the number of elements along the structure; a tolerance below it makes Newton run into its iteration limit. For stiff or very fine problems set `solver.tolerance` to about 1e-13·E·h or larger (the validation scenes use 1e-7 N and 1e-6 N for this reason, and the locking study scales it).
 - **Energy.** Without damping and with the ends held, kinetic plus elastic energy never grew by more than a few 1e-6 relative over the hold phase; those small changes are exchanges with the clamps' penalty energy, which the summary's energies leave out.

@@ -22,7 +22,7 @@
 use crate::fundamental_form::{N_LOCALS, first_form, inverse2, second_form, strain_locals, vertex};
 use crate::material::{MaterialConstants, plane_stress_density};
 use crate::mid_edge::{add_edge_hessian, measure_jet, set_edge_jacobian, unit_normal_jet, weighted_normal_hessian};
-use crate::rest::StencilRest;
+use crate::rest::{StencilRest, ThicknessPoint};
 use cosserat_geometry::Real;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
@@ -73,12 +73,17 @@ fn metric_entries<T: Real>(s: &SVector<T, N_LOCALS>, bab: &SVector<T, 3>, xi: f6
     SVector::<T, 3>::from_fn(|k, _| s[k] - b[k] * (2.0 * xi) + bab[k] * (xi * xi))
 }
 
-/// The plane-stress density \[J/m³\] at a thickness point with inverse rest metric `inverse_metric`, as a
-/// function of the entries `(g₁₁, g₁₂, g₂₂)` of the current metric `g(ξ)`: `W_ps(ḡ⁻¹ g)`.
-pub fn point_density<T: Real>(g: &SVector<T, 3>, inverse_metric: &Matrix2<f64>, c: &MaterialConstants) -> T {
-    // `ḡ⁻¹ g` with f64 coefficients: scalings instead of dual products.
-    let gm = [[g[0], g[1]], [g[1], g[2]]];
-    let gi = inverse_metric;
+/// The plane-stress density \[J/m³\] at a thickness point, as a function of the entries
+/// `(g₁₁, g₁₂, g₂₂)` of the current metric `g(ξ)`: `W_ps(G (g + O))` with the point's inverse metric `G`
+/// and metric offset `O` (`W_ps(ḡ⁻¹ g)` for the exact rest volume).
+pub fn point_density<T: Real>(g: &SVector<T, 3>, point: &ThicknessPoint, c: &MaterialConstants) -> T {
+    // `G (g + O)` with f64 coefficients: scalings instead of dual products.
+    let o = &point.metric_offset;
+    let gm = [
+        [g[0] + o[(0, 0)], g[1] + o[(0, 1)]],
+        [g[1] + o[(1, 0)], g[2] + o[(1, 1)]],
+    ];
+    let gi = &point.inverse_metric;
     let m = Matrix2::from_fn(|r, col| gm[0][col] * gi[(r, 0)] + gm[1][col] * gi[(r, 1)]);
     plane_stress_density(&m, c)
 }
@@ -92,7 +97,7 @@ pub fn local_energy<T: Real>(s: &SVector<T, N_LOCALS>, rest: &StencilRest, c: &M
     let bab = bending_product(s);
     let mut total = T::zero();
     for p in rest.points() {
-        total += point_density(&metric_entries(s, &bab, p.xi), &p.inverse_metric, c) * p.weight;
+        total += point_density(&metric_entries(s, &bab, p.xi), p, c) * p.weight;
     }
     total
 }
@@ -123,15 +128,9 @@ fn local_derivatives(
     for p in rest.points() {
         let g = metric_entries(s, &bab, p.xi);
         let (w, gw, hw) = if with_hessian {
-            num_dual::hessian(
-                |g: SVector<Dual2SVec64<3>, 3>| point_density(&g, &p.inverse_metric, c),
-                &g,
-            )
+            num_dual::hessian(|g: SVector<Dual2SVec64<3>, 3>| point_density(&g, p, c), &g)
         } else {
-            let (w, gw) = num_dual::gradient(
-                |g: SVector<DualSVec64<3>, 3>| point_density(&g, &p.inverse_metric, c),
-                &g,
-            );
+            let (w, gw) = num_dual::gradient(|g: SVector<DualSVec64<3>, 3>| point_density(&g, p, c), &g);
             (w, gw, SMatrix::zeros())
         };
         let jq = linear(p.xi) + jb * (p.xi * p.xi);

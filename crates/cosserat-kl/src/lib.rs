@@ -18,8 +18,10 @@
 //! - [`ForceCouple`]: end moments as follower force couples on vertex pairs.
 //!
 //! Non-goals: rotational boundary conditions other than clamping two rows of vertices, general
-//! (numerically condensed) materials, contact, scene files. The model and its measured convergence are
-//! described in `docs/kirchhoff-love.md`.
+//! (numerically condensed) materials, and contact or scene files of its own: scenes reach the model
+//! through `cosserat-scene` (`[material] model = "kirchhoff_love"`) and the facade's `kl_model`, which
+//! adds contact as for any Tri3 shell. The model and its measured convergence are described in
+//! `docs/kirchhoff-love.md`.
 //!
 //! Feature flags: none.
 //!
@@ -64,4 +66,4 @@ pub use rest::StencilRest;
 pub use stencil::{Stencil, build_stencils};
 pub use system::{KlShell, KlSystem, build_kl_system};
 pub use term::KirchhoffLoveTerm;
-pub use thickness::ThicknessRule;
+pub use thickness::{RestVolume, ThicknessRule};

@@ -8,10 +8,14 @@
 //! with the rest shape operator `S̄ = ā⁻¹ b̄`: `1 − 2H̄ξ + K̄ξ²`. The weights include this factor, so the
 //! energy is the integral over the exact rest volume of the (constant-curvature) face. It stays positive
 //! across the thickness exactly when `h/2` is below every principal radius of curvature `1/|κᵢ|`.
+//! [`RestVolume::MidSurface`] is the thin-shell approximation for meshes locally more curved than that:
+//! weights without the factor, and the stretch `M = I + ā⁻¹ (g(ξ) − ḡ(ξ))` measured in the mid-surface
+//! metric (equal to `ḡ(ξ)⁻¹ g(ξ)` up to relative order `ξ κ`, odd in `ξ`, so energies differ at order
+//! `(h κ)²`), which stays defined at any curvature.
 
 use crate::error::{KlError, check_parameter};
 use crate::fundamental_form::{first_form, inverse2, second_form, shifted_metric, strain_locals};
-use crate::thickness::{MAX_THICKNESS_POINTS, ThicknessRule};
+use crate::thickness::{MAX_THICKNESS_POINTS, RestVolume, ThicknessRule};
 use cosserat_fem::MeshError;
 use nalgebra::{Matrix2, SVector};
 
@@ -22,8 +26,14 @@ pub struct ThicknessPoint {
     pub xi: f64,
     /// Integration weight \[m³\]: rule weight × rest face area × `det(I − ξ S̄) = √(det ḡ(ξ) / det ā)`.
     pub weight: f64,
-    /// The inverse rest metric `ḡ(ξ)⁻¹` in the face's parameter coordinates.
+    /// The inverse rest metric `ḡ(ξ)⁻¹` in the face's parameter coordinates ([`RestVolume::Exact`]), or
+    /// the inverse mid-surface metric `ā⁻¹` ([`RestVolume::MidSurface`]).
     pub inverse_metric: Matrix2<f64>,
+    /// The constant added to the current metric before `inverse_metric` applies: zero
+    /// ([`RestVolume::Exact`], so the stretch is `M = ḡ(ξ)⁻¹ g(ξ)`), or `ā − ḡ(ξ)`
+    /// ([`RestVolume::MidSurface`], so `M = I + ā⁻¹ (g(ξ) − ḡ(ξ))`: the Green strain of the fibre at `ξ`
+    /// measured in the mid-surface metric, which needs no inverse of `ḡ(ξ)`).
+    pub metric_offset: Matrix2<f64>,
 }
 
 /// The rest data of one stencil.
@@ -44,7 +54,8 @@ impl StencilRest {
     /// # Errors
     /// [`KlError::InvalidParameter`] for a non-positive thickness, [`KlError::Mesh`] with
     /// [`MeshError::DegenerateElement`] for a face of zero area (or a neighbour folded onto it), and
-    /// [`KlError::ThickerThanCurvature`] when `h/2` reaches a principal radius of curvature.
+    /// [`KlError::ThickerThanCurvature`] when `h/2` reaches a principal radius of curvature (with
+    /// [`RestVolume::Exact`] only).
     pub fn try_new(
         elem_idx: usize,
         x: &SVector<f64, 18>,
@@ -73,7 +84,8 @@ impl StencilRest {
         // Principal curvatures: the eigenvalues of S̄, real because S̄ is self-adjoint with respect to ā.
         let (mean, gauss) = (0.5 * shape.trace(), shape.determinant());
         let kappa_max = mean.abs() + (mean * mean - gauss).max(0.0).sqrt();
-        if 0.5 * thickness * kappa_max >= 1.0 {
+        let exact = rule.rest_volume() == RestVolume::Exact;
+        if exact && 0.5 * thickness * kappa_max >= 1.0 {
             return Err(KlError::ThickerThanCurvature {
                 elem_idx,
                 thickness,
@@ -85,15 +97,25 @@ impl StencilRest {
             xi: 0.0,
             weight: 0.0,
             inverse_metric: Matrix2::zeros(),
+            metric_offset: Matrix2::zeros(),
         };
         let mut points = [empty; MAX_THICKNESS_POINTS];
         for (q, (xi, w)) in rule.points(thickness).enumerate() {
             let g = shifted_metric(&a, &b, &b_ainv_b, xi);
-            let volume_factor = 1.0 - 2.0 * mean * xi + gauss * xi * xi;
-            points[q] = ThicknessPoint {
-                xi,
-                weight: w * area * volume_factor,
-                inverse_metric: inverse2(&g),
+            points[q] = if exact {
+                ThicknessPoint {
+                    xi,
+                    weight: w * area * (1.0 - 2.0 * mean * xi + gauss * xi * xi),
+                    inverse_metric: inverse2(&g),
+                    metric_offset: Matrix2::zeros(),
+                }
+            } else {
+                ThicknessPoint {
+                    xi,
+                    weight: w * area,
+                    inverse_metric: inverse2(&a),
+                    metric_offset: a - g,
+                }
             };
         }
         Ok(Self {

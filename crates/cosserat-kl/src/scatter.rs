@@ -2,8 +2,10 @@
 //!
 //! This is `cosserat_assembly::scatter::ElementScatter` for groups with absent members: a boundary face's
 //! stencil lacks the vertices across its boundary edges, and its energy does not depend on those slots.
-//! Absent slots are skipped, so no block appears twice in a group (which `ElementScatter` would add
-//! wrongly) and no spurious couplings enter the pattern.
+//! Absent slots are skipped, so no spurious couplings enter the pattern. A block may fill two slots of
+//! a group (the faces across two edges of a face share their third vertex where a vertex has valence
+//! 3): both slot orders then add into that block's diagonal block, so the result is the Hessian of the
+//! energy as a function of the distinct vertices.
 
 use cosserat_assembly::SparsityPattern;
 use nalgebra::{SMatrix, SVector};
@@ -24,8 +26,8 @@ impl<const N: usize> LocalScatter<N> {
     /// Scatter data for groups given by their global blocks (`None` = absent slot).
     ///
     /// # Panics
-    /// If a group couples two blocks that the pattern does not couple, or names a block twice (the
-    /// pattern must have been built from the present blocks of the same groups).
+    /// If a group couples two blocks that the pattern does not couple (the pattern must have been built
+    /// from the present blocks of the same groups).
     #[track_caller]
     pub fn new(pattern: &SparsityPattern, blocks: Vec<[Option<usize>; N]>) -> Self {
         let positions = blocks
@@ -37,7 +39,6 @@ impl<const N: usize> LocalScatter<N> {
                         let (Some(a), Some(b)) = (group[i], group[j]) else {
                             continue;
                         };
-                        assert!(i == j || a != b, "a group names block {a} twice");
                         let (a, b) = (a.min(b), a.max(b));
                         p[i][j] =
                             pattern.block_position(a, b).expect("group block pair missing from the pattern") as u32;
@@ -90,7 +91,9 @@ impl<const N: usize> LocalScatter<N> {
                 let (Some(a), Some(b)) = (group[i], group[j]) else {
                     continue;
                 };
-                if a > b || (a == b && i > j) {
+                // A diagonal block receives both orders of two slots that name the same block (the upper
+                // triangle of H_ij + H_ji); a slot with itself once.
+                if a > b {
                     continue;
                 }
                 let k = pos[i][j] as usize;

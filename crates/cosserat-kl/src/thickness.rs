@@ -47,17 +47,39 @@ fn reference_rule(n: usize) -> ([f64; MAX_THICKNESS_POINTS], [f64; MAX_THICKNESS
     (x, w)
 }
 
-/// An `n`-point Gauss–Legendre rule through the thickness, `2 ≤ n ≤ 5`. Default: 3 points.
+/// The volume measure of the thickness integral.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum RestVolume {
+    /// The exact rest volume of a face with constant rest curvature: weights times
+    /// `det(I − ξ S̄) = 1 − 2H̄ξ + K̄ξ²`. Requires `h/2` below every principal radius of curvature.
+    #[default]
+    Exact,
+    /// The mid-surface area times the thickness (the volume factor set to 1), with the strain measured
+    /// in the mid-surface metric, `M = I + ā⁻¹ (g(ξ) − ḡ(ξ))`: the usual thin-shell approximation,
+    /// which differs from [`RestVolume::Exact`] pointwise at relative order `ξ κ`; those terms are odd in
+    /// `ξ`, so face energies differ at relative order `(h κ)²` (measured on a sphere stencil, see
+    /// `docs/kirchhoff-love.md`). It admits faces more sharply
+    /// curved than `2/h` (a coarse mesh of a thick closed surface), where the exact volume factor
+    /// changes sign inside the thickness and `ḡ(ξ)` becomes singular.
+    MidSurface,
+}
+
+/// An `n`-point Gauss–Legendre rule through the thickness, `2 ≤ n ≤ 5`, with its volume measure.
+/// Default: 3 points, exact rest volume.
 ///
 /// One point would see no bending at all (it samples the mid-surface only), so it is rejected.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct ThicknessRule {
     n_points: usize,
+    rest_volume: RestVolume,
 }
 
 impl Default for ThicknessRule {
     fn default() -> Self {
-        Self { n_points: 3 }
+        Self {
+            n_points: 3,
+            rest_volume: RestVolume::Exact,
+        }
     }
 }
 
@@ -68,7 +90,10 @@ impl ThicknessRule {
     /// [`KlError::InvalidParameter`] unless `2 ≤ n ≤ 5`.
     pub fn try_new(n_points: usize) -> Result<Self, KlError> {
         if (2..=MAX_THICKNESS_POINTS).contains(&n_points) {
-            Ok(Self { n_points })
+            Ok(Self {
+                n_points,
+                rest_volume: RestVolume::Exact,
+            })
         } else {
             Err(KlError::InvalidParameter {
                 name: "thickness_points",
@@ -81,6 +106,16 @@ impl ThicknessRule {
     /// Number of points.
     pub fn n_points(&self) -> usize {
         self.n_points
+    }
+
+    /// The same rule with another volume measure.
+    pub fn with_rest_volume(self, rest_volume: RestVolume) -> Self {
+        Self { rest_volume, ..self }
+    }
+
+    /// The volume measure.
+    pub fn rest_volume(&self) -> RestVolume {
+        self.rest_volume
     }
 
     /// The thickness coordinates `ξ` \[m\] and weights \[m\] for a shell of thickness `h`: the weights sum

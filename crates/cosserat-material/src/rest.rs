@@ -17,6 +17,7 @@ use cosserat_fem::mesh::{CurvatureSettings, MeshElement, Tri3Mesh, rest_geometry
 use cosserat_fem::{MeshError, QuadratureRule, ShapeFunctions, TriMesh};
 use cosserat_geometry::surface::{Curvature, SurfaceMetric};
 use nalgebra::{Matrix2, Matrix3, Vector3};
+use rayon::prelude::*;
 
 /// Options of the rest-state computation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -120,8 +121,9 @@ where
         &local_geometry(&Matrix3::identity(), &Matrix3::zeros()),
         moduli,
     );
-    let mut matrices: Vec<StrainMatrix> = vec![flat_d];
     let mut index = Vec::with_capacity(n_el * n_qp);
+    // The frame and b of each curved point, in point order: their density Hessians are computed below.
+    let mut curved_points: Vec<(Matrix3<f64>, Matrix3<f64>)> = Vec::new();
     let mut shapes = Vec::with_capacity(n_el * n_qp);
     let mut point_positions = Vec::with_capacity(n_el * n_qp);
     let mut curvature = Vec::with_capacity(n_el * n_qp);
@@ -159,14 +161,22 @@ where
             let curved = geometry.is_some() && curv.b.norm() * area.sqrt() > options.flat_tolerance;
             if curved {
                 n_curved_points += 1;
-                let geom = local_geometry(&shapes[p].frame, &curv.b);
-                matrices.push(strain_hessian(&curved_terms, &geom, moduli));
-                index.push((matrices.len() - 1) as u32);
+                curved_points.push((shapes[p].frame, curv.b));
+                index.push(curved_points.len() as u32);
             } else {
                 index.push(0);
             }
         }
     }
+    // One dense 18-direction second-order dual pass per curved point (about 1 ms each): independent,
+    // so they run in parallel; the order of `matrices` follows `index` whatever the scheduling.
+    let mut matrices: Vec<StrainMatrix> = Vec::with_capacity(1 + curved_points.len());
+    matrices.push(flat_d);
+    matrices.par_extend(
+        curved_points
+            .par_iter()
+            .map(|(frame, b)| strain_hessian(&curved_terms, &local_geometry(frame, b), moduli)),
+    );
     let mut active_terms = Vec::new();
     if n_curved_points < n_el * n_qp {
         active_terms.extend(flat_terms.names());

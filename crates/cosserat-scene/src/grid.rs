@@ -42,7 +42,9 @@ impl PlanarGrid {
         if points.len() < 4 || points.iter().any(|p| !p.iter().all(|c| c.is_finite())) {
             return Err("the mesh needs at least 4 finite vertices".into());
         }
-        let extent = points.iter().fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()).max(p.z.abs()));
+        let extent = points
+            .iter()
+            .fold(0.0f64, |m, p| m.max(p.x.abs()).max(p.y.abs()).max(p.z.abs()));
         let tol = 1e-9 * extent.max(1e-12);
         let z = points[0].z;
         if let Some(p) = points.iter().find(|p| (p.z - z).abs() > tol) {
@@ -77,7 +79,10 @@ impl PlanarGrid {
             let ij = (index(&xs, p.x), index(&ys, p.y));
             let slot = ij.0 * ys.len() + ij.1;
             if std::mem::replace(&mut seen[slot], true) {
-                return Err(format!("two vertices share the grid point ({}, {})", xs[ij.0], ys[ij.1]));
+                return Err(format!(
+                    "two vertices share the grid point ({}, {})",
+                    xs[ij.0], ys[ij.1]
+                ));
             }
             vertex_ij.push(ij);
         }

@@ -160,6 +160,26 @@ pub enum HyperelasticLaw {
     NeoHookean,
 }
 
+/// The volume measure of a Kirchhoff–Love shell's thickness integral.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[non_exhaustive]
+pub enum KlRestVolume {
+    /// The exact rest volume of each face (requires `h/2` below every rest radius of curvature).
+    #[default]
+    Exact,
+    /// Mid-surface area times thickness (thin-shell approximation; admits sharper rest curvature).
+    MidSurface,
+}
+
+/// The settings of a Kirchhoff–Love shell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct KlSettings {
+    /// The hyperelastic law.
+    pub law: HyperelasticLaw,
+    /// The volume measure through the thickness.
+    pub rest_volume: KlRestVolume,
+}
+
 /// Which mechanical model a shell of a scene is simulated with.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
@@ -170,7 +190,7 @@ pub enum ModelKind {
     /// The Kirchhoff–Love thin shell of `cosserat-kl` on the Tri3 mesh: vertex positions only.
     /// [`ShellSpec::material`] supplies thickness, Young's modulus, Poisson ratio, density; its
     /// Cosserat-only entries are unused.
-    KirchhoffLove(HyperelasticLaw),
+    KirchhoffLove(KlSettings),
     /// The volumetric micropolar continuum of `cosserat-volume`: the Tri3 rectangle mesh (the
     /// mid-surface) extruded into a slab of `layers` Tet4 layers through the thickness. Selections of
     /// the shell's nodes stand for the columns of slab nodes above them.

@@ -18,8 +18,9 @@
 //! - [`kernel`] (fast exact point Hessian) and [`oracle`] (the same energy for dual-number checks);
 //! - [`measure`]: circle fits and Hausdorff distances for shape comparisons.
 //!
-//! Non-goals: higher-order tetrahedra, contact, scene files (this crate is a library for comparisons;
-//! `cosserat-scene` does not know it), and solvers of its own: the built potential is an ordinary
+//! Non-goals: higher-order tetrahedra, contact, scene files of its own (scenes reach the model through
+//! `cosserat-scene`'s `model = "micropolar_volume"` and the facade's `volume_model`, which extrudes a
+//! flat grid into a slab), and solvers of its own: the built potential is an ordinary
 //! `IncrementalPotential` for `cosserat-solver`.
 //!
 //! Feature flags: none.

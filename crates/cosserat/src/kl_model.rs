@@ -10,9 +10,9 @@
 use crate::error::SimulationError;
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{ElementPair, IncrementalPotential, ShellLayout, System, SystemOptions, SystemState};
-use cosserat_kl::{HyperelasticModel, KlMaterial, KlShell, build_kl_system};
+use cosserat_kl::{HyperelasticModel, KlMaterial, KlShell, RestVolume, build_kl_system};
 use cosserat_scene::output::{DataArray, VtuFrame};
-use cosserat_scene::spec::{HyperelasticLaw, ShellSpec};
+use cosserat_scene::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ShellSpec};
 use nalgebra::Vector3;
 
 /// The `cosserat-kl` material of a scene's hyperelastic law.
@@ -36,22 +36,35 @@ pub struct KlModel {
 /// # Errors
 /// [`SimulationError::Setup`] naming the shell when `cosserat-kl` rejects the mesh or the material
 /// (e.g. a shell thicker than twice a rest radius of curvature).
-pub fn build(shell: &ShellSpec, law: HyperelasticLaw, options: &SystemOptions) -> Result<(System, KlModel), SimulationError> {
+pub fn build(
+    shell: &ShellSpec,
+    settings: KlSettings,
+    options: &SystemOptions,
+) -> Result<(System, KlModel), SimulationError> {
     let mesh = &shell.mesh.corners;
     let p = &shell.material;
+    let law = settings.law;
     let mut kl = KlShell::new(
         KlMaterial::new(hyperelastic_model(law), p.youngs_modulus, p.poisson_ratio),
         p.thickness,
         p.density,
     );
     kl.damping = shell.damping;
+    kl.thickness_rule = kl.thickness_rule.with_rest_volume(match settings.rest_volume {
+        KlRestVolume::MidSurface => RestVolume::MidSurface,
+        _ => RestVolume::Exact,
+    });
     let system = build_kl_system(mesh, &kl, Vec::new(), options)
         .map_err(|e| SimulationError::Setup(format!("shell `{}` (Kirchhoff–Love): {e}", shell.name)))?;
     let n = mesh.n_nodes();
     let element_areas = mesh
         .elements
         .iter()
-        .map(|t| 0.5 * (mesh.nodes[t[1]] - mesh.nodes[t[0]]).cross(&(mesh.nodes[t[2]] - mesh.nodes[t[0]])).norm())
+        .map(|t| {
+            0.5 * (mesh.nodes[t[1]] - mesh.nodes[t[0]])
+                .cross(&(mesh.nodes[t[2]] - mesh.nodes[t[0]]))
+                .norm()
+        })
         .collect();
     let layout = ShellLayout {
         name: shell.name.clone(),
@@ -136,16 +149,12 @@ impl KlModel {
 /// A non-finite energy, named by the term.
 pub fn extra_elastic_energy(potential: &IncrementalPotential) -> Result<f64, SimulationError> {
     let parts = &potential.parts;
-    let Some(term) = parts.extra.first() else { return Ok(0.0) };
+    let Some(term) = parts.extra.first() else {
+        return Ok(0.0);
+    };
     let u = vec![0.0; potential.n_dofs()];
-    let rotations = NodeRotations::Matrices(
-        parts
-            .state
-            .q
-            .iter()
-            .map(|q| cosserat_geometry::rotation::rotation_matrix(q))
-            .collect(),
-    );
+    let rotations =
+        NodeRotations::Matrices(parts.state.q.iter().map(cosserat_geometry::rotation::rotation_matrix).collect());
     let eval = Evaluation {
         state: &parts.state,
         layout: &parts.layout,

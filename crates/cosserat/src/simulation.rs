@@ -8,16 +8,16 @@ use crate::contact_run::{ContactMonitor, build_contact_term, contact_parts};
 use crate::error::SimulationError;
 use crate::frames::{OutputMesh, append_obstacles};
 use crate::kl_model::{self, KlModel};
-use crate::volume_model::{self, VolumeModel};
 use crate::probes::Probes;
 use crate::scripts::Scripts;
+use crate::volume_model::{self, VolumeModel};
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{
     ElementPair, IncrementalPotential, Parallelism, PotentialTerm, ShellInput, System, SystemOptions, build_system,
 };
 use cosserat_contact::ContactTerm;
-use cosserat_scene::output::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
 use cosserat_scene::output::VtuFrame;
+use cosserat_scene::output::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
 use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, SurfaceMesh, TimeSpec};
 use cosserat_solver::{QuasiStaticSettings, StepError, StepReport, TimeStepSettings, TimeStepper, solve_quasi_static};
 use nalgebra::Vector3;
@@ -604,8 +604,16 @@ impl Simulation {
         let steps = s.steps.max(1) as f64;
         let mut extra = std::collections::BTreeMap::new();
         extra.insert("max_newton_iterations".into(), json!(s.max_newton_iterations));
-        if !self.advice.is_empty() {
-            extra.insert("warnings".into(), json!(self.advice));
+        let mut warnings = self.advice.clone();
+        if s.min_area_ratio <= 0.0 {
+            warnings.push(format!(
+                "an element turned inside out during the run (smallest deformed-to-rest area ratio {:.3}): \
+                 the steps converged, but the result is not to be trusted; refine the mesh or reduce the time step",
+                s.min_area_ratio
+            ));
+        }
+        if !warnings.is_empty() {
+            extra.insert("warnings".into(), json!(warnings));
         }
         extra.insert("wasted_newton_iterations".into(), json!(s.wasted_iterations));
         extra.insert("n_frames".into(), json!(s.frames));

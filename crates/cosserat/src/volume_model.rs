@@ -61,7 +61,10 @@ pub fn build(
 ) -> Result<(System, VolumeModel, SceneSpec), SimulationError> {
     let shell = &spec.shells[0];
     if shell.initial_positions.is_some() {
-        return Err(setup(shell, "an initial pose (`mesh.initial`) is not available for the slab"));
+        return Err(setup(
+            shell,
+            "an initial pose (`mesh.initial`) is not available for the slab",
+        ));
     }
     let corners = &shell.mesh.corners;
     let grid = PlanarGrid::detect(&corners.nodes).map_err(|r| setup(shell, r))?;
@@ -201,7 +204,8 @@ impl VolumeModel {
         );
         for column in &self.columns {
             let w = 1.0 / column.len() as f64;
-            let (mut x, mut rest, mut v, mut w_ang) = (Vector3::zeros(), Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
+            let (mut x, mut rest, mut v, mut w_ang) =
+                (Vector3::zeros(), Vector3::zeros(), Vector3::zeros(), Vector3::zeros());
             let reference = state.q[column[0]];
             let mut q = Quaternion::new(0.0, 0.0, 0.0, 0.0);
             for &k in column {

@@ -41,6 +41,13 @@
 //! and probes name their shell with `shell = "name"` or `shell = 0` (index); with a single shell the
 //! key may be omitted.
 //!
+//! Models: `[material] model` is `"plate"` or `"shell"` (the Cosserat shell), or one of the comparison
+//! models: `"kirchhoff_love"` (Tri3 mesh, positions only, with `law = "stvk" | "neo_hookean"` and
+//! optional `rest_volume`; no rotation conditions, torques, rest fields or director probes) and
+//! `"micropolar_volume"` (a flat rectangular grid extruded into `layers` Tet4 layers of the given
+//! thickness; regions and probes select node columns). Both run a scene of exactly one shell; checks
+//! in `validate/model.rs`.
+//!
 //! Contact: an optional `\[contact\]` section with obstacles and friction coefficients (see
 //! [`ContactSection`]); a scene without it builds no contact structure.
 //!
@@ -380,6 +387,16 @@ pub enum ModelName {
     MicropolarVolume,
 }
 
+/// Volume measure names of the Kirchhoff–Love thickness integral.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RestVolumeName {
+    /// The exact rest volume of each face.
+    Exact,
+    /// Mid-surface area times thickness.
+    MidSurface,
+}
+
 /// Hyperelastic law names of the Kirchhoff–Love model.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -455,6 +472,9 @@ pub struct MaterialSection {
     /// Hyperelastic law of the Kirchhoff–Love model: `"stvk"` or `"neo_hookean"` (required there, not
     /// allowed otherwise).
     pub law: Option<LawName>,
+    /// Volume measure of the Kirchhoff–Love thickness integral: `"exact"` (default) or `"mid_surface"`
+    /// (thin-shell approximation for meshes locally more curved than `2/h`; Kirchhoff–Love only).
+    pub rest_volume: Option<RestVolumeName>,
     /// Element layers through the thickness of the micropolar volume model (default 1, the paper's
     /// Lotus Tet4 row; not allowed otherwise).
     pub layers: Option<usize>,

@@ -34,7 +34,10 @@ impl Ctx<'_> {
         }
         for (k, b) in c.boundaries.iter().enumerate() {
             if matches!(kind(b.selection.shell), ModelKind::KirchhoffLove(_)) {
-                let rejected = [("rotation", b.rotation.is_some()), ("angular_velocity", b.angular_velocity.is_some())];
+                let rejected = [
+                    ("rotation", b.rotation.is_some()),
+                    ("angular_velocity", b.angular_velocity.is_some()),
+                ];
                 if let Some((key, _)) = rejected.iter().find(|(_, given)| *given) {
                     return Err(self.invalid(
                         &format!("boundary.{k}.{key}"),
@@ -99,10 +102,7 @@ impl Ctx<'_> {
                 .iter()
                 .any(|s| matches!(kind(s.shell), ModelKind::MicropolarVolume { .. }))
         {
-            return Err(self.invalid(
-                "contact",
-                "contact is not available for the micropolar volume model",
-            ));
+            return Err(self.invalid("contact", "contact is not available for the micropolar volume model"));
         }
         Ok(())
     }

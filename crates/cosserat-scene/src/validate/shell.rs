@@ -3,16 +3,16 @@
 
 use super::Ctx;
 use crate::error::{MeshSourceError, SceneError};
+use crate::grid::PlanarGrid;
 use crate::mesh_source::{
     Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh,
 };
 use crate::region::ShellNodes;
 use crate::schema::{
     AxlName, CurvatureSourceName, CurvedTermsName, ElementName, ExprValue, GeneratorName, LawName, MaterialSection,
-    MembraneVolumeName, MeshSection, ModelName, NormalWeightingName, SceneFile,
+    MembraneVolumeName, MeshSection, ModelName, NormalWeightingName, RestVolumeName, SceneFile,
 };
-use crate::grid::PlanarGrid;
-use crate::spec::{HyperelasticLaw, ModelKind, ShellSpec, SurfaceMesh};
+use crate::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ModelKind, ShellSpec, SurfaceMesh};
 use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::mesh::procedural::AnnulusSettings;
 use cosserat_fem::mesh::{CurvatureSource, NormalWeighting};
@@ -514,7 +514,8 @@ impl Ctx<'_> {
             (_, Some(l)) => l,
             (_, None) => return Err(self.invalid(&format!("{p}.length_scale"), "required by the Cosserat models")),
         };
-        let mut params = MaterialParameters::new(m.thickness, m.youngs_modulus, m.poisson_ratio, m.density, length_scale);
+        let mut params =
+            MaterialParameters::new(m.thickness, m.youngs_modulus, m.poisson_ratio, m.density, length_scale);
         if let Some(v) = m.mu_c_factor {
             params.mu_c_factor = v;
         }
@@ -597,15 +598,21 @@ impl Ctx<'_> {
     fn model_kind(&self, p: &str, m: &MaterialSection) -> Result<ModelKind, SceneError> {
         let kind = match m.model {
             ModelName::Plate | ModelName::Shell => ModelKind::Cosserat,
-            ModelName::KirchhoffLove => ModelKind::KirchhoffLove(match m.law {
-                Some(LawName::Stvk) => HyperelasticLaw::StVenantKirchhoff,
-                Some(LawName::NeoHookean) => HyperelasticLaw::NeoHookean,
-                None => {
-                    return Err(self.invalid(
-                        &format!("{p}.law"),
-                        "required by the Kirchhoff–Love model: \"stvk\" or \"neo_hookean\"",
-                    ));
-                }
+            ModelName::KirchhoffLove => ModelKind::KirchhoffLove(KlSettings {
+                law: match m.law {
+                    Some(LawName::Stvk) => HyperelasticLaw::StVenantKirchhoff,
+                    Some(LawName::NeoHookean) => HyperelasticLaw::NeoHookean,
+                    None => {
+                        return Err(self.invalid(
+                            &format!("{p}.law"),
+                            "required by the Kirchhoff–Love model: \"stvk\" or \"neo_hookean\"",
+                        ));
+                    }
+                },
+                rest_volume: match m.rest_volume {
+                    None | Some(RestVolumeName::Exact) => KlRestVolume::Exact,
+                    Some(RestVolumeName::MidSurface) => KlRestVolume::MidSurface,
+                },
             }),
             ModelName::MicropolarVolume => {
                 let layers = m.layers.unwrap_or(1);
@@ -619,6 +626,12 @@ impl Ctx<'_> {
             return Err(self.invalid(
                 &format!("{p}.law"),
                 "only the Kirchhoff–Love model (`model = \"kirchhoff_love\"`) takes a hyperelastic law",
+            ));
+        }
+        if m.rest_volume.is_some() && !matches!(kind, ModelKind::KirchhoffLove(_)) {
+            return Err(self.invalid(
+                &format!("{p}.rest_volume"),
+                "only the Kirchhoff–Love model (`model = \"kirchhoff_love\"`) takes a rest-volume measure",
             ));
         }
         if m.layers.is_some() && !matches!(kind, ModelKind::MicropolarVolume { .. }) {
@@ -639,7 +652,14 @@ impl Ctx<'_> {
             ("curvature_source", m.curvature_source.is_some()),
             ("normal_weighting", m.normal_weighting.is_some()),
         ];
-        let not_for_volume = ["bending_correction", "curved_terms", "membrane_volume", "axl", "curvature_source", "normal_weighting"];
+        let not_for_volume = [
+            "bending_correction",
+            "curved_terms",
+            "membrane_volume",
+            "axl",
+            "curvature_source",
+            "normal_weighting",
+        ];
         let rejected = match kind {
             ModelKind::KirchhoffLove(_) => cosserat_only.iter().find(|(_, given)| *given),
             ModelKind::MicropolarVolume { .. } => {

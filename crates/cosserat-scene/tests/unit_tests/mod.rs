@@ -14,6 +14,7 @@ mod scene_errors;
 mod scene_expr;
 mod scene_files;
 mod scene_mesh_source;
+mod scene_models;
 mod scene_obj;
 mod scene_overrides;
 mod scene_region;

@@ -110,7 +110,8 @@ fn wrong_types_and_missing_keys_name_the_field() {
     );
     assert_eq!(
         message(&[("model = \"plate\"", "model = \"plat\"")], &[]),
-        "scene.toml:16: material.model: unknown variant `plat`, expected `plate` or `shell`"
+        "scene.toml:16: material.model: unknown variant `plat`, expected one of `plate`, `shell`, \
+         `kirchhoff_love`, `micropolar_volume`"
     );
     assert_eq!(
         message(&[("thickness = 1e-3\n", "")], &[]),
