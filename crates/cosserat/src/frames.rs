@@ -104,15 +104,7 @@ impl OutputMesh {
 
     /// The frame of a state at time `t`.
     pub fn frame(&self, layouts: &[ShellLayout], state: &SystemState, t: f64) -> VtuFrame {
-        let n = self.samples.len();
-        let (mut points, mut displacement, mut velocity) =
-            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        let (mut d1, mut d2, mut d3, mut omega) = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-        );
+        let mut columns = PointColumns::with_capacity(self.samples.len());
         for s in &self.samples {
             let layout = &layouts[s.shell];
             let el = &layout.disp_elements[s.elem];
@@ -142,23 +134,64 @@ impl OutputMesh {
                 q += same_hemisphere(&state.q[k], &reference) * *w;
                 w_ang += state.omega[k] * *w;
             }
-            let r = rotation_matrix(&q.normalize());
-            points.push([x.x, x.y, x.z]);
-            displacement.push([x.x - rest.x, x.y - rest.y, x.z - rest.z]);
-            velocity.push([v.x, v.y, v.z]);
-            d1.push([r[(0, 0)], r[(1, 0)], r[(2, 0)]]);
-            d2.push([r[(0, 1)], r[(1, 1)], r[(2, 1)]]);
-            d3.push([r[(0, 2)], r[(1, 2)], r[(2, 2)]]);
-            omega.push([w_ang.x, w_ang.y, w_ang.z]);
+            columns.push(&x, &rest, &v, &rotation_matrix(&q.normalize()), &w_ang);
         }
-        let mut frame = VtuFrame::new(points, self.triangles.clone(), t);
+        columns.into_frame(self.triangles.clone(), t)
+    }
+}
+
+/// The point data of a shell frame, one entry per output point: position, displacement, velocity, the
+/// three directors and the angular velocity (the output contract of architecture.md).
+pub(crate) struct PointColumns {
+    points: Vec<[f64; 3]>,
+    displacement: Vec<[f64; 3]>,
+    velocity: Vec<[f64; 3]>,
+    directors: [Vec<[f64; 3]>; 3],
+    omega: Vec<[f64; 3]>,
+}
+
+impl PointColumns {
+    /// Empty columns for `n` points.
+    pub(crate) fn with_capacity(n: usize) -> Self {
+        Self {
+            points: Vec::with_capacity(n),
+            displacement: Vec::with_capacity(n),
+            velocity: Vec::with_capacity(n),
+            directors: std::array::from_fn(|_| Vec::with_capacity(n)),
+            omega: Vec::with_capacity(n),
+        }
+    }
+
+    /// Appends one point: position `x`, rest position, velocity, director frame `r` (columns d₁, d₂,
+    /// d₃) and angular velocity.
+    pub(crate) fn push(
+        &mut self,
+        x: &Vector3<f64>,
+        rest: &Vector3<f64>,
+        v: &Vector3<f64>,
+        r: &nalgebra::Matrix3<f64>,
+        omega: &Vector3<f64>,
+    ) {
+        let u = x - rest;
+        self.points.push([x.x, x.y, x.z]);
+        self.displacement.push([u.x, u.y, u.z]);
+        self.velocity.push([v.x, v.y, v.z]);
+        for (k, d) in self.directors.iter_mut().enumerate() {
+            d.push([r[(0, k)], r[(1, k)], r[(2, k)]]);
+        }
+        self.omega.push([omega.x, omega.y, omega.z]);
+    }
+
+    /// The frame at time `t` over `triangles`.
+    pub(crate) fn into_frame(self, triangles: Vec<[usize; 3]>, t: f64) -> VtuFrame {
+        let mut frame = VtuFrame::new(self.points, triangles, t);
         frame.point_data = vec![
-            DataArray::vectors("displacement", &displacement),
-            DataArray::vectors("velocity", &velocity),
-            DataArray::vectors("director1", &d1),
-            DataArray::vectors("director2", &d2),
-            DataArray::vectors("director3", &d3),
-            DataArray::vectors("angular_velocity", &omega),
+            DataArray::vectors("displacement", &self.displacement),
+            DataArray::vectors("velocity", &self.velocity),
+            DataArray::vectors("director1", &self.directors[0]),
+            DataArray::vectors("director2", &self.directors[1]),
+            DataArray::vectors("director3", &self.directors[2]),
+            DataArray::vectors("angular_velocity", &self.omega),
         ];
         frame
     }

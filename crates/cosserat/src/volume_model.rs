@@ -11,10 +11,11 @@
 //! column means of positions, velocities and (quaternion-averaged) rotations.
 
 use crate::error::SimulationError;
+use crate::frames::PointColumns;
 use cosserat_assembly::{ElementPair, ShellLayout, System, SystemOptions, SystemState};
 use cosserat_geometry::rotation::{rotation_matrix, same_hemisphere};
 use cosserat_scene::grid::PlanarGrid;
-use cosserat_scene::output::{DataArray, VtuFrame};
+use cosserat_scene::output::VtuFrame;
 use cosserat_scene::spec::{FieldFunction, NodeSelection, ProbeReduction, RestFieldSpec, SceneSpec, ShellSpec, Timing};
 use cosserat_volume::mesh::slab;
 use cosserat_volume::{MicropolarMaterial, RestCurvature, VolumeInput, build_volume_system};
@@ -193,15 +194,7 @@ impl VolumeModel {
     /// The frame of a state: the mid-surface grid with column means of displacement, velocity,
     /// directors and angular velocity.
     pub fn frame(&self, state: &SystemState, t: f64) -> VtuFrame {
-        let n = self.columns.len();
-        let (mut points, mut displacement, mut velocity) =
-            (Vec::with_capacity(n), Vec::with_capacity(n), Vec::with_capacity(n));
-        let (mut d1, mut d2, mut d3, mut omega) = (
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-            Vec::with_capacity(n),
-        );
+        let mut out = PointColumns::with_capacity(self.columns.len());
         for column in &self.columns {
             let w = 1.0 / column.len() as f64;
             let (mut x, mut rest, mut v, mut w_ang) =
@@ -215,24 +208,8 @@ impl VolumeModel {
                 w_ang += state.omega[k] * w;
                 q += same_hemisphere(&state.q[k], &reference) * w;
             }
-            let r = rotation_matrix(&q.normalize());
-            points.push([x.x, x.y, x.z]);
-            displacement.push([x.x - rest.x, x.y - rest.y, x.z - rest.z]);
-            velocity.push([v.x, v.y, v.z]);
-            d1.push([r[(0, 0)], r[(1, 0)], r[(2, 0)]]);
-            d2.push([r[(0, 1)], r[(1, 1)], r[(2, 1)]]);
-            d3.push([r[(0, 2)], r[(1, 2)], r[(2, 2)]]);
-            omega.push([w_ang.x, w_ang.y, w_ang.z]);
+            out.push(&x, &rest, &v, &rotation_matrix(&q.normalize()), &w_ang);
         }
-        let mut frame = VtuFrame::new(points, self.triangles.clone(), t);
-        frame.point_data = vec![
-            DataArray::vectors("displacement", &displacement),
-            DataArray::vectors("velocity", &velocity),
-            DataArray::vectors("director1", &d1),
-            DataArray::vectors("director2", &d2),
-            DataArray::vectors("director3", &d3),
-            DataArray::vectors("angular_velocity", &omega),
-        ];
-        frame
+        out.into_frame(self.triangles.clone(), t)
     }
 }
