@@ -17,7 +17,7 @@ use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::QuadratureRule;
 use cosserat_material::MaterialParameters;
 use cosserat_material::rest::RestOptions;
-use cosserat_solver::linear::LinearSolverKind;
+use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
 use nalgebra::{Matrix3, Vector3};
 use std::fmt;
@@ -257,6 +257,8 @@ pub struct SolverSpec {
     pub max_line_search_iterations: usize,
     /// Linear solver.
     pub linear_solver: LinearSolverKind,
+    /// Whether the Cholesky factorisation splits the mesh into two domains factorised at once.
+    pub domain_split: DomainSplit,
     /// Newton's starting point each step.
     pub initial_guess: InitialGuess,
     /// Project element Hessians of the shell energy onto the PSD cone.

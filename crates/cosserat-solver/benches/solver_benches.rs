@@ -8,7 +8,7 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use cosserat_solver::{FillOrdering, LinearSolverKind, LinearSolverSettings, SparseSolver};
+use cosserat_solver::{DomainSplit, FillOrdering, LinearSolverKind, LinearSolverSettings, SparseSolver};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_main};
 use faer::sparse::SymbolicSparseColMat;
 use rand::Rng;
@@ -84,9 +84,11 @@ const KINDS: [(&str, LinearSolverKind); 3] = [
     ("lu", LinearSolverKind::Lu),
 ];
 
+/// One factorisation of the whole matrix (the two-domain split is benchmarked as its own variant).
 fn settings(kind: LinearSolverKind) -> LinearSolverSettings {
     LinearSolverSettings {
         kind,
+        domains: DomainSplit::Off,
         ..Default::default()
     }
 }
@@ -131,7 +133,7 @@ fn numeric(c: &mut Criterion) {
 }
 
 /// Factorisation and one solve, the cost of one Newton iteration's linear algebra: the direct solvers
-/// (Cholesky also with nested dissection) against block-Jacobi conjugate gradients to a relative
+/// (Cholesky also with nested dissection, and split into two domains factorised at once) against block-Jacobi conjugate gradients to a relative
 /// residual of 1e-8. The grid operator's condition number grows like the square of its side, so CG's
 /// iteration count grows with the size while the factorisations' fill does.
 fn factorise_and_solve(c: &mut Criterion) {
@@ -142,6 +144,13 @@ fn factorise_and_solve(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(5));
     let variants = [
         ("cholesky_amd", settings(LinearSolverKind::Cholesky)),
+        (
+            "cholesky_two_domains",
+            LinearSolverSettings {
+                domains: DomainSplit::Always,
+                ..settings(LinearSolverKind::Cholesky)
+            },
+        ),
         (
             "cholesky_nested_dissection",
             LinearSolverSettings {

@@ -81,6 +81,9 @@ fn main() {
     if let Ok(r) = std::env::var("REUSE") {
         settings.newton.reuse_max_ratio = Some(r.parse().unwrap());
     }
+    if std::env::var("WHOLE").is_ok() {
+        settings.newton.linear_solver.domains = cosserat_solver::DomainSplit::Off;
+    }
     if std::env::var("PAR").is_ok() {
         settings.newton.linear_solver.parallelism = faer::Par::rayon(0);
     }

@@ -10,7 +10,8 @@
 //!   [`NewtonError`] carrying the residual history. [`NewtonSettings`] holds the tolerances.
 //! - [`linear::SparseSolver`]: supernodal Cholesky, symmetric indefinite `L B Lᵀ` and LU from faer,
 //!   with the symbolic analysis done once per pattern, fixed unknowns eliminated without touching the
-//!   pattern, and an `Auto` mode that falls back from Cholesky to `L B Lᵀ` to LU; and block-Jacobi
+//!   pattern, and an `Auto` mode that falls back from Cholesky to `L B Lᵀ` to LU; large systems are
+//!   factorised as two mesh halves at once, one per core ([`DomainSplit`]); and block-Jacobi
 //!   preconditioned conjugate gradients ([`LinearSolverKind::Cg`]) for large positive definite
 //!   systems, which Newton's method solves inexactly with the reference's forcing sequence
 //!   ([`CgForcing`]).
@@ -78,8 +79,8 @@ pub use error::{
     Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, SettingName,
 };
 pub use linear::{
-    CgForcing, CgReport, CgSettings, CgStop, FactorStats, FillOrdering, LinearSolverKind, LinearSolverSettings,
-    SparseSolver,
+    CgForcing, CgReport, CgSettings, CgStop, DomainSplit, FactorStats, FillOrdering, LinearSolverKind,
+    LinearSolverSettings, SparseSolver,
 };
 pub use newton::{FactorisationCounts, NewtonReport, NewtonSettings, NewtonSolver};
 pub use problem::NewtonProblem;

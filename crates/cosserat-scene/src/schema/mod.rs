@@ -163,6 +163,18 @@ pub enum LinearSolverName {
     Cg,
 }
 
+/// Two-domain Cholesky names (`cosserat_solver::DomainSplit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DomainSplitName {
+    /// Split systems of at least 20 000 unknowns whose mesh bisects well.
+    Auto,
+    /// One factorisation of the whole matrix.
+    Off,
+    /// Split whenever the mesh can be bisected.
+    Always,
+}
+
 /// Newton start names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -185,6 +197,9 @@ pub struct SolverSection {
     pub max_line_search_iterations: Option<usize>,
     /// Linear solver (default `"auto"`).
     pub linear_solver: Option<LinearSolverName>,
+    /// Two-domain Cholesky: both halves of the mesh factorised at once, one per core (default
+    /// `"auto"`).
+    pub domain_split: Option<DomainSplitName>,
     /// Newton's starting point (default `"previous_velocity"`).
     pub initial_guess: Option<InitialGuessName>,
     /// Project element Hessians onto the PSD cone (default `false`).

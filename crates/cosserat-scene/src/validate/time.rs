@@ -2,9 +2,11 @@
 
 use super::Ctx;
 use crate::error::SceneError;
-use crate::schema::{InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode, TimeSection};
+use crate::schema::{
+    DomainSplitName, InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode, TimeSection,
+};
 use crate::spec::{OutputSpec, SolverSpec, TimeSpec};
-use cosserat_solver::linear::LinearSolverKind;
+use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
 
 /// Output rate when a dynamic scene gives none: the reference code's 30 frames per second.
@@ -120,6 +122,11 @@ impl Ctx<'_> {
                 Some(LinearSolverName::Lu) => LinearSolverKind::Lu,
                 Some(LinearSolverName::Cg) => LinearSolverKind::Cg,
             },
+            domain_split: match s.domain_split {
+                None | Some(DomainSplitName::Auto) => DomainSplit::Auto,
+                Some(DomainSplitName::Off) => DomainSplit::Off,
+                Some(DomainSplitName::Always) => DomainSplit::Always,
+            },
             initial_guess: match s.initial_guess {
                 None | Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
                 Some(InitialGuessName::Zero) => InitialGuess::Zero,
@@ -149,6 +156,7 @@ fn default_solver() -> SolverSpec {
         max_newton_iterations: 100,
         max_line_search_iterations: 20,
         linear_solver: LinearSolverKind::Auto,
+        domain_split: DomainSplit::Auto,
         initial_guess: InitialGuess::PreviousVelocity,
         project_pd: false,
         max_step_reductions: 8,

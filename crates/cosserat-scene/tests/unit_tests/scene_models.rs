@@ -4,7 +4,7 @@
 
 use cosserat_scene::grid::PlanarGrid;
 use cosserat_scene::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ModelKind, SceneSpec};
-use cosserat_solver::LinearSolverKind;
+use cosserat_solver::{DomainSplit, LinearSolverKind};
 use nalgebra::Vector3;
 use std::path::Path;
 
@@ -194,6 +194,39 @@ fn material_keys_belong_to_their_models() {
     assert_eq!(
         message(VOLUME, &[("length_scale = 1.0", "length_scale = 1.0\nlayers = 0")]),
         "scene.toml:25: material.layers: must be at least 1"
+    );
+}
+
+#[test]
+fn the_domain_split_is_named_in_the_solver_section() {
+    assert_eq!(load(VOLUME, &[]).unwrap().solver.domain_split, DomainSplit::Auto);
+    for (name, split) in [
+        ("off", DomainSplit::Off),
+        ("always", DomainSplit::Always),
+        ("auto", DomainSplit::Auto),
+    ] {
+        let spec = load(
+            VOLUME,
+            &[(
+                "linear_solver = \"cg\"",
+                &format!("linear_solver = \"cg\"\ndomain_split = \"{name}\""),
+            )],
+        )
+        .unwrap();
+        assert_eq!(spec.solver.domain_split, split, "{name}");
+    }
+    let bad = message(
+        VOLUME,
+        &[(
+            "linear_solver = \"cg\"",
+            "linear_solver = \"cg\"\ndomain_split = \"two\"",
+        )],
+    );
+    assert!(
+        bad.starts_with(
+            "scene.toml:9: solver.domain_split: unknown variant `two`, expected one of `auto`, `off`, `always`"
+        ),
+        "{bad}"
     );
 }
 

@@ -86,7 +86,7 @@ impl SymmetricFactor {
             stage: LinearSolveStage::Workspace,
             source: faer::sparse::FaerError::OutOfMemory,
         })?;
-        let l_values = vec![0.0; symbolic.len_val()];
+        let l_values = super::mapped_zeros(symbolic.len_val());
         let stats = factor_stats(&symbolic);
         Ok(Self {
             symbolic,
@@ -186,5 +186,6 @@ fn factor_stats(symbolic: &SymbolicCholesky<usize>) -> FactorStats {
         nnz_l,
         flops,
         n_supernodes,
+        domains: 1,
     }
 }

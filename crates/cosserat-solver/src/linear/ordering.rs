@@ -8,6 +8,9 @@
 //! pseudo-peripheral node, breadth-first levels are cut at the middle level, which becomes the
 //! separator. Small parts are ordered by reverse Cuthill–McKee, which keeps their factors banded.
 //!
+//! The first cut alone ([`bisection`], with separate bodies dealt whole to the two sides) is what the
+//! two-domain Cholesky (`two_domain.rs`) factorises in parallel.
+//!
 //! Measured on the plate-under-load strips (Tri6/Tri3, docs/performance.md), this ordering needs about
 //! 1.4× the operations of faer's AMD: breadth-first level sets of a mesh whose elements are 9-node
 //! cliques are thicker and more oblique than the best geometric cuts, and AMD is already close to
@@ -56,6 +59,20 @@ fn node_graph(pattern: SymbolicSparseColMatRef<'_, usize>, block: usize) -> (Vec
     (ptr, adj)
 }
 
+/// The outcome of one level-structure cut.
+enum Cut {
+    /// Fewer than three levels: nothing to separate.
+    Shallow,
+    /// The part is disconnected: one component and the rest.
+    Components(Vec<usize>, Vec<usize>),
+    /// `separator` separates `a` from `b`: no edge joins them.
+    Separated {
+        a: Vec<usize>,
+        b: Vec<usize>,
+        separator: Vec<usize>,
+    },
+}
+
 struct Dissector<'a> {
     ptr: &'a [usize],
     adj: &'a [u32],
@@ -101,16 +118,34 @@ impl Dissector<'_> {
             self.order_leaf(&nodes, label);
             return;
         }
+        match self.cut(&nodes, label) {
+            Cut::Shallow => self.order_leaf(&nodes, label),
+            Cut::Components(visited, rest) => {
+                let (a, b) = (self.relabel(&visited), self.relabel(&rest));
+                self.dissect(visited, a);
+                self.dissect(rest, b);
+            }
+            Cut::Separated { a, b, separator } => {
+                for &v in &separator {
+                    self.part[v] = u32::MAX;
+                }
+                let (la, lb) = (self.relabel(&a), self.relabel(&b));
+                self.dissect(a, la);
+                self.dissect(b, lb);
+                self.order.extend(separator);
+            }
+        }
+    }
+
+    /// Splits the connected part `label` (`nodes` lists it) at the middle breadth-first level from a
+    /// pseudo-peripheral node. Leaves labels unchanged.
+    fn cut(&mut self, nodes: &[usize], label: u32) -> Cut {
         let mut root = nodes[0];
         let mut visited = self.bfs(root, label);
         if visited.len() < nodes.len() {
-            // Disconnected part: order each component on its own.
             let s = self.stamp;
             let rest: Vec<usize> = nodes.iter().copied().filter(|&v| self.mark[v] != s).collect();
-            let (a, b) = (self.relabel(&visited), self.relabel(&rest));
-            self.dissect(visited, a);
-            self.dissect(rest, b);
-            return;
+            return Cut::Components(visited, rest);
         }
         // Pseudo-peripheral root: restart from the farthest node while the depth grows.
         for _ in 0..4 {
@@ -126,8 +161,7 @@ impl Dissector<'_> {
         }
         let depth = self.level[*visited.last().unwrap_or(&root)];
         if depth < 2 {
-            self.order_leaf(&nodes, label);
-            return;
+            return Cut::Shallow;
         }
         // The level holding the median node (by BFS order) is the separator.
         let cut = self.level[visited[visited.len() / 2]].clamp(1, depth - 1);
@@ -141,20 +175,14 @@ impl Dissector<'_> {
         }
         // Thin the separator: a cut-level node with no neighbour beyond the cut joins part `a`.
         let (ptr, adj) = (self.ptr, self.adj);
-        let mut kept = Vec::with_capacity(sep.len());
+        let mut separator = Vec::with_capacity(sep.len());
         for v in sep {
             let touches_b = adj[ptr[v]..ptr[v + 1]]
                 .iter()
                 .any(|&w| self.part[w as usize] == label && self.level[w as usize] == cut + 1);
-            if touches_b { kept.push(v) } else { a.push(v) }
+            if touches_b { separator.push(v) } else { a.push(v) }
         }
-        for &v in &kept {
-            self.part[v] = u32::MAX;
-        }
-        let (la, lb) = (self.relabel(&a), self.relabel(&b));
-        self.dissect(a, la);
-        self.dissect(b, lb);
-        self.order.extend(kept);
+        Cut::Separated { a, b, separator }
     }
 
     fn relabel(&mut self, nodes: &[usize]) -> u32 {
@@ -206,6 +234,80 @@ pub(crate) fn nested_dissection(pattern: SymbolicSparseColMatRef<'_, usize>, blo
     Some(d.order.iter().flat_map(|&v| (0..block).map(move |c| v * block + c)).collect())
 }
 
+/// A vertex bisection of the node graph: two parts that no matrix entry couples, and the separator.
+/// Unknown indices are those of the pattern (all `block` unknowns of a node together), each list
+/// sorted.
+#[derive(Debug, Clone)]
+pub(crate) struct Bisection {
+    pub(crate) parts: [Vec<usize>; 2],
+    pub(crate) separator: Vec<usize>,
+}
+
+/// A balanced vertex bisection of the node graph. Connected components (separate bodies) are dealt
+/// to the lighter part whole, with no separator between them; a component holding more than half of
+/// the nodes is first cut at the middle level of its level structure (the first step of
+/// [`nested_dissection`]) and the other components join the lighter of its two sides. `None` if the
+/// size is not a multiple of `block` or the graph has a single node's depth.
+pub(crate) fn bisection(pattern: SymbolicSparseColMatRef<'_, usize>, block: usize) -> Option<Bisection> {
+    let n = pattern.ncols();
+    if block == 0 || n % block != 0 || n == 0 {
+        return None;
+    }
+    let (ptr, adj) = node_graph(pattern, block);
+    let n_nodes = n / block;
+    let mut d = Dissector {
+        ptr: &ptr,
+        adj: &adj,
+        part: vec![0; n_nodes],
+        level: vec![0; n_nodes],
+        mark: vec![0; n_nodes],
+        stamp: 0,
+        order: Vec::new(),
+        next_label: 0,
+    };
+    // Connected components, largest first (ties by first node, so the result is deterministic).
+    let mut seen = vec![false; n_nodes];
+    let mut components: Vec<Vec<usize>> = Vec::new();
+    for start in 0..n_nodes {
+        if !seen[start] {
+            let component = d.bfs(start, 0);
+            for &v in &component {
+                seen[v] = true;
+            }
+            components.push(component);
+        }
+    }
+    components.sort_by(|a, b| b.len().cmp(&a.len()).then(a[0].cmp(&b[0])));
+    let mut rest = components.into_iter();
+    let largest = rest.next()?;
+    let (mut a, mut b, separator) = if 2 * largest.len() > n_nodes {
+        match d.cut(&largest, 0) {
+            Cut::Separated { a, b, separator } => (a, b, separator),
+            Cut::Shallow | Cut::Components(..) => return None,
+        }
+    } else {
+        (largest, Vec::new(), Vec::new())
+    };
+    for component in rest {
+        if a.len() <= b.len() {
+            a.extend(component);
+        } else {
+            b.extend(component);
+        }
+    }
+    let unknowns = |mut nodes: Vec<usize>| {
+        nodes.sort_unstable();
+        nodes
+            .iter()
+            .flat_map(|&v| (0..block).map(move |c| v * block + c))
+            .collect::<Vec<_>>()
+    };
+    Some(Bisection {
+        parts: [unknowns(a), unknowns(b)],
+        separator: unknowns(separator),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -251,5 +353,49 @@ mod tests {
             assert_eq!((chunk[0] % 3, chunk[1], chunk[2]), (0, chunk[0] + 1, chunk[0] + 2));
         }
         assert!(nested_dissection(g.as_ref(), 7).is_none()); // 2700 unknowns are not 7-blocks
+    }
+
+    /// Whether any stored entry couples the two parts.
+    fn parts_coupled(g: &SymbolicSparseColMat<usize>, b: &Bisection) -> bool {
+        let mut part = vec![2u8; g.ncols()];
+        for (p, unknowns) in b.parts.iter().enumerate() {
+            for &u in unknowns {
+                part[u] = p as u8;
+            }
+        }
+        (0..g.ncols()).any(|c| g.row_idx_of_col(c).any(|r| part[r] + part[c] == 1))
+    }
+
+    #[test]
+    fn bisection_separates_balanced_parts_and_deals_out_separate_bodies() {
+        let g = grid(30, 3);
+        let b = bisection(g.as_ref(), 3).unwrap();
+        let mut all: Vec<usize> = b.parts.iter().flatten().chain(&b.separator).copied().collect();
+        all.sort_unstable();
+        assert_eq!(all, (0..g.ncols()).collect::<Vec<_>>());
+        assert!(!parts_coupled(&g, &b));
+        let (a, c) = (b.parts[0].len(), b.parts[1].len());
+        assert!(a.min(c) * 3 >= a.max(c), "unbalanced parts {a} and {c}");
+        // A cut of a 30 × 30 grid needs at least 30 nodes and a level set has at most 59.
+        assert!(
+            (90..=3 * 59).contains(&b.separator.len()),
+            "separator {}",
+            b.separator.len()
+        );
+
+        // Two copies of a grid side by side: one body per part, nothing to separate.
+        let n = g.ncols();
+        let col_ptr: Vec<usize> = g
+            .col_ptr()
+            .iter()
+            .chain(&g.col_ptr()[1..].iter().map(|p| p + g.col_ptr()[n]).collect::<Vec<_>>())
+            .copied()
+            .collect();
+        let rows: Vec<usize> = g.row_idx().iter().copied().chain(g.row_idx().iter().map(|r| r + n)).collect();
+        let twice = SymbolicSparseColMat::new_checked(2 * n, 2 * n, col_ptr, None, rows);
+        let b = bisection(twice.as_ref(), 3).unwrap();
+        assert!(b.separator.is_empty());
+        assert_eq!((b.parts[0].len(), b.parts[1].len()), (n, n));
+        assert!(!parts_coupled(&twice, &b));
     }
 }

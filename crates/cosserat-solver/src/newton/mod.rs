@@ -158,6 +158,7 @@ impl NewtonSolver {
                 assembly_seconds: 0.0,
                 evaluation_seconds: 0.0,
                 linear_solve_seconds: 0.0,
+                factorisation_seconds: 0.0,
             },
         };
 
@@ -489,7 +490,12 @@ impl NewtonSolver {
             Ok(())
         };
         let result = tolerance
-            .and_then(|()| self.linear.factorise(&self.hess_values, fixed))
+            .and_then(|()| {
+                let t_factor = Instant::now();
+                let factorised = self.linear.factorise(&self.hess_values, fixed);
+                run.report.factorisation_seconds += t_factor.elapsed().as_secs_f64();
+                factorised
+            })
             .and_then(|_| self.linear.solve_in_place(&mut self.dx));
         run.report.linear_solve_seconds += t.elapsed().as_secs_f64();
         let used = result.map_err(|source| NewtonError::LinearSolve {

@@ -58,6 +58,9 @@ pub struct NewtonReport {
     pub evaluation_seconds: f64,
     /// Wall-clock seconds in linear solves (numerical factorisation and triangular solves).
     pub linear_solve_seconds: f64,
+    /// The part of `linear_solve_seconds` spent in numerical factorisations (`SparseSolver::factorise`
+    /// calls; for CG, building the preconditioner).
+    pub factorisation_seconds: f64,
 }
 
 impl NewtonReport {

@@ -6,3 +6,4 @@ mod fixtures;
 mod linear;
 mod newton;
 mod toy;
+mod two_domain;

@@ -34,6 +34,9 @@ fn convex_quadratic_converges_in_one_iteration() {
     assert_eq!(report.residuals.len(), 2);
     assert_eq!(report.line_search_backtracks, 0);
     assert_eq!(report.factorisations.llt, 1);
+    // The factorisation's time is a part of the linear solves'.
+    assert!(report.factorisation_seconds > 0.0);
+    assert!(report.factorisation_seconds <= report.linear_solve_seconds);
     let err = (DVector::from_column_slice(&x) - &reference).amax();
     assert!(err <= 1e-10 * reference.amax(), "{err:e}");
     // The minimum of ½xᵀAx − bᵀx is −½ bᵀA⁻¹b.

@@ -97,6 +97,13 @@ fn a_run_writes_the_output_contract() {
     assert!(
         summary.active_terms.iter().any(|t| t == "membrane") && summary.active_terms.iter().any(|t| t == "inertia")
     );
+    // The linear algebra is reported: one factorisation of the whole (small) matrix, its operation
+    // count and the rate over the factorisations' own time.
+    let number = |key: &str| summary.extra.get(key).and_then(serde_json::Value::as_f64);
+    assert_eq!(number("factor_domains"), Some(1.0));
+    assert!(number("factor_flops").is_some_and(|f| f > 0.0));
+    assert!(number("factorisation_seconds").is_some_and(|t| t > 0.0 && t < summary.wall_seconds));
+    assert!(number("factor_gflops_per_s").is_some_and(|r| r > 0.0 && r.is_finite()));
     let probes = std::fs::read_to_string(out.join("probes.csv")).unwrap();
     let mut lines = probes.lines();
     assert_eq!(lines.next().unwrap(), "t,tip.ux,tip.uy,tip.uz");

@@ -1,0 +1,669 @@
+//! Two-domain Cholesky: the two halves of a bisected mesh are factorised at the same time, one per
+//! core, and joined through the dense Schur complement of their separator.
+//!
+//! faer's supernodal Cholesky walks the supernodes one after the other; its parallel mode only splits
+//! the dense kernels inside a supernode, and the supernodes of a shell mesh are too small for that to
+//! pay (measured slower than sequential, docs/performance.md). Two halves of a mesh that no matrix
+//! entry couples, however, are eliminated independently. With a vertex separator `S` between the
+//! parts `D₁`, `D₂` and the ordering `[D₁, D₂, S]`,
+//!
+//! ```text
+//!     [ A₁₁   0   A₁ₛ ]           [ L₁   0   0  ]
+//! A = [  0   A₂₂  A₂ₛ ] = L Lᵀ,  L = [  0   L₂   0  ]
+//!     [ Aₛ₁  Aₛ₂  Aₛₛ ]           [ B₁   B₂  Lₛ ]
+//! ```
+//!
+//! Domain `i` factorises the principal submatrix `Mᵢ = [Aᵢᵢ Aᵢₛ; Aₛᵢ Aₛₛ]`, its own unknowns in AMD
+//! order and the separator last, with faer (sequentially; both domains at once). The factor is
+//! `[Lᵢ 0; Bᵢ Gᵢ]` with `Gᵢ Gᵢᵀ = Aₛₛ − Bᵢ Bᵢᵀ`, which is positive definite whenever `A` is (it is at
+//! least the Schur complement of `A`). The separator's Schur complement is then
+//! `Lₛ Lₛᵀ = G₁ G₁ᵀ + G₂ G₂ᵀ − Aₛₛ`, a small dense Cholesky. A solve runs forward in both domains at
+//! once (which also forms `Bᵢ zᵢ`), through the separator, and back in both domains at once.
+//!
+//! Results do not depend on the number of threads: each domain is computed sequentially and the two
+//! are combined in a fixed order.
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization, cholesky_in_place, cholesky_in_place_scratch};
+use faer::linalg::matmul::matmul;
+use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
+use faer::reborrow::ReborrowMut;
+use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::amd;
+use faer::sparse::linalg::cholesky::simplicial;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
+use faer::sparse::linalg::cholesky::{
+    CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::{Accum, Mat, MatMut, Par, Side};
+
+use super::FactorStats;
+use super::ordering::Bisection;
+use super::pattern::UpperPattern;
+use crate::error::{LinearSolveError, LinearSolveStage};
+
+const NONE: usize = usize::MAX;
+
+/// The largest set of separator neighbours joined by a clique for AMD (see [`domain_order`]); larger
+/// ones (a long separator) are left as they are to bound the clique's size.
+const MAX_HALO_CLIQUE: usize = 4000;
+
+/// One half of the bisection with the separator: its principal submatrix, factor and work vector.
+struct Domain {
+    /// The caller's index of each local unknown: the domain's own in AMD order, then the separator's.
+    global: Vec<usize>,
+    /// Number of the domain's own unknowns (the separator starts at this local index).
+    n_own: usize,
+    /// Position in the caller's values slice of each stored entry of `M`'s upper triangle.
+    gather: Vec<usize>,
+    values: Vec<f64>,
+    pattern: SymbolicSparseColMat<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    mem: MemBuffer,
+    /// The first supernode that holds a separator column.
+    first_separator_supernode: usize,
+    /// The local vector of forward and backward substitution.
+    work: Vec<f64>,
+    /// `Gᵢ`, the separator block of the factor (dense, lower triangle).
+    g: Mat<f64>,
+}
+
+impl Domain {
+    /// Builds `M` and its symbolic analysis for the factorisation order `global` (the domain's own
+    /// `n_own` unknowns, then the separator's; from [`domain_order`]).
+    fn try_new(pattern: &UpperPattern, global: Vec<usize>, n_own: usize) -> Result<Option<Self>, LinearSolveError> {
+        let n_sep = global.len() - n_own;
+        let mut local = vec![NONE; pattern.n()];
+        for (l, &g) in global.iter().enumerate() {
+            local[g] = l;
+        }
+        let entries = entries_within(pattern, &local, |_| true);
+        let (m_pattern, gather) = upper_csc(n_own + n_sep, &entries);
+        let params = CholeskySymbolicParams {
+            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+            ..Default::default()
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(m_pattern.as_ref(), Side::Upper, SymmetricOrdering::Identity, params).map_err(
+                |source| LinearSolveError::Faer {
+                    stage: LinearSolveStage::SymmetricSymbolic,
+                    source,
+                },
+            )?;
+        let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
+            return Ok(None);
+        };
+        let first_separator_supernode = sn.supernode_end().partition_point(|&end| end <= n_own);
+        let mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()))
+            .map_err(|_| out_of_memory())?;
+        Ok(Some(Self {
+            l_values: super::mapped_zeros(symbolic.len_val()),
+            values: vec![0.0; gather.len()],
+            global,
+            n_own,
+            gather,
+            pattern: m_pattern,
+            symbolic,
+            mem,
+            first_separator_supernode,
+            work: vec![0.0; n_own + n_sep],
+            g: Mat::zeros(n_sep, n_sep),
+        }))
+    }
+
+    /// Factorises `M` and extracts `G`; on a non-positive pivot returns the caller's column.
+    fn factorise(&mut self, values: &[f64]) -> Result<(), usize> {
+        for (v, &k) in self.values.iter_mut().zip(&self.gather) {
+            *v = values[k];
+        }
+        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
+        let result = self.symbolic.factorize_numeric_llt(
+            &mut self.l_values,
+            a,
+            Side::Upper,
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        );
+        if let Err(LltError::NonPositivePivot { index }) = result {
+            return Err(self.global.get(index).copied().unwrap_or(index));
+        }
+        let n_own = self.n_own;
+        let sn = supernodes(&self.symbolic);
+        let g = &mut self.g;
+        for s in self.first_separator_supernode..sn.n_supernodes() {
+            let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+            let below = sn.supernode(s).pattern();
+            let width = end - begin;
+            let rows = width + below.len();
+            let block = &self.l_values[sn.col_ptr_for_val()[s]..sn.col_ptr_for_val()[s + 1]];
+            for c in begin.max(n_own)..end {
+                let j = c - begin;
+                let col = &block[j * rows..(j + 1) * rows];
+                for i in j..width {
+                    g[(begin + i - n_own, c - n_own)] = col[i];
+                }
+                for (&r, &v) in below.iter().zip(&col[width..]) {
+                    g[(r - n_own, c - n_own)] = v;
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Forward substitution `Lᵢ zᵢ = bᵢ` over the domain's own columns; leaves `zᵢ` in the own part of
+    /// `work` and `−Bᵢ zᵢ` in its separator part.
+    fn forward(&mut self, rhs: &[f64]) {
+        let n_own = self.n_own;
+        for (w, &g) in self.work[..n_own].iter_mut().zip(&self.global) {
+            *w = rhs[g];
+        }
+        self.work[n_own..].fill(0.0);
+        let sn = supernodes(&self.symbolic);
+        let work = &mut self.work;
+        for s in 0..(self.first_separator_supernode + 1).min(sn.n_supernodes()) {
+            let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+            let below = sn.supernode(s).pattern();
+            let width = end - begin;
+            let rows = width + below.len();
+            let block = &self.l_values[sn.col_ptr_for_val()[s]..sn.col_ptr_for_val()[s + 1]];
+            for j in 0..width.min(n_own.saturating_sub(begin)) {
+                let col = &block[j * rows..(j + 1) * rows];
+                let x = work[begin + j] / col[j];
+                work[begin + j] = x;
+                for (i, &l) in col.iter().enumerate().take(width).skip(j + 1) {
+                    work[begin + i] -= l * x;
+                }
+                for (&r, &l) in below.iter().zip(&col[width..]) {
+                    work[r] -= l * x;
+                }
+            }
+        }
+    }
+
+    /// Backward substitution `Lᵢᵀ xᵢ = zᵢ − Bᵢᵀ xₛ` given the separator's solution.
+    fn backward(&mut self, x_separator: &[f64]) {
+        let n_own = self.n_own;
+        self.work[n_own..].copy_from_slice(x_separator);
+        let sn = supernodes(&self.symbolic);
+        let work = &mut self.work;
+        for s in (0..(self.first_separator_supernode + 1).min(sn.n_supernodes())).rev() {
+            let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+            let below = sn.supernode(s).pattern();
+            let width = end - begin;
+            let rows = width + below.len();
+            let block = &self.l_values[sn.col_ptr_for_val()[s]..sn.col_ptr_for_val()[s + 1]];
+            for j in (0..width.min(n_own.saturating_sub(begin))).rev() {
+                let col = &block[j * rows..(j + 1) * rows];
+                let mut t = work[begin + j];
+                for (i, &l) in col.iter().enumerate().take(width).skip(j + 1) {
+                    t -= l * work[begin + i];
+                }
+                for (&r, &l) in below.iter().zip(&col[width..]) {
+                    t -= l * work[r];
+                }
+                work[begin + j] = t / col[j];
+            }
+        }
+    }
+
+    /// `Σ c_j²` over the columns of the domain's factor, its entries and supernodes.
+    fn stats(&self) -> FactorStats {
+        let sn = supernodes(&self.symbolic);
+        let (mut nnz_l, mut flops) = (0usize, 0.0f64);
+        for s in 0..sn.n_supernodes() {
+            let width = sn.supernode_end()[s] - sn.supernode_begin()[s];
+            let below = sn.supernode(s).pattern().len();
+            for local in 0..width {
+                let c = width - local + below;
+                nnz_l += c;
+                flops += (c as f64) * (c as f64);
+            }
+        }
+        FactorStats {
+            nnz_l,
+            flops,
+            n_supernodes: sn.n_supernodes(),
+            domains: 1,
+        }
+    }
+}
+
+/// The caller's unknowns of `M` in factorisation order and the operations `Σ c_j²` of its factor: `own` in the best of several AMD orderings,
+/// then `separator`. `local` (length `n`, all `NONE`) is scratch and is left dirty.
+///
+/// AMD on the domain's own block does not know that the separator comes last. Unknowns next to the
+/// separator look like boundary unknowns of low degree and are eliminated early; the separator's rows
+/// then ride along in every column of the front that sweeps the domain. Two remedies, measured on the
+/// plate strips (Tri6, critical-path operations of the split at 157k / 620k unknowns):
+/// - the separator's neighbours (the halo) are joined by a clique in the graph AMD sees, so that they
+///   look as dense as they will be and go last: 4.6e9 → 2.8e9 and 5.4e10 → 2.6e10;
+/// - AMD's tie-breaking still decides a lot (the same half-plate costs 2.6e10 or 6.8e10 depending only
+///   on the order the unknowns are presented in), so AMD runs on four presentations (by breadth-first
+///   distance from the separator, nearest or farthest first, ties in the given order or reversed) and
+///   the ordering whose factor of `M` has the fewest operations `Σ c_j²` (from its column counts, in
+///   near-linear time) is kept.
+fn domain_order(
+    pattern: &UpperPattern,
+    own: &[usize],
+    separator: &[usize],
+    local: &mut [usize],
+) -> Result<(Vec<usize>, f64), LinearSolveError> {
+    let (n_own, n_sep) = (own.len(), separator.len());
+    let m = n_own + n_sep;
+    for (l, &g) in own.iter().chain(separator).enumerate() {
+        local[g] = l;
+    }
+    // The off-diagonal entries of `M` as local pairs (the diagonal adds nothing to the structure).
+    let pairs: Vec<(u32, u32)> = pattern
+        .row_idx()
+        .iter()
+        .zip(pattern.col_idx())
+        .filter_map(|(&r, &c)| {
+            let (lr, lc) = (local[r], local[c]);
+            (lr != NONE && lc != NONE && lr != lc).then_some((lr as u32, lc as u32))
+        })
+        .collect();
+    let distance = distance_from_separator(m, n_own, &pairs);
+    // By distance from the separator, nearest or farthest first, ties in the given order or reversed.
+    let mut nearest: Vec<usize> = (0..n_own).collect();
+    nearest.sort_by_key(|&l| distance[l]);
+    let mut nearest_reversed_ties: Vec<usize> = (0..n_own).rev().collect();
+    nearest_reversed_ties.sort_by_key(|&l| distance[l]);
+    let farthest: Vec<usize> = nearest_reversed_ties.iter().rev().copied().collect();
+    let farthest_reversed_ties: Vec<usize> = nearest.iter().rev().copied().collect();
+    let mut best: Option<(f64, Vec<usize>)> = None;
+    // The separator's neighbours are joined by a clique: after the separator comes last they all
+    // share its rows, and as a clique they look to AMD like the dense unknowns they will be, so they
+    // are eliminated late instead of first.
+    let halo: Vec<usize> = (0..n_own).filter(|&l| distance[l] == 1).collect();
+    let halo_clique = halo.len() <= MAX_HALO_CLIQUE;
+    for input in [farthest, farthest_reversed_ties, nearest, nearest_reversed_ties] {
+        // `input[k]` is the local unknown presented to AMD as its k-th.
+        let mut position = vec![0u32; n_own];
+        for (k, &l) in input.iter().enumerate() {
+            position[l] = k as u32;
+        }
+        let mut presented: Vec<(u32, u32)> = pairs
+            .iter()
+            .filter(|&&(r, c)| (r as usize) < n_own && (c as usize) < n_own)
+            .map(|&(r, c)| (position[r as usize], position[c as usize]))
+            .collect();
+        if halo_clique {
+            for (i, &a) in halo.iter().enumerate() {
+                for &b in &halo[..i] {
+                    presented.push((position[a], position[b]));
+                }
+            }
+        }
+        let amd_pattern = upper_structure(n_own, &presented);
+        drop(presented);
+        let mut perm = vec![0usize; n_own];
+        let mut perm_inv = vec![0usize; n_own];
+        if n_own > 0 {
+            let nnz = amd_pattern.row_idx().len();
+            let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n_own, nnz))
+                .map_err(|_| out_of_memory())?;
+            amd::order_maybe_unsorted(
+                &mut perm,
+                &mut perm_inv,
+                amd_pattern.as_ref(),
+                amd::Control::default(),
+                MemStack::new(&mut mem),
+            )
+            .map_err(|source| LinearSolveError::Faer {
+                stage: LinearSolveStage::SymmetricSymbolic,
+                source,
+            })?;
+        }
+        drop(amd_pattern);
+        // Factorisation order of the local unknowns: own by AMD, then the separator.
+        let order: Vec<usize> = perm.iter().map(|&k| input[k]).chain(n_own..m).collect();
+        let cost = factor_operations(&order, &pairs)?;
+        // The first of the cheapest, so that the choice is deterministic.
+        if best.as_ref().is_none_or(|(c, _)| cost < *c) {
+            best = Some((cost, order));
+        }
+    }
+    let (operations, order) = best.unwrap_or_default();
+    let by_local: Vec<usize> = own.iter().chain(separator).copied().collect();
+    Ok((order.iter().map(|&l| by_local[l]).collect(), operations))
+}
+
+/// Breadth-first distance (in entries) of every local unknown from the separator (`n_own..m`).
+fn distance_from_separator(m: usize, n_own: usize, pairs: &[(u32, u32)]) -> Vec<usize> {
+    let mut degree = vec![0usize; m + 1];
+    for &(r, c) in pairs {
+        degree[r as usize + 1] += 1;
+        degree[c as usize + 1] += 1;
+    }
+    for v in 0..m {
+        degree[v + 1] += degree[v];
+    }
+    let ptr = degree;
+    let mut fill = ptr.clone();
+    let mut adjacency = vec![0u32; ptr[m]];
+    for &(r, c) in pairs {
+        adjacency[fill[r as usize]] = c;
+        fill[r as usize] += 1;
+        adjacency[fill[c as usize]] = r;
+        fill[c as usize] += 1;
+    }
+    let mut distance = vec![usize::MAX; m];
+    let mut queue: Vec<usize> = (n_own..m).collect();
+    for &v in &queue {
+        distance[v] = 0;
+    }
+    let mut head = 0;
+    while head < queue.len() {
+        let v = queue[head];
+        head += 1;
+        for &w in &adjacency[ptr[v]..ptr[v + 1]] {
+            let w = w as usize;
+            if distance[w] == usize::MAX {
+                distance[w] = distance[v] + 1;
+                queue.push(w);
+            }
+        }
+    }
+    distance
+}
+
+/// The upper structure (each pair stored once at `(min, max)`, plus the diagonal) of an `n × n`
+/// symmetric matrix with the given off-diagonal pairs, rows unsorted.
+fn upper_structure(n: usize, pairs: &[(u32, u32)]) -> SymbolicSparseColMat<usize> {
+    let mut col_ptr = vec![0usize; n + 1];
+    for &(r, c) in pairs {
+        col_ptr[r.max(c) as usize + 1] += 1;
+    }
+    for c in 0..n {
+        col_ptr[c + 1] += col_ptr[c] + 1;
+    }
+    let mut next: Vec<usize> = col_ptr[..n].to_vec();
+    let mut row_idx = vec![0usize; col_ptr[n]];
+    for (c, slot) in next.iter_mut().enumerate() {
+        row_idx[*slot] = c;
+        *slot += 1;
+    }
+    for &(r, c) in pairs {
+        let (lo, hi) = (r.min(c) as usize, r.max(c) as usize);
+        row_idx[next[hi]] = lo;
+        next[hi] += 1;
+    }
+    SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx)
+}
+
+/// `Σ c_j²` of the Cholesky factor of the symmetric matrix with off-diagonal `pairs` (local
+/// numbering) factorised in `order`, from its column counts.
+fn factor_operations(order: &[usize], pairs: &[(u32, u32)]) -> Result<f64, LinearSolveError> {
+    let m = order.len();
+    let mut position = vec![0u32; m];
+    for (k, &l) in order.iter().enumerate() {
+        position[l] = k as u32;
+    }
+    let permuted: Vec<(u32, u32)> = pairs
+        .iter()
+        .map(|&(r, c)| (position[r as usize], position[c as usize]))
+        .collect();
+    let upper = upper_structure(m, &permuted);
+    drop(permuted);
+    let mut etree = vec![0isize; m];
+    let mut counts = vec![0usize; m];
+    let nnz = upper.row_idx().len();
+    let mut mem = MemBuffer::try_new(simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(m, nnz))
+        .map_err(|_| out_of_memory())?;
+    simplicial::prefactorize_symbolic_cholesky(&mut etree, &mut counts, upper.as_ref(), MemStack::new(&mut mem));
+    Ok(counts.iter().map(|&c| (c as f64) * (c as f64)).sum())
+}
+
+/// The critical path of the split: the larger domain factor, then the separator's dense factor.
+fn critical(operations_0: f64, operations_1: f64, n_sep: usize) -> f64 {
+    let n_sep = n_sep as f64;
+    operations_0.max(operations_1) + n_sep * n_sep * n_sep / 3.0
+}
+
+/// `Σ c_j²` of the Cholesky factor of the whole matrix in faer's AMD order, from exact column counts
+/// (the measure the split's critical path is compared with).
+pub(crate) fn whole_operations(pattern: &UpperPattern) -> Result<f64, LinearSolveError> {
+    let n = pattern.n();
+    let pairs: Vec<(u32, u32)> = pattern
+        .row_idx()
+        .iter()
+        .zip(pattern.col_idx())
+        .filter(|(r, c)| r != c)
+        .map(|(&r, &c)| (r as u32, c as u32))
+        .collect();
+    let mut perm = vec![0usize; n];
+    let mut perm_inv = vec![0usize; n];
+    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, pattern.nnz()))
+        .map_err(|_| out_of_memory())?;
+    amd::order_maybe_unsorted(
+        &mut perm,
+        &mut perm_inv,
+        pattern.as_ref(),
+        amd::Control::default(),
+        MemStack::new(&mut mem),
+    )
+    .map_err(|source| LinearSolveError::Faer {
+        stage: LinearSolveStage::SymmetricSymbolic,
+        source,
+    })?;
+    drop(mem);
+    factor_operations(&perm, &pairs)
+}
+
+/// The supernodal structure of a domain factor (domains are only built supernodal).
+fn supernodes(symbolic: &SymbolicCholesky<usize>) -> &SymbolicSupernodalCholesky<usize> {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => sn,
+        SymbolicCholeskyRaw::Simplicial(_) => unreachable!("domains are built supernodal only"),
+    }
+}
+
+/// The upper-triangle entries of `pattern` whose row and column both have a local index accepted by
+/// `keep`, as `(local row, local column, position)` with `row ≤ column`.
+fn entries_within(pattern: &UpperPattern, local: &[usize], keep: impl Fn(usize) -> bool) -> Vec<(usize, usize, usize)> {
+    let mut out = Vec::new();
+    for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
+        let (lr, lc) = (local[r], local[c]);
+        if lr != NONE && lc != NONE && keep(lr) && keep(lc) {
+            out.push((lr.min(lc), lr.max(lc), k));
+        }
+    }
+    out
+}
+
+/// The compressed upper pattern of `n × n` with the given entries (rows sorted in each column) and the
+/// values position of each stored entry.
+fn upper_csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
+    let mut col_ptr = vec![0usize; n + 1];
+    for &(_, c, _) in entries {
+        col_ptr[c + 1] += 1;
+    }
+    for c in 0..n {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    let mut next = col_ptr.clone();
+    let mut slots = vec![(0usize, 0usize); entries.len()];
+    for &(r, c, k) in entries {
+        slots[next[c]] = (r, k);
+        next[c] += 1;
+    }
+    for c in 0..n {
+        slots[col_ptr[c]..col_ptr[c + 1]].sort_unstable();
+    }
+    let (row_idx, gather): (Vec<usize>, Vec<usize>) = slots.into_iter().unzip();
+    let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    (pattern, gather)
+}
+
+fn out_of_memory() -> LinearSolveError {
+    LinearSolveError::Faer {
+        stage: LinearSolveStage::Workspace,
+        source: faer::sparse::FaerError::OutOfMemory,
+    }
+}
+
+/// The Cholesky factorisation of a bisected pattern: two domain factors and the separator's dense
+/// Schur complement (see the module documentation).
+pub(crate) struct TwoDomainCholesky {
+    domains: [Domain; 2],
+    /// The separator's unknowns in the caller's numbering.
+    separator: Vec<usize>,
+    /// `(values position, row, column)` of the stored entries of `Aₛₛ`, in separator numbering.
+    separator_entries: Vec<(usize, usize, usize)>,
+    /// `G₁ G₁ᵀ + G₂ G₂ᵀ − Aₛₛ`, then its Cholesky factor `Lₛ` (lower triangle).
+    schur: Mat<f64>,
+    mem: MemBuffer,
+    x_separator: Vec<f64>,
+    stats: FactorStats,
+}
+
+impl std::fmt::Debug for TwoDomainCholesky {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("TwoDomainCholesky")
+            .field("own", &[self.domains[0].n_own, self.domains[1].n_own])
+            .field("separator", &self.separator.len())
+            .field("domain_stats", &[self.domains[0].stats(), self.domains[1].stats()])
+            .field("stats", &self.stats)
+            .finish_non_exhaustive()
+    }
+}
+
+impl TwoDomainCholesky {
+    /// Builds both domain analyses for `bisection`. `None` if the parts are coupled by an entry (the
+    /// bisection is not a separator of this pattern) or a domain's structure is not supernodal.
+    ///
+    /// With `max_critical_share`, gives up (`None`) before the domains' symbolic analyses when the
+    /// operations on the split's critical path (the larger domain factor, then the separator's dense
+    /// factor, from exact column counts) exceed that share of the whole matrix's
+    /// ([`whole_operations`]): a prediction of the split's time against one factorisation on two
+    /// cores.
+    pub(crate) fn try_new(
+        pattern: &UpperPattern,
+        bisection: &Bisection,
+        max_critical_share: Option<f64>,
+    ) -> Result<Option<Self>, LinearSolveError> {
+        let n = pattern.n();
+        let mut part = vec![2u8; n];
+        for (p, unknowns) in bisection.parts.iter().enumerate() {
+            for &u in unknowns {
+                part[u] = p as u8;
+            }
+        }
+        let mut separator_local = vec![NONE; n];
+        for (k, &u) in bisection.separator.iter().enumerate() {
+            separator_local[u] = k;
+        }
+        let mut separator_entries = Vec::new();
+        for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
+            match (part[r], part[c]) {
+                (0, 1) | (1, 0) => return Ok(None),
+                (2, 2) => separator_entries.push((k, separator_local[r], separator_local[c])),
+                _ => {}
+            }
+        }
+        let n_sep = bisection.separator.len();
+        let order = |own: &[usize]| domain_order(pattern, own, &bisection.separator, &mut vec![NONE; n]);
+        let ((o0, o1), whole) = rayon::join(
+            || rayon::join(|| order(&bisection.parts[0]), || order(&bisection.parts[1])),
+            || max_critical_share.map(|_| whole_operations(pattern)),
+        );
+        let ((g0, ops0), (g1, ops1)) = (o0?, o1?);
+        if let (Some(share), Some(whole)) = (max_critical_share, whole.transpose()?)
+            && critical(ops0, ops1, n_sep) > share * whole
+        {
+            return Ok(None);
+        }
+        let (n0, n1) = (bisection.parts[0].len(), bisection.parts[1].len());
+        let (d0, d1) = rayon::join(|| Domain::try_new(pattern, g0, n0), || Domain::try_new(pattern, g1, n1));
+        let (Some(d0), Some(d1)) = (d0?, d1?) else {
+            return Ok(None);
+        };
+        let mem = MemBuffer::try_new(cholesky_in_place_scratch::<f64>(n_sep, Par::Seq, Default::default()))
+            .map_err(|_| out_of_memory())?;
+        let (s0, s1) = (d0.stats(), d1.stats());
+        let dense = (1..=n_sep).map(|c| (c as f64) * (c as f64)).sum::<f64>();
+        let stats = FactorStats {
+            nnz_l: s0.nnz_l + s1.nnz_l + n_sep * (n_sep + 1) / 2,
+            flops: s0.flops + s1.flops + dense,
+            n_supernodes: s0.n_supernodes + s1.n_supernodes + 1,
+            domains: 2,
+        };
+        Ok(Some(Self {
+            domains: [d0, d1],
+            separator: bisection.separator.clone(),
+            separator_entries,
+            schur: Mat::zeros(n_sep, n_sep),
+            mem,
+            x_separator: vec![0.0; n_sep],
+            stats,
+        }))
+    }
+
+    /// Structural statistics: both domain factors and the dense separator factor.
+    pub(crate) fn stats(&self) -> FactorStats {
+        self.stats
+    }
+
+    /// Numerical factorisation of the matrix whose upper triangle is `values` (pattern order).
+    pub(crate) fn factorise(&mut self, values: &[f64]) -> Result<(), LinearSolveError> {
+        let [d0, d1] = &mut self.domains;
+        let (r0, r1) = rayon::join(|| d0.factorise(values), || d1.factorise(values));
+        r0.and(r1).map_err(|col| LinearSolveError::NotPositiveDefinite { col })?;
+        let mut schur = self.schur.as_mut();
+        schur.fill(0.0);
+        for &(k, i, j) in &self.separator_entries {
+            schur[(i, j)] -= values[k];
+            if i != j {
+                schur[(j, i)] -= values[k];
+            }
+        }
+        for d in [&*d0, &*d1] {
+            matmul(schur.rb_mut(), Accum::Add, d.g.as_ref(), d.g.transpose(), 1.0, Par::Seq);
+        }
+        cholesky_in_place(
+            schur,
+            LltRegularization::default(),
+            Par::Seq,
+            MemStack::new(&mut self.mem),
+            Default::default(),
+        )
+        .map_err(
+            |LltError::NonPositivePivot { index }| LinearSolveError::NotPositiveDefinite {
+                col: self.separator.get(index).copied().unwrap_or(index),
+            },
+        )?;
+        Ok(())
+    }
+
+    /// Solves `A x = rhs` in place with the last factorisation.
+    pub(crate) fn solve_in_place(&mut self, rhs: &mut [f64]) {
+        let [d0, d1] = &mut self.domains;
+        {
+            let b: &[f64] = rhs;
+            rayon::join(|| d0.forward(b), || d1.forward(b));
+        }
+        for (k, (x, &g)) in self.x_separator.iter_mut().zip(&self.separator).enumerate() {
+            *x = rhs[g] + d0.work[d0.n_own + k] + d1.work[d1.n_own + k];
+        }
+        let n_sep = self.separator.len();
+        let l = self.schur.as_ref();
+        let mut x = MatMut::from_column_major_slice_mut(&mut self.x_separator, n_sep, 1);
+        solve_lower_triangular_in_place(l, x.rb_mut(), Par::Seq);
+        solve_upper_triangular_in_place(l.transpose(), x.rb_mut(), Par::Seq);
+        let x_separator: &[f64] = &self.x_separator;
+        rayon::join(|| d0.backward(x_separator), || d1.backward(x_separator));
+        for d in [&*d0, &*d1] {
+            for (&g, &x) in d.global[..d.n_own].iter().zip(&d.work) {
+                rhs[g] = x;
+            }
+        }
+        for (&g, &x) in self.separator.iter().zip(x_separator) {
+            rhs[g] = x;
+        }
+    }
+}

@@ -1,0 +1,179 @@
+//! The two-domain Cholesky ([`DomainSplit`]): the same solutions as the whole factorisation on
+//! connected and disconnected block patterns, fixed unknowns, failed pivots named in the caller's
+//! numbering, the fall-back to `L B Lᵀ`, and when `Auto` splits.
+
+use cosserat_solver::{
+    DomainSplit, Factorisation, FillOrdering, LinearSolveError, LinearSolverKind, LinearSolverSettings, SparseSolver,
+};
+use nalgebra::{DMatrix, DVector};
+
+use super::fixtures::{PatternBuilder, UpperMatrix, block_grid, random_vector, relative_residual, rng};
+
+fn settings(kind: LinearSolverKind, domains: DomainSplit) -> LinearSolverSettings {
+    LinearSolverSettings {
+        kind,
+        domains,
+        ..Default::default()
+    }
+}
+
+/// Factorises and solves with the given settings; returns the solution, the factorisation used and
+/// the number of domains.
+fn solve(
+    a: &UpperMatrix,
+    b: &[f64],
+    s: LinearSolverSettings,
+    fixed: Option<&[bool]>,
+) -> Result<(Vec<f64>, Factorisation, usize), LinearSolveError> {
+    let mut solver = SparseSolver::try_new(a.pattern.as_ref(), s)?;
+    let domains = solver.symmetric_stats().map_or(0, |st| st.domains);
+    solver.factorise(&a.values, fixed)?;
+    let mut x = b.to_vec();
+    let used = solver.solve_in_place(&mut x)?;
+    Ok((x, used, domains))
+}
+
+/// Two block grids of 60 nodes each with no entry between them (two separate bodies: one per domain,
+/// an empty separator).
+fn two_bodies(r: &mut rand_chacha::ChaCha8Rng) -> UpperMatrix {
+    let first = block_grid(10, 6, 1e-2, r);
+    let second = block_grid(12, 5, 1e-2, r);
+    let offset = first.n();
+    let mut b = PatternBuilder::new(offset + second.n());
+    for (m, shift) in [(&first, 0), (&second, offset)] {
+        for (&v, (i, j)) in m.values.iter().zip(m.entries()) {
+            b.add(i + shift, j + shift, v);
+        }
+    }
+    b.build()
+}
+
+#[test]
+fn two_domains_solve_connected_and_disconnected_patterns_like_the_whole_factorisation() {
+    let mut r = rng(41);
+    for (a, name) in [
+        (block_grid(30, 12, 1e-2, &mut r), "grid"),
+        (two_bodies(&mut r), "two bodies"),
+    ] {
+        let b = random_vector(a.n(), &mut r);
+        let (whole, used, domains) =
+            solve(&a, &b, settings(LinearSolverKind::Cholesky, DomainSplit::Off), None).unwrap();
+        assert_eq!((used, domains), (Factorisation::Llt, 1), "{name}");
+        for kind in [LinearSolverKind::Cholesky, LinearSolverKind::Auto] {
+            let (x, used, domains) = solve(&a, &b, settings(kind, DomainSplit::Always), None).unwrap();
+            assert_eq!((used, domains), (Factorisation::Llt, 2), "{name} {kind:?}");
+            let res = relative_residual(&a, &x, &b);
+            assert!(res <= 1e-12, "{name} {kind:?}: relative residual {res:e}");
+            let diff = DVector::from_column_slice(&x) - DVector::from_column_slice(&whole);
+            let rel = diff.norm() / DVector::from_column_slice(&whole).norm();
+            assert!(
+                rel <= 1e-10,
+                "{name} {kind:?}: differs from the whole factorisation by {rel:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn two_domains_refactorise_new_values_and_keep_fixed_unknowns_at_zero() {
+    let mut r = rng(42);
+    let a1 = block_grid(20, 9, 1e-1, &mut r);
+    let a2 = block_grid(20, 9, 1e-1, &mut r);
+    let n = a1.n();
+    let fixed: Vec<bool> = (0..n).map(|i| i % 7 == 3 || i < 3).collect();
+    let free: Vec<usize> = (0..n).filter(|&i| !fixed[i]).collect();
+    let b = random_vector(n, &mut r);
+    let mut solver = SparseSolver::try_new(
+        a1.pattern.as_ref(),
+        settings(LinearSolverKind::Auto, DomainSplit::Always),
+    )
+    .unwrap();
+    assert_eq!(solver.symmetric_stats().map(|s| s.domains), Some(2));
+    for a in [&a1, &a2, &a1] {
+        solver.factorise(&a.values, Some(&fixed)).unwrap();
+        let mut x = b.clone();
+        assert_eq!(solver.solve_in_place(&mut x).unwrap(), Factorisation::Llt);
+        let dense = a.to_dense();
+        let reduced = DMatrix::from_fn(free.len(), free.len(), |i, j| dense[(free[i], free[j])]);
+        let rhs = DVector::from_iterator(free.len(), free.iter().map(|&i| b[i]));
+        let reference = reduced.cholesky().unwrap().solve(&rhs);
+        for i in (0..n).filter(|&i| fixed[i]) {
+            assert_eq!(x[i], 0.0, "fixed entry {i}");
+        }
+        let xf = DVector::from_iterator(free.len(), free.iter().map(|&i| x[i]));
+        let err = (xf - &reference).norm() / reference.norm();
+        assert!(err <= 1e-10, "reduced solution error {err:e}");
+    }
+    assert_eq!(solver.symbolic_analysis_count(), 1);
+}
+
+#[test]
+fn a_negative_pivot_is_named_whichever_domain_or_separator_holds_it_and_auto_falls_back() {
+    // A negative diagonal entry makes every principal submatrix holding it indefinite, while those
+    // without it stay positive definite: elimination fails exactly at that column, in a domain or in
+    // the separator.
+    let mut r = rng(43);
+    let grid = block_grid(24, 10, 1e-1, &mut r);
+    let entries = grid.entries();
+    let mut solver = SparseSolver::try_new(
+        grid.pattern.as_ref(),
+        settings(LinearSolverKind::Cholesky, DomainSplit::Always),
+    )
+    .unwrap();
+    // One unknown of every node: some lie in the separator, the others in either domain.
+    for node in 0..grid.n() / 3 {
+        let c = 3 * node + node % 3;
+        let mut values = grid.values.clone();
+        let index = entries.iter().position(|e| *e == (c, c)).unwrap();
+        values[index] = -100.0;
+        assert_eq!(
+            solver.factorise(&values, None),
+            Err(LinearSolveError::NotPositiveDefinite { col: c })
+        );
+        if node % 40 == 0 {
+            let a = grid.with_values(values);
+            let b = random_vector(a.n(), &mut r);
+            let (x, used, _) = solve(&a, &b, settings(LinearSolverKind::Auto, DomainSplit::Always), None).unwrap();
+            assert_eq!(used, Factorisation::Lblt, "column {c}");
+            let res = relative_residual(&a, &x, &b);
+            assert!(res <= 1e-10, "column {c}: relative residual {res:e}");
+        }
+    }
+}
+
+#[test]
+fn auto_splits_large_patterns_with_the_amd_ordering_only() {
+    let mut r = rng(44);
+    let large = block_grid(100, 70, 1e-2, &mut r);
+    assert!(large.n() >= DomainSplit::AUTO_MIN_UNKNOWNS);
+    let small = block_grid(40, 20, 1e-2, &mut r);
+    let domains = |a: &UpperMatrix, ordering: FillOrdering| {
+        let s = LinearSolverSettings {
+            ordering,
+            ..Default::default()
+        };
+        SparseSolver::try_new(a.pattern.as_ref(), s)
+            .unwrap()
+            .symmetric_stats()
+            .unwrap()
+            .domains
+    };
+    assert_eq!(domains(&large, FillOrdering::Amd), 2);
+    assert_eq!(domains(&large, FillOrdering::Identity), 1);
+    assert_eq!(domains(&small, FillOrdering::Amd), 1);
+    // The large system is solved to working precision.
+    let mut solver = SparseSolver::try_new(large.pattern.as_ref(), LinearSolverSettings::default()).unwrap();
+    solver.factorise(&large.values, None).unwrap();
+    let mut x = random_vector(large.n(), &mut r);
+    solver.solve_in_place(&mut x).unwrap();
+    let eta = solver.last_backward_error().unwrap();
+    assert!(eta <= 1e-14, "backward error {eta:e}");
+    // Switching the split off keeps the settings' other analyses valid and solves alike.
+    solver
+        .set_settings(LinearSolverSettings {
+            domains: DomainSplit::Off,
+            ..Default::default()
+        })
+        .unwrap();
+    assert_eq!(solver.symmetric_stats().unwrap().domains, 1);
+}
