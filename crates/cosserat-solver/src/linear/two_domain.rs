@@ -79,19 +79,25 @@ impl Domain {
         for (l, &g) in global.iter().enumerate() {
             local[g] = l;
         }
-        let entries = entries_within(pattern, &local, |_| true);
-        let (m_pattern, gather) = upper_csc(n_own + n_sep, &entries);
+        // The lower triangle, which faer's supernodal factorisation reads without a transposed copy.
+        // faer 0.24's symbolic analysis without a permutation reads its input as the upper triangle
+        // whatever side it is told, so it gets the transpose.
+        let mut entries = lower_entries(pattern, &local);
+        let (m_pattern, gather) = csc(n_own + n_sep, &entries);
+        for e in &mut entries {
+            (e.0, e.1) = (e.1, e.0);
+        }
+        let (m_upper, _) = csc(n_own + n_sep, &entries);
+        drop(entries);
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
         };
-        let symbolic =
-            factorize_symbolic_cholesky(m_pattern.as_ref(), Side::Upper, SymmetricOrdering::Identity, params).map_err(
-                |source| LinearSolveError::Faer {
-                    stage: LinearSolveStage::SymmetricSymbolic,
-                    source,
-                },
-            )?;
+        let symbolic = factorize_symbolic_cholesky(m_upper.as_ref(), Side::Upper, SymmetricOrdering::Identity, params)
+            .map_err(|source| LinearSolveError::Faer {
+                stage: LinearSolveStage::SymmetricSymbolic,
+                source,
+            })?;
         let SymbolicCholeskyRaw::Supernodal(sn) = symbolic.raw() else {
             return Ok(None);
         };
@@ -122,7 +128,7 @@ impl Domain {
         let result = self.symbolic.factorize_numeric_llt(
             &mut self.l_values,
             a,
-            Side::Upper,
+            Side::Lower,
             LltRegularization::default(),
             Par::Seq,
             MemStack::new(&mut self.mem),
@@ -463,22 +469,22 @@ fn supernodes(symbolic: &SymbolicCholesky<usize>) -> &SymbolicSupernodalCholesky
     }
 }
 
-/// The upper-triangle entries of `pattern` whose row and column both have a local index accepted by
-/// `keep`, as `(local row, local column, position)` with `row ≤ column`.
-fn entries_within(pattern: &UpperPattern, local: &[usize], keep: impl Fn(usize) -> bool) -> Vec<(usize, usize, usize)> {
+/// The entries of `pattern` whose row and column both have a local index, in the lower triangle of the
+/// local numbering: `(local row, local column, position)` with `row ≥ column`.
+fn lower_entries(pattern: &UpperPattern, local: &[usize]) -> Vec<(usize, usize, usize)> {
     let mut out = Vec::new();
     for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
         let (lr, lc) = (local[r], local[c]);
-        if lr != NONE && lc != NONE && keep(lr) && keep(lc) {
-            out.push((lr.min(lc), lr.max(lc), k));
+        if lr != NONE && lc != NONE {
+            out.push((lr.max(lc), lr.min(lc), k));
         }
     }
     out
 }
 
-/// The compressed upper pattern of `n × n` with the given entries (rows sorted in each column) and the
-/// values position of each stored entry.
-fn upper_csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
+/// The compressed pattern of `n × n` with the given `(row, column, position)` entries (rows sorted in
+/// each column) and the values position of each stored entry.
+fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
     let mut col_ptr = vec![0usize; n + 1];
     for &(_, c, _) in entries {
         col_ptr[c + 1] += 1;
