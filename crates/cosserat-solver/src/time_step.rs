@@ -8,6 +8,7 @@
 //! A state is only ever committed from a converged, finite solution.
 
 use crate::error::NewtonError;
+use crate::linear::{DomainSplit, LinearSolverKind};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
 use crate::potential_problem::PotentialProblem;
 use cosserat_assembly::IncrementalPotential;
@@ -256,7 +257,21 @@ impl TimeStepper {
             residuals: Vec::new(),
         })?;
         if changed {
-            self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings())?;
+            let mut settings = *self.solver.settings();
+            // Contact only adds couplings to the same mesh, so `Auto`'s choice for the first pattern
+            // holds for the grown ones: it is kept, which spares the grown patterns the split's cost
+            // prediction (two orderings of each half and one of the whole matrix).
+            if settings.linear_solver.domains == DomainSplit::Auto
+                && settings.linear_solver.kind != LinearSolverKind::Cg
+                && let Some(stats) = self.solver.linear_solver().symmetric_stats()
+            {
+                settings.linear_solver.domains = if stats.domains == 2 {
+                    DomainSplit::Always
+                } else {
+                    DomainSplit::Off
+                };
+            }
+            self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), settings)?;
         }
         Ok(())
     }

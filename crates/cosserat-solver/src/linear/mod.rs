@@ -109,7 +109,8 @@ pub enum DomainSplit {
     /// larger domain's factorisation plus the separator's needs at most 0.7 of the operations of the
     /// whole matrix's (counted exactly from the column counts of both orderings).
     /// The choice depends on the pattern only, never on the number of threads, so a run gives the same
-    /// results on any machine.
+    /// results on any machine. A [`TimeStepper`](crate::TimeStepper) whose pattern grows with contact
+    /// keeps the choice made for its first pattern.
     #[default]
     Auto,
     /// Two domains whenever the node graph can be bisected at all (for tests and comparisons).
