@@ -47,10 +47,35 @@ fn swept_box(vertices: &[u32], start: &[Vector3<f64>], end: &[Vector3<f64>], r: 
     b.inflated(r)
 }
 
-fn map_collect<T: Send>(n: usize, par: Parallelism, f: impl Fn(usize) -> Vec<T> + Sync + Send) -> Vec<T> {
+/// Queries per parallel task: each task reuses one set of buffers and returns one list.
+const QUERY_CHUNK: usize = 512;
+
+/// Reusable buffers of one task of queries: BVH hits and the traversal stack.
+#[derive(Default)]
+struct QueryBuffers {
+    hits: Vec<u32>,
+    stack: Vec<u32>,
+}
+
+/// `f(i, buffers, out)` for `i in 0..n`, in chunks (in parallel with `Rayon`), with the outputs
+/// concatenated in increasing `i` whatever the number of threads.
+fn map_collect<T: Send>(
+    n: usize,
+    par: Parallelism,
+    f: impl Fn(usize, &mut QueryBuffers, &mut Vec<T>) + Sync + Send,
+) -> Vec<T> {
+    let chunk = |c: usize| {
+        let mut buffers = QueryBuffers::default();
+        let mut out = Vec::new();
+        for i in c * QUERY_CHUNK..((c + 1) * QUERY_CHUNK).min(n) {
+            f(i, &mut buffers, &mut out);
+        }
+        out
+    };
+    let n_chunks = n.div_ceil(QUERY_CHUNK);
     let parts: Vec<Vec<T>> = match par {
-        Parallelism::Sequential => (0..n).map(f).collect(),
-        Parallelism::Rayon => (0..n).into_par_iter().with_min_len(64).map(f).collect(),
+        Parallelism::Sequential => (0..n_chunks).map(chunk).collect(),
+        Parallelism::Rayon => (0..n_chunks).into_par_iter().map(chunk).collect(),
     };
     parts.into_iter().flatten().collect()
 }
@@ -84,37 +109,45 @@ pub fn candidate_pairs(
         .enumerate()
         .map(|(e, edge)| swept_box(edge, start, end, inflation(mesh.edge_body(e))))
         .collect();
-    let tri_bvh = Bvh::build(tri_boxes);
-    let edge_bvh = Bvh::build(edge_boxes.clone());
-    let point_triangle = map_collect(mesh.n_vertices(), par, |v| {
+    let (tri_bvh, edge_bvh) = match par {
+        Parallelism::Sequential => (Bvh::build(tri_boxes), Bvh::build(edge_boxes.clone())),
+        Parallelism::Rayon => rayon::join(|| Bvh::build(tri_boxes), || Bvh::build(edge_boxes.clone())),
+    };
+    let point_triangle = map_collect(mesh.n_vertices(), par, |v, buffers, out| {
         let body = mesh.vertex_body(v);
         let b = swept_box(&[v as u32], start, end, inflation(body));
-        let mut hits = Vec::new();
-        tri_bvh.query(&b, &mut hits);
+        buffers.hits.clear();
+        tri_bvh.query_with(&b, &mut buffers.hits, &mut buffers.stack);
         let obstacle = bodies[body].is_obstacle;
-        hits.into_iter()
-            .filter(|&t| {
-                let tri = &mesh.triangles()[t as usize];
-                let both_obstacles = obstacle && bodies[mesh.triangle_body(t as usize)].is_obstacle;
-                !(tri.contains(&(v as u32)) || both_obstacles)
-            })
-            .map(|t| [v as u32, t])
-            .collect()
+        out.extend(
+            buffers
+                .hits
+                .iter()
+                .filter(|&&t| {
+                    let tri = &mesh.triangles()[t as usize];
+                    let both_obstacles = obstacle && bodies[mesh.triangle_body(t as usize)].is_obstacle;
+                    !(tri.contains(&(v as u32)) || both_obstacles)
+                })
+                .map(|&t| [v as u32, t]),
+        );
     });
-    let edge_edge = map_collect(mesh.edges().len(), par, |e| {
+    let edge_edge = map_collect(mesh.edges().len(), par, |e, buffers, out| {
         let ea = mesh.edges()[e];
         let obstacle = bodies[mesh.edge_body(e)].is_obstacle;
-        let mut hits = Vec::new();
-        edge_bvh.query(&edge_boxes[e], &mut hits);
-        hits.into_iter()
-            .filter(|&f| {
-                let eb = mesh.edges()[f as usize];
-                let shared = eb.contains(&ea[0]) || eb.contains(&ea[1]);
-                let both_obstacles = obstacle && bodies[mesh.edge_body(f as usize)].is_obstacle;
-                f as usize > e && !shared && !both_obstacles
-            })
-            .map(|f| [e as u32, f])
-            .collect()
+        buffers.hits.clear();
+        edge_bvh.query_with(&edge_boxes[e], &mut buffers.hits, &mut buffers.stack);
+        out.extend(
+            buffers
+                .hits
+                .iter()
+                .filter(|&&f| {
+                    let eb = mesh.edges()[f as usize];
+                    let shared = eb.contains(&ea[0]) || eb.contains(&ea[1]);
+                    let both_obstacles = obstacle && bodies[mesh.edge_body(f as usize)].is_obstacle;
+                    f as usize > e && !shared && !both_obstacles
+                })
+                .map(|&f| [e as u32, f]),
+        );
     });
     CandidatePairs {
         point_triangle,

@@ -108,11 +108,17 @@ impl Bvh {
 
     /// Indices of all boxes overlapping `query`, appended to `out` in increasing order.
     pub fn query(&self, query: &Aabb, out: &mut Vec<u32>) {
+        self.query_with(query, out, &mut Vec::new());
+    }
+
+    /// [`Bvh::query`] with a caller-owned traversal stack, so that a batch of queries allocates nothing.
+    pub fn query_with(&self, query: &Aabb, out: &mut Vec<u32>, stack: &mut Vec<u32>) {
         let first = out.len();
         if self.nodes.is_empty() {
             return;
         }
-        let mut stack = vec![0u32];
+        stack.clear();
+        stack.push(0);
         while let Some(n) = stack.pop() {
             let node = &self.nodes[n as usize];
             if !node.aabb.overlaps(query) {

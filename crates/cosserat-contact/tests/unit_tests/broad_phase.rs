@@ -41,8 +41,12 @@ struct Scene {
 
 /// Two jittered grids (surfaces 0 and 1, different thicknesses) close to each other and an obstacle.
 fn random_scene(seed: u64) -> Scene {
+    random_scene_of_size(seed, 6)
+}
+
+/// Two noisy `n × n` grids 6 cm apart and a small obstacle grid below them.
+fn random_scene_of_size(seed: u64, n: usize) -> Scene {
     let mut rng = rng(seed);
-    let n = 6;
     let mut x = grid_nodes(&mut rng, n, 1.0, 0.0, 0.03);
     let second = grid_nodes(&mut rng, n, 1.0, 0.06, 0.03);
     let offset = x.len();
@@ -178,6 +182,15 @@ fn output_is_identical_for_any_number_of_threads() {
     let par = pool.install(|| candidate_pairs(&s.mesh, &s.positions, &s.positions, 0.05, Parallelism::Rayon));
     assert_eq!(seq, par);
     assert!(!seq.is_empty());
+    // Several chunks of queries (over a thousand vertices, thousands of edges), still complete and in
+    // order.
+    let s = random_scene_of_size(6, 24);
+    assert!(s.mesh.n_vertices() > 1200);
+    let seq = candidate_pairs(&s.mesh, &s.positions, &s.positions, 0.01, Parallelism::Sequential);
+    let par = pool.install(|| candidate_pairs(&s.mesh, &s.positions, &s.positions, 0.01, Parallelism::Rayon));
+    assert_eq!(seq, par);
+    assert_sorted_and_valid(&s.mesh, &par);
+    assert_contains_close_pairs(&s.mesh, &s.positions, 0.01, &par);
 }
 
 #[test]
