@@ -13,8 +13,8 @@
 //!     [ Aₛ₁  Aₛ₂  Aₛₛ ]           [ B₁   B₂  Lₛ ]
 //! ```
 //!
-//! Domain `i` factorises the principal submatrix `Mᵢ = [Aᵢᵢ Aᵢₛ; Aₛᵢ Aₛₛ]`, its own unknowns in AMD
-//! order and the separator last, with faer (sequentially; both domains at once). The factor is
+//! Domain `i` factorises the principal submatrix `Mᵢ = [Aᵢᵢ Aᵢₛ; Aₛᵢ Aₛₛ]`, its own unknowns in an AMD
+//! order that knows the separator comes last ([`domain_order`]) and the separator last, with faer (sequentially; both domains at once). The factor is
 //! `[Lᵢ 0; Bᵢ Gᵢ]` with `Gᵢ Gᵢᵀ = Aₛₛ − Bᵢ Bᵢᵀ`, which is positive definite whenever `A` is (it is at
 //! least the Schur complement of `A`). The separator's Schur complement is then
 //! `Lₛ Lₛᵀ = G₁ G₁ᵀ + G₂ G₂ᵀ − Aₛₛ`, a small dense Cholesky. A solve runs forward in both domains at
@@ -55,9 +55,11 @@ struct Domain {
     global: Vec<usize>,
     /// Number of the domain's own unknowns (the separator starts at this local index).
     n_own: usize,
-    /// Position in the caller's values slice of each stored entry of `M`'s upper triangle.
+    /// Position in the caller's values slice of each stored entry of `M`'s lower triangle.
     gather: Vec<usize>,
+    /// The values of `M`'s lower triangle, gathered for each factorisation.
     values: Vec<f64>,
+    /// `M`'s lower triangle (local numbering, factorisation order).
     pattern: SymbolicSparseColMat<usize>,
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
