@@ -157,7 +157,7 @@ impl SymmetricFactor {
 
 /// Number of stored entries of `L` and the operation-count estimate `Σ_j c_j²` from the symbolic
 /// structure, with `c_j` the stored entries of column `j` including the diagonal.
-fn factor_stats(symbolic: &SymbolicCholesky<usize>) -> FactorStats {
+pub(super) fn factor_stats(symbolic: &SymbolicCholesky<usize>) -> FactorStats {
     let mut nnz_l = 0usize;
     let mut flops = 0.0f64;
     let mut add_column = |count: usize| {

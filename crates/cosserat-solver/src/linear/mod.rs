@@ -332,7 +332,9 @@ impl SparseSolver {
         TwoDomainCholesky::try_new(&self.pattern, &bisection, auto.then_some(AUTO_MAX_CRITICAL_SHARE))
     }
 
-    fn ensure_symmetric(&mut self) -> Result<&mut SymmetricFactor, LinearSolveError> {
+    /// Runs the whole-matrix symbolic analysis if it is not there yet (with the two-domain Cholesky,
+    /// only when the indefinite fallback first needs it).
+    fn ensure_symmetric(&mut self) -> Result<(), LinearSolveError> {
         if self.symmetric.is_none() {
             self.symmetric = Some(SymmetricFactor::try_new(
                 &self.pattern,
@@ -341,7 +343,7 @@ impl SparseSolver {
             )?);
             self.symbolic_analyses += 1;
         }
-        Ok(self.symmetric.as_mut().expect("the symmetric analysis was just built"))
+        Ok(())
     }
 
     fn ensure_lu(&mut self) -> Result<&mut LuFactor, LinearSolveError> {

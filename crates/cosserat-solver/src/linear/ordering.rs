@@ -86,7 +86,22 @@ struct Dissector<'a> {
     next_label: u32,
 }
 
-impl Dissector<'_> {
+impl<'a> Dissector<'a> {
+    /// A dissector of the node graph `(ptr, adj)` (CSR) with every node in part 0.
+    fn new(ptr: &'a [usize], adj: &'a [u32]) -> Self {
+        let n_nodes = ptr.len() - 1;
+        Self {
+            ptr,
+            adj,
+            part: vec![0; n_nodes],
+            level: vec![0; n_nodes],
+            mark: vec![0; n_nodes],
+            stamp: 0,
+            order: Vec::with_capacity(n_nodes),
+            next_label: 0,
+        }
+    }
+
     /// Breadth-first levels from `root` within the part `label`; returns the visited nodes in BFS order
     /// (levels in `self.level`, visited nodes marked with the current stamp).
     fn bfs(&mut self, root: usize, label: u32) -> Vec<usize> {
@@ -219,16 +234,7 @@ pub(crate) fn nested_dissection(pattern: SymbolicSparseColMatRef<'_, usize>, blo
     }
     let (ptr, adj) = node_graph(pattern, block);
     let n_nodes = n / block;
-    let mut d = Dissector {
-        ptr: &ptr,
-        adj: &adj,
-        part: vec![0; n_nodes],
-        level: vec![0; n_nodes],
-        mark: vec![0; n_nodes],
-        stamp: 0,
-        order: Vec::with_capacity(n_nodes),
-        next_label: 0,
-    };
+    let mut d = Dissector::new(&ptr, &adj);
     d.dissect((0..n_nodes).collect(), 0);
     debug_assert_eq!(d.order.len(), n_nodes);
     Some(d.order.iter().flat_map(|&v| (0..block).map(move |c| v * block + c)).collect())
@@ -255,16 +261,7 @@ pub(crate) fn bisection(pattern: SymbolicSparseColMatRef<'_, usize>, block: usiz
     }
     let (ptr, adj) = node_graph(pattern, block);
     let n_nodes = n / block;
-    let mut d = Dissector {
-        ptr: &ptr,
-        adj: &adj,
-        part: vec![0; n_nodes],
-        level: vec![0; n_nodes],
-        mark: vec![0; n_nodes],
-        stamp: 0,
-        order: Vec::new(),
-        next_label: 0,
-    };
+    let mut d = Dissector::new(&ptr, &adj);
     // Connected components, largest first (ties by first node, so the result is deterministic).
     let mut seen = vec![false; n_nodes];
     let mut components: Vec<Vec<usize>> = Vec::new();

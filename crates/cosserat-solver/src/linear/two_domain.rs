@@ -35,10 +35,11 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Accum, Mat, MatMut, Par, Side};
 
 use super::FactorStats;
+use super::cholesky::factor_stats;
 use super::ordering::Bisection;
 use super::pattern::UpperPattern;
 use crate::error::{LinearSolveError, LinearSolveStage};
@@ -217,23 +218,7 @@ impl Domain {
 
     /// `Σ c_j²` over the columns of the domain's factor, its entries and supernodes.
     fn stats(&self) -> FactorStats {
-        let sn = supernodes(&self.symbolic);
-        let (mut nnz_l, mut flops) = (0usize, 0.0f64);
-        for s in 0..sn.n_supernodes() {
-            let width = sn.supernode_end()[s] - sn.supernode_begin()[s];
-            let below = sn.supernode(s).pattern().len();
-            for local in 0..width {
-                let c = width - local + below;
-                nnz_l += c;
-                flops += (c as f64) * (c as f64);
-            }
-        }
-        FactorStats {
-            nnz_l,
-            flops,
-            n_supernodes: sn.n_supernodes(),
-            domains: 1,
-        }
+        factor_stats(&self.symbolic)
     }
 }
 
@@ -304,27 +289,8 @@ fn domain_order(
                 }
             }
         }
-        let amd_pattern = upper_structure(n_own, &presented);
+        let perm = amd_order(upper_structure(n_own, &presented).as_ref())?;
         drop(presented);
-        let mut perm = vec![0usize; n_own];
-        let mut perm_inv = vec![0usize; n_own];
-        if n_own > 0 {
-            let nnz = amd_pattern.row_idx().len();
-            let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n_own, nnz))
-                .map_err(|_| out_of_memory())?;
-            amd::order_maybe_unsorted(
-                &mut perm,
-                &mut perm_inv,
-                amd_pattern.as_ref(),
-                amd::Control::default(),
-                MemStack::new(&mut mem),
-            )
-            .map_err(|source| LinearSolveError::Faer {
-                stage: LinearSolveStage::SymmetricSymbolic,
-                source,
-            })?;
-        }
-        drop(amd_pattern);
         // Factorisation order of the local unknowns: own by AMD, then the separator.
         let order: Vec<usize> = perm.iter().map(|&k| input[k]).chain(n_own..m).collect();
         let cost = factor_operations(&order, &pairs)?;
@@ -433,7 +399,6 @@ fn critical(operations_0: f64, operations_1: f64, n_sep: usize) -> f64 {
 /// `Σ c_j²` of the Cholesky factor of the whole matrix in faer's AMD order, from exact column counts
 /// (the measure the split's critical path is compared with).
 pub(crate) fn whole_operations(pattern: &UpperPattern) -> Result<f64, LinearSolveError> {
-    let n = pattern.n();
     let pairs: Vec<(u32, u32)> = pattern
         .row_idx()
         .iter()
@@ -441,14 +406,23 @@ pub(crate) fn whole_operations(pattern: &UpperPattern) -> Result<f64, LinearSolv
         .filter(|(r, c)| r != c)
         .map(|(&r, &c)| (r as u32, c as u32))
         .collect();
+    factor_operations(&amd_order(pattern.as_ref())?, &pairs)
+}
+
+/// faer's AMD ordering (`perm[new] = old`) of the symmetric pattern `upper` (one triangle suffices).
+fn amd_order(upper: SymbolicSparseColMatRef<'_, usize>) -> Result<Vec<usize>, LinearSolveError> {
+    let n = upper.ncols();
     let mut perm = vec![0usize; n];
+    if n == 0 {
+        return Ok(perm);
+    }
     let mut perm_inv = vec![0usize; n];
-    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, pattern.nnz()))
+    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, upper.row_idx().len()))
         .map_err(|_| out_of_memory())?;
     amd::order_maybe_unsorted(
         &mut perm,
         &mut perm_inv,
-        pattern.as_ref(),
+        upper,
         amd::Control::default(),
         MemStack::new(&mut mem),
     )
@@ -456,8 +430,7 @@ pub(crate) fn whole_operations(pattern: &UpperPattern) -> Result<f64, LinearSolv
         stage: LinearSolveStage::SymmetricSymbolic,
         source,
     })?;
-    drop(mem);
-    factor_operations(&perm, &pairs)
+    Ok(perm)
 }
 
 /// `Σ l[k] · x[rows[k]]` with four independent partial sums, so that the additions do not wait on

@@ -164,11 +164,12 @@ fn auto_splits_large_patterns_with_the_amd_ordering_only() {
     // The large system is solved to working precision.
     let mut solver = SparseSolver::try_new(large.pattern.as_ref(), LinearSolverSettings::default()).unwrap();
     solver.factorise(&large.values, None).unwrap();
-    let mut x = random_vector(large.n(), &mut r);
+    let b = random_vector(large.n(), &mut r);
+    let mut x = b.clone();
     solver.solve_in_place(&mut x).unwrap();
     let eta = solver.last_backward_error().unwrap();
     assert!(eta <= 1e-14, "backward error {eta:e}");
-    // Switching the split off keeps the settings' other analyses valid and solves alike.
+    // Switching the split off factorises the whole matrix, to the same solution.
     solver
         .set_settings(LinearSolverSettings {
             domains: DomainSplit::Off,
@@ -176,4 +177,10 @@ fn auto_splits_large_patterns_with_the_amd_ordering_only() {
         })
         .unwrap();
     assert_eq!(solver.symmetric_stats().unwrap().domains, 1);
+    solver.factorise(&large.values, None).unwrap();
+    let mut y = b.clone();
+    solver.solve_in_place(&mut y).unwrap();
+    assert!(solver.last_backward_error().unwrap() <= 1e-14);
+    let diff = DVector::from_column_slice(&x) - DVector::from_column_slice(&y);
+    assert!(diff.norm() <= 1e-10 * DVector::from_column_slice(&y).norm());
 }
