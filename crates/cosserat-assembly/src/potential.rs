@@ -92,6 +92,9 @@ pub struct IncrementalPotential {
     pub parallelism: Parallelism,
     pattern: SparsityPattern,
     rotations: NodeRotations,
+    /// The buffer of the other kind (matrices or jets), kept so that switching between energy and
+    /// gradient evaluations reuses storage instead of allocating megabytes per evaluation.
+    spare_rotations: NodeRotations,
     /// Present only when a dynamic term (contact) exists.
     dynamic: Option<DynamicPattern>,
 }
@@ -162,6 +165,7 @@ impl IncrementalPotential {
             parallelism: Parallelism::Rayon,
             pattern,
             rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]),
+            spare_rotations: NodeRotations::Jets(Vec::new()),
             dynamic: None,
         };
         potential.rebuild_dynamic();
@@ -277,25 +281,20 @@ impl IncrementalPotential {
     }
 
     fn update_rotations(&mut self, u: &[f64], jets: bool) {
+        if matches!(self.rotations, NodeRotations::Jets(_)) != jets {
+            std::mem::swap(&mut self.rotations, &mut self.spare_rotations);
+        }
         let layout = self.parts.layout;
         let (q, dt, par) = (&self.parts.state.q, self.dt, self.parallelism);
         let omega = |k: usize| layout.omega(u, k);
-        match (jets, &mut self.rotations) {
-            (true, NodeRotations::Jets(buf)) => fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt)),
-            (false, NodeRotations::Matrices(buf)) => {
-                fill(buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt)))
+        match &mut self.rotations {
+            NodeRotations::Jets(buf) => {
+                buf.resize(q.len(), RotationJet::constant(Matrix3::identity()));
+                fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
             }
-            (true, slot) => {
-                let mut buf = vec![RotationJet::constant(Matrix3::identity()); q.len()];
-                fill(&mut buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
-                *slot = NodeRotations::Jets(buf);
-            }
-            (false, slot) => {
-                let mut buf = vec![Matrix3::identity(); q.len()];
-                fill(&mut buf, par, |k| {
-                    rotation_matrix(&quaternion_update(&q[k], &omega(k), dt))
-                });
-                *slot = NodeRotations::Matrices(buf);
+            NodeRotations::Matrices(buf) => {
+                buf.resize(q.len(), Matrix3::identity());
+                fill(buf, par, |k| rotation_matrix(&quaternion_update(&q[k], &omega(k), dt)));
             }
         }
     }

@@ -14,7 +14,7 @@ use crate::scatter::ElementScatter;
 use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
-use cosserat_material::element::{ElementDerivatives, accumulate, accumulate_gradient, f_hat, point_omega};
+use cosserat_material::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, f_hat, point_omega};
 use cosserat_material::kernel::{PointInput, point_gradient, point_hessian, point_value};
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{StrainVector, strain_offset};
@@ -217,13 +217,18 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         out.value = 0.0;
         out.gradient.fill(0.0);
         if with_hessian {
-            out.hessian.fill(0.0);
+            out.hessian.as_mut_slice().fill(0.0);
         }
         for g in 0..self.disc.rest.points_per_element {
             let p = e * self.disc.rest.points_per_element + g;
             let shape = &self.disc.rest.shapes[p];
             let q = &eval.state.q_points[self.disc.first_point + p];
-            let point_jet = RotationJet::of_update(q, &point_omega(shape, &omega), eval.dt);
+            let point_omega = point_omega(shape, &omega);
+            let point_jet = if with_hessian {
+                RotationJet::of_update(q, &point_omega, eval.dt)
+            } else {
+                RotationJet::of_update_first_order(q, &point_omega, eval.dt)
+            };
             let input = PointInput {
                 f_hat: f_hat(shape, &x),
                 point_jet: &point_jet,
@@ -241,7 +246,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                     let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
                     hl += hv;
                 }
-                accumulate(shape, &local, eval.dt, shape.weight, out);
+                accumulate_upper(shape, &local, eval.dt, shape.weight, out);
             } else {
                 let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, &input, d, self.disc.axl);
                 if let Some(m) = &self.disc.volume {
@@ -254,6 +259,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 accumulate_gradient(shape, &gradient, eval.dt, shape.weight, &mut out.gradient);
             }
         }
+        if with_hessian {
+            out.fill_lower_from_upper();
+        }
         if with_hessian && self.project_pd {
             out.hessian = project_positive_semidefinite(&out.hessian);
         }
@@ -262,7 +270,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
         let ok = d.value.is_finite()
             && d.gradient.iter().all(|x| x.is_finite())
-            && (!with_hessian || d.hessian.iter().all(|x| x.is_finite()));
+            && (!with_hessian || d.hessian.as_slice().iter().all(|x| x.is_finite()));
         if ok {
             Ok(())
         } else {

@@ -88,7 +88,7 @@ impl PairJet {
     pub fn is_finite(&self) -> bool {
         self.value.is_finite()
             && self.gradient.iter().all(|v| v.is_finite())
-            && self.hessian.iter().all(|v| v.is_finite())
+            && self.hessian.as_slice().iter().all(|v| v.is_finite())
     }
 }
 

@@ -55,7 +55,7 @@ impl StencilDerivatives {
     pub fn is_finite(&self) -> bool {
         self.value.is_finite()
             && self.gradient.iter().all(|v| v.is_finite())
-            && self.hessian.iter().all(|v| v.is_finite())
+            && self.hessian.as_slice().iter().all(|v| v.is_finite())
     }
 }
 

@@ -178,7 +178,7 @@ impl KirchhoffLoveTerm {
             |f, d| {
                 let finite = d.value.is_finite()
                     && d.gradient.iter().all(|v| v.is_finite())
-                    && (!with_hessian || d.hessian.iter().all(|v| v.is_finite()));
+                    && (!with_hessian || d.hessian.as_slice().iter().all(|v| v.is_finite()));
                 if !finite {
                     return Err(AssemblyError::NonFinite {
                         term: self.name(),

@@ -29,6 +29,17 @@ impl<const NE: usize> ElementDerivatives<NE> {
             hessian: SMatrix::zeros(),
         }
     }
+
+    /// Copies the upper triangle of the Hessian onto its lower triangle.
+    pub fn fill_lower_from_upper(&mut self) {
+        // Column-major: entry (r, c) is at c NE + r.
+        let h = self.hessian.as_mut_slice();
+        for c in 0..NE {
+            for r in c + 1..NE {
+                h[c * NE + r] = h[r * NE + c];
+            }
+        }
+    }
 }
 
 /// `F̂ = [F̂₁ F̂₂]` of a point from the element's current nodal positions.
@@ -92,7 +103,26 @@ pub fn accumulate_gradient<const NU: usize, const NR: usize, const NL: usize, co
 }
 
 /// Adds `weight ×` a point's local derivatives to an element's derivatives.
+///
+/// The whole Hessian is updated. To accumulate several points, [`accumulate_upper`] followed by one
+/// [`ElementDerivatives::fill_lower_from_upper`] does the same with less work.
 pub fn accumulate<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    local: &LocalDerivatives<NL>,
+    dt: f64,
+    weight: f64,
+    out: &mut ElementDerivatives<NE>,
+) {
+    accumulate_upper(shape, local, dt, weight, out);
+    out.fill_lower_from_upper();
+}
+
+/// Adds `weight ×` a point's local derivatives to an element's energy, gradient and the upper block
+/// triangle of its Hessian (blocks below the block diagonal are left untouched).
+///
+/// The element Hessian is symmetric, so the lower triangle is filled once per element
+/// ([`ElementDerivatives::fill_lower_from_upper`]) instead of once per quadrature point.
+pub fn accumulate_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
     shape: &PointShape<NU, NR>,
     local: &LocalDerivatives<NL>,
     dt: f64,
@@ -106,27 +136,25 @@ pub fn accumulate<const NU: usize, const NR: usize, const NL: usize, const NE: u
     let b = &shape.disp_grad;
     // K_iδ = Σ_γ B_iγ H[F̂_γ, F̂_δ] and P_ik = Σ_γ B_iγ H[F̂_γ, ω_k].
     let hff = [[block(h, 0, 0), block(h, 0, 3)], [block(h, 3, 0), block(h, 3, 3)]];
+    let hfw: [[Matrix3<f64>; NR]; 2] =
+        std::array::from_fn(|gamma| std::array::from_fn(|k| block(h, 3 * gamma, 6 + 3 * k)));
     let s2 = dt * dt * weight;
     let s1 = dt * weight;
     for i in 0..NU {
-        let k0 = hff[0][0] * b[(0, i)] + hff[1][0] * b[(1, i)];
-        let k1 = hff[0][1] * b[(0, i)] + hff[1][1] * b[(1, i)];
+        let k0 = (hff[0][0] * b[(0, i)] + hff[1][0] * b[(1, i)]) * s2;
+        let k1 = (hff[0][1] * b[(0, i)] + hff[1][1] * b[(1, i)]) * s2;
         for j in i..NU {
-            let blk = (k0 * b[(0, j)] + k1 * b[(1, j)]) * s2;
+            let blk = k0 * b[(0, j)] + k1 * b[(1, j)];
             add_block(&mut out.hessian, 3 * i, 3 * j, &blk);
-            if j != i {
-                add_block(&mut out.hessian, 3 * j, 3 * i, &blk.transpose());
-            }
         }
+        let (b0, b1) = (b[(0, i)] * s1, b[(1, i)] * s1);
         for k in 0..NR {
-            let c = 6 + 3 * k;
-            let blk = (block(h, 0, c) * b[(0, i)] + block(h, 3, c) * b[(1, i)]) * s1;
+            let blk = hfw[0][k] * b0 + hfw[1][k] * b1;
             add_block(&mut out.hessian, 3 * i, 3 * (NU + k), &blk);
-            add_block(&mut out.hessian, 3 * (NU + k), 3 * i, &blk.transpose());
         }
     }
     for k in 0..NR {
-        for l in 0..NR {
+        for l in k..NR {
             let blk = block(h, 6 + 3 * k, 6 + 3 * l) * weight;
             add_block(&mut out.hessian, 3 * (NU + k), 3 * (NU + l), &blk);
         }

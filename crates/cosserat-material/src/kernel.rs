@@ -212,6 +212,47 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
     grad
 }
 
+/// `Jᵀ D J` for the strain Jacobian `J` of a point, given its rotation columns (`jac`, whose `F̂`
+/// columns are ignored) and `QᵀRᵀ`.
+///
+/// The `F̂_γ` columns of `J` are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere, so `D J` needs a
+/// 3-column product for them, and the `F̂` rows of `Jᵀ (D J)` are `RQ (D J)` restricted to the rows of
+/// `Ê_γ`. Only the rotation columns are dense, and of their block only the upper triangle is computed.
+/// This is half the work of the dense product.
+#[inline]
+fn strain_hessian<const NL: usize>(
+    jac: &SMatrix<f64, 12, NL>,
+    qrt: &Matrix3<f64>,
+    d_vv: &SMatrix<f64, 12, 12>,
+) -> SMatrix<f64, NL, NL> {
+    let mut dj = SMatrix::<f64, 12, NL>::zeros();
+    for gamma in 0..2 {
+        let block = d_vv.fixed_columns::<3>(3 * gamma) * qrt;
+        dj.fixed_columns_mut::<3>(3 * gamma).copy_from(&block);
+    }
+    for c in 6..NL {
+        let column = d_vv * jac.column(c);
+        dj.set_column(c, &column);
+    }
+    let mut h = SMatrix::<f64, NL, NL>::zeros();
+    let rq = qrt.transpose();
+    for gamma in 0..2 {
+        let rows = rq * dj.fixed_rows::<3>(3 * gamma);
+        h.fixed_rows_mut::<3>(3 * gamma).copy_from(&rows);
+    }
+    for c in 6..NL {
+        for r in 0..6 {
+            h[(c, r)] = h[(r, c)];
+        }
+        for r in 6..=c {
+            let v = jac.column(r).dot(&dj.column(c));
+            h[(r, c)] = v;
+            h[(c, r)] = v;
+        }
+    }
+    h
+}
+
 /// Energy density, gradient and exact Hessian with respect to the locals.
 pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
     shape: &PointShape<NU, NR>,
@@ -228,11 +269,10 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
     let r = &jet.r;
     let rt = r.transpose();
 
-    // Jacobian of the 12 variable strains with respect to the locals.
+    // Jacobian of the 12 variable strains with respect to the locals. Its `F̂` columns are `QᵀRᵀ` on the
+    // rows of `Ê_γ` and zero elsewhere; they are left out here and used in that form by `strain_hessian`.
     let mut jac = SMatrix::<f64, 12, NL>::zeros();
     let qrt = qt * rt;
-    jac.fixed_view_mut::<3, 3>(0, 0).copy_from(&qrt);
-    jac.fixed_view_mut::<3, 3>(3, 3).copy_from(&qrt);
     // Strain derivatives along the point rotation (the factor M_k is applied per node below).
     let mut de_dp = [[Vector3::zeros(); 3]; 2];
     let mut dg_dp = [[Vector3::zeros(); 3]; 2];
@@ -267,7 +307,7 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
             d_vv[(a, b)] = d[(ia, ib)];
         }
     }
-    let mut hessian = jac.transpose() * (d_vv * jac);
+    let mut hessian = strain_hessian(&jac, &qrt, &d_vv);
 
     // Second-order terms of the bilinear strain maps, weighted by σ.
     for k in 0..NR {
@@ -283,7 +323,14 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
             }
         }
     }
-    let hpp: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| frob(&jet.d2[i][j], &st.yz)));
+    // ⟨R_ij, Y + Z⟩, symmetric in i, j.
+    let mut hpp = [[0.0; 3]; 3];
+    for i in 0..3 {
+        for j in i..3 {
+            hpp[i][j] = frob(&jet.d2[i][j], &st.yz);
+            hpp[j][i] = hpp[i][j];
+        }
+    }
     // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j.
     let mut cross = [[[0.0; 3]; 3]; NR];
     for k in 0..NR {

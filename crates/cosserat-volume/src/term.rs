@@ -227,7 +227,12 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
         let r = &self.disc.rot_elements[e];
         let node_jets: [&RotationJet; N] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
         let q = &eval.state.q_points[self.disc.first_point + e];
-        let point_jet = RotationJet::of_update(q, &point_omega(point, &omega), eval.dt);
+        let point_omega = point_omega(point, &omega);
+        let point_jet = if with_hessian {
+            RotationJet::of_update(q, &point_omega, eval.dt)
+        } else {
+            RotationJet::of_update_first_order(q, &point_omega, eval.dt)
+        };
         let state = PointState {
             f: deformation_gradient(point, &x),
             point_jet: &point_jet,
@@ -238,7 +243,7 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
         out.gradient.fill(0.0);
         let d = &self.disc.strain_hessian;
         if with_hessian {
-            out.hessian.fill(0.0);
+            out.hessian.as_mut_slice().fill(0.0);
             let local = point_hessian::<N, NL>(point, &state, d);
             accumulate(point, &local, eval.dt, point.weight, out);
             if self.project_pd {
@@ -262,7 +267,7 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
     fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
         let ok = d.value.is_finite()
             && d.gradient.iter().all(|x| x.is_finite())
-            && (!with_hessian || d.hessian.iter().all(|x| x.is_finite()));
+            && (!with_hessian || d.hessian.as_slice().iter().all(|x| x.is_finite()));
         if ok { Ok(()) } else { Err(self.non_finite(e)) }
     }
 }
