@@ -698,8 +698,10 @@ impl Simulation {
             avg_newton_iterations: s.newton_iterations as f64 / steps,
             wall_seconds: wall,
             avg_step_ms: 1e3 * s.step_seconds / steps,
-            assembly_share: if wall > 0.0 { s.assembly_seconds / wall } else { 0.0 },
-            linear_solve_share: if wall > 0.0 { s.solve_seconds / wall } else { 0.0 },
+            // Shares of the time in steps, not of the whole run: set-up, symbolic analysis and output
+            // are outside the steps (10 s of wall time against 9.2 s of steps on the Tri6 320 × 32 plate).
+            assembly_share: share(s.assembly_seconds, s.step_seconds),
+            linear_solve_share: share(s.solve_seconds, s.step_seconds),
             n_step_reductions: s.reductions,
             rest_bbox: self.rest_bbox,
             status,
@@ -751,4 +753,9 @@ fn check_initial_gaps(potential: &mut IncrementalPotential, index: usize) -> Res
         )));
     }
     Ok(())
+}
+
+/// `part / whole`, zero when nothing was timed.
+fn share(part: f64, whole: f64) -> f64 {
+    if whole > 0.0 { part / whole } else { 0.0 }
 }

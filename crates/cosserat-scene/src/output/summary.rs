@@ -75,9 +75,9 @@ pub struct RunSummary {
     pub wall_seconds: f64,
     /// Average wall-clock time per completed step (ms).
     pub avg_step_ms: f64,
-    /// Fraction of the total time spent in assembly (0 to 1).
+    /// Fraction of the time in steps spent in assembly (0 to 1).
     pub assembly_share: f64,
-    /// Fraction of the total time spent in linear solves (0 to 1).
+    /// Fraction of the time in steps spent in linear solves (0 to 1).
     pub linear_solve_share: f64,
     /// Number of time step reductions (dt halvings) after failed steps.
     pub n_step_reductions: usize,

@@ -480,13 +480,13 @@ impl SparseSolver {
             assert_eq!(f.len(), self.n(), "fixed mask length differs from the dimension");
         }
         self.current = None;
-        self.pattern.check_finite(values)?;
-        self.pattern.eliminate_into(values, fixed, &mut self.values);
+        self.norm_a = self
+            .pattern
+            .prepare_values(values, fixed, &mut self.values, &mut self.product)?;
         match fixed {
             Some(f) => self.fixed.copy_from_slice(f),
             None => self.fixed.fill(false),
         }
-        self.norm_a = self.pattern.norm_inf(&self.values, &mut self.product);
         let used = match self.settings.kind {
             LinearSolverKind::Cholesky => self.factorise_llt()?,
             LinearSolverKind::Ldlt => self.factorise_lblt()?,
