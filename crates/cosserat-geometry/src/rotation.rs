@@ -182,6 +182,30 @@ pub fn same_hemisphere(q: &Quaternion<f64>, reference: &Quaternion<f64>) -> Quat
     if q.dot(reference) < 0.0 { -q } else { *q }
 }
 
+/// `E_i M` with `E_i = [e_i]×`: the cross product of the unit vector `e_i` with each column of `M`.
+#[inline(always)]
+fn unit_cross(i: usize, m: &Matrix3<f64>) -> Matrix3<f64> {
+    let mut out = Matrix3::zeros();
+    let (a, b) = ((i + 1) % 3, (i + 2) % 3);
+    for c in 0..3 {
+        out[(b, c)] = m[(a, c)];
+        out[(a, c)] = -m[(b, c)];
+    }
+    out
+}
+
+/// `E_i E_j + E_j E_i = e_j e_iᵀ + e_i e_jᵀ − 2 δ_ij I` for the unit skew matrices `E_i = [e_i]×`.
+#[inline(always)]
+fn unit_anticommutator(i: usize, j: usize) -> Matrix3<f64> {
+    let mut out = Matrix3::zeros();
+    out[(j, i)] += 1.0;
+    out[(i, j)] += 1.0;
+    if i == j {
+        out -= Matrix3::identity() * 2.0;
+    }
+    out
+}
+
 /// The value and the first and second derivatives of `ω ↦ R(Φ(q, ω, Δt))` at one `ω`.
 ///
 /// This is where the nonlinearity of a rotation sits inside the energy. Computing its derivatives with a
@@ -227,10 +251,13 @@ impl RotationJet {
         let k2 = k * k;
         let a = k + k2 * 0.5;
         let e = [skew(&Vector3::x()), skew(&Vector3::y()), skew(&Vector3::z())];
-        // B_i = ∂a/∂v_i = E_i + ½ (E_i K + K E_i).
+        // B_i = ∂a/∂v_i = E_i + ½ (E_i K + K E_i), with K E_i = (E_i K)ᵀ for skew K and E_i. The products
+        // with the unit skew matrices E_i only move and negate entries, so they are formed without
+        // multiplications (and exactly, as the matrix products were).
         let mut b = [Matrix3::zeros(); 3];
         for i in 0..3 {
-            b[i] = e[i] + (e[i] * k + k * e[i]) * 0.5;
+            let ek = unit_cross(i, &k);
+            b[i] = e[i] + (ek + ek.transpose()) * 0.5;
         }
         // ∂s/∂v_i = −s²/2 v_i; ∂²s/∂v_i∂v_j = −s²/2 δ_ij + s³/2 v_i v_j.
         let ds = [-0.5 * s * s * v[0], -0.5 * s * s * v[1], -0.5 * s * s * v[2]];
@@ -249,7 +276,7 @@ impl RotationJet {
             for j in 0..3 {
                 let dds = 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 };
                 jet.d2[i][j] =
-                    (a * dds + b[j] * ds[i] + b[i] * ds[j] + (e[i] * e[j] + e[j] * e[i]) * (0.5 * s)) * r0 * (dt * dt);
+                    (a * dds + b[j] * ds[i] + b[i] * ds[j] + unit_anticommutator(i, j) * (0.5 * s)) * r0 * (dt * dt);
             }
         }
         jet
@@ -317,6 +344,19 @@ mod tests {
                 for j in 0..3 {
                     assert!((a.d2[i][j] - b.d2[i][j]).amax() < 1e-14 * (1.0 + dt * dt), "d2 {i} {j}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn unit_skew_helpers_match_the_matrix_products() {
+        let e = [skew(&Vector3::x()), skew(&Vector3::y()), skew(&Vector3::z())];
+        let k = skew(&Vector3::new(0.3, -1.7, 2.9e-3));
+        for i in 0..3 {
+            assert_eq!(unit_cross(i, &k), e[i] * k);
+            assert_eq!(unit_cross(i, &k).transpose(), k * e[i]);
+            for j in 0..3 {
+                assert_eq!(unit_anticommutator(i, j), e[i] * e[j] + e[j] * e[i]);
             }
         }
     }
