@@ -223,11 +223,11 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             let p = e * self.disc.rest.points_per_element + g;
             let shape = &self.disc.rest.shapes[p];
             let q = &eval.state.q_points[self.disc.first_point + p];
-            let point_omega = point_omega(shape, &omega);
+            let omega_g = point_omega(shape, &omega);
             let point_jet = if with_hessian {
-                RotationJet::of_update(q, &point_omega, eval.dt)
+                RotationJet::of_update(q, &omega_g, eval.dt)
             } else {
-                RotationJet::of_update_first_order(q, &point_omega, eval.dt)
+                RotationJet::of_update_first_order(q, &omega_g, eval.dt)
             };
             let input = PointInput {
                 f_hat: f_hat(shape, &x),
@@ -261,9 +261,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
         if with_hessian {
             out.fill_lower_from_upper();
-        }
-        if with_hessian && self.project_pd {
-            out.hessian = project_positive_semidefinite(&out.hessian);
+            if self.project_pd {
+                out.hessian = project_positive_semidefinite(&out.hessian);
+            }
         }
     }
 

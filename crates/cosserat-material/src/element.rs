@@ -102,21 +102,6 @@ pub fn accumulate_gradient<const NU: usize, const NR: usize, const NL: usize, co
     }
 }
 
-/// Adds `weight ×` a point's local derivatives to an element's derivatives.
-///
-/// The whole Hessian is updated. To accumulate several points, [`accumulate_upper`] followed by one
-/// [`ElementDerivatives::fill_lower_from_upper`] does the same with less work.
-pub fn accumulate<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
-    shape: &PointShape<NU, NR>,
-    local: &LocalDerivatives<NL>,
-    dt: f64,
-    weight: f64,
-    out: &mut ElementDerivatives<NE>,
-) {
-    accumulate_upper(shape, local, dt, weight, out);
-    out.fill_lower_from_upper();
-}
-
 /// Adds `weight ×` a point's local derivatives to an element's energy, gradient and the upper block
 /// triangle of its Hessian (blocks below the block diagonal are left untouched).
 ///

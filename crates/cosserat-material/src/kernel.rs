@@ -220,7 +220,7 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
 /// `Ê_γ`. Only the rotation columns are dense, and of their block only the upper triangle is computed.
 /// This is half the work of the dense product.
 #[inline]
-fn strain_hessian<const NL: usize>(
+fn local_hessian_from_strains<const NL: usize>(
     jac: &SMatrix<f64, 12, NL>,
     qrt: &Matrix3<f64>,
     d_vv: &SMatrix<f64, 12, 12>,
@@ -270,7 +270,7 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
     let rt = r.transpose();
 
     // Jacobian of the 12 variable strains with respect to the locals. Its `F̂` columns are `QᵀRᵀ` on the
-    // rows of `Ê_γ` and zero elsewhere; they are left out here and used in that form by `strain_hessian`.
+    // rows of `Ê_γ` and zero elsewhere; they are left out here and used in that form by `local_hessian_from_strains`.
     let mut jac = SMatrix::<f64, 12, NL>::zeros();
     let qrt = qt * rt;
     // Strain derivatives along the point rotation (the factor M_k is applied per node below).
@@ -307,7 +307,7 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
             d_vv[(a, b)] = d[(ia, ib)];
         }
     }
-    let mut hessian = strain_hessian(&jac, &qrt, &d_vv);
+    let mut hessian = local_hessian_from_strains(&jac, &qrt, &d_vv);
 
     // Second-order terms of the bilinear strain maps, weighted by σ.
     for k in 0..NR {

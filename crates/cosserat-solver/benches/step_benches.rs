@@ -12,14 +12,13 @@
 use std::hint::black_box;
 use std::time::Duration;
 
-use cosserat_assembly::boundary::{PositionPenalty, RotationPenalty};
-use cosserat_assembly::{ElementPair, IncrementalPotential, ShellInput, ShellMesh, SystemOptions, build_system};
-use cosserat_fem::mesh::{chord_placement, procedural};
-use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use cosserat_assembly::{ElementPair, IncrementalPotential};
 use cosserat_solver::{LinearSolverSettings, SparseSolver, TimeStepSettings, TimeStepper};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_main};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
+
+#[path = "../examples/common/plate.rs"]
+mod plate;
 
 /// Time step of the scene \[s\].
 const DT: f64 = 0.01;
@@ -38,49 +37,7 @@ struct PlateCase {
 
 impl PlateCase {
     fn new(pair: ElementPair, ny: usize) -> Self {
-        let nx = 10 * ny;
-        let grid = procedural::rectangle_grid(0.1, 0.01, nx, ny).expect("valid grid");
-        let input = ShellInput {
-            name: "plate".into(),
-            mesh: ShellMesh::from_tri3(grid.mesh, pair, chord_placement),
-            pair,
-            material: MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6),
-            rest: RestOptions::new(ModelOptions::new(ShellModel::Plate)),
-            quadrature: None,
-            damping: 0.0,
-            angular_inertia_density: 0.0,
-        };
-        let options = SystemOptions {
-            gravity: Vector3::zeros(),
-            dynamic: true,
-            dt: DT,
-        };
-        let mut sys = build_system(&[input], Vec::new(), &options).expect("valid system");
-        let tol = 0.05 * 0.1 / nx as f64;
-        let layout = &sys.shells[0];
-        let near = |p: &[Vector3<f64>], x: f64| -> Vec<usize> {
-            (0..p.len()).filter(|&i| (p[i].x - x).abs() <= tol).collect()
-        };
-        let clamp = near(&layout.rest_disp_positions, -0.05);
-        let clamp_rot = near(&layout.rest_rot_positions, -0.05);
-        let tip = near(&layout.rest_disp_positions, 0.05);
-        let parts = &mut sys.potential.parts;
-        let targets = clamp.iter().map(|&i| parts.state.x[i]).collect();
-        parts.position_penalties.push(PositionPenalty {
-            label: "clamp".into(),
-            nodes: clamp,
-            targets,
-            active: [true; 3],
-            stiffness: 1e6,
-        });
-        let n_rot = clamp_rot.len();
-        parts.rotation_penalties.push(RotationPenalty {
-            label: "clamp".into(),
-            nodes: clamp_rot,
-            targets: vec![Matrix3::identity(); n_rot],
-            columns: [false, false, true],
-            stiffness: 1e4,
-        });
+        let (sys, tip) = plate::clamped_plate(10 * ny, ny, pair, DT);
         let mut potential = sys.potential;
         let mut stepper = TimeStepper::new(&potential, TimeStepSettings::fixed(DT)).expect("valid settings");
         for _ in 0..WARM_STEPS {

@@ -5,10 +5,7 @@
 //! `cargo run --release -p cosserat-solver --example factor_rate -- <ny> [<nx / ny>]` (Tri6/Tri3 plate
 //! of `10 ny × ny` elements by default). The values are a diagonally dominant stand-in with the
 //! Hessian's pattern: Cholesky's time does not depend on them.
-use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, SystemOptions, build_system};
-use cosserat_fem::mesh::{chord_placement, procedural};
-use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use cosserat_assembly::ElementPair;
 use cosserat_solver::{DomainSplit, FillOrdering, LinearSolverKind, LinearSolverSettings, SparseSolver};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SparseColMatRef;
@@ -17,8 +14,10 @@ use faer::sparse::linalg::cholesky::{
 };
 use faer::sparse::linalg::{SupernodalThreshold, SymbolicSupernodalParams};
 use faer::{Par, Side};
-use nalgebra::Vector3;
 use std::time::Instant;
+
+#[path = "common/plate.rs"]
+mod plate;
 
 /// faer's supernode relaxation thresholds: `(columns, fraction of explicit zeros)` pairs.
 type Relaxation = &'static [(usize, f64)];
@@ -40,23 +39,7 @@ fn operations(symbolic: &SymbolicCholesky<usize>) -> (f64, usize) {
 fn main() {
     let ny: usize = std::env::args().nth(1).map_or(16, |s| s.parse().expect("ny"));
     let aspect: usize = std::env::args().nth(2).map_or(10, |s| s.parse().expect("nx / ny"));
-    let grid = procedural::rectangle_grid(0.1, 0.01, aspect * ny, ny).expect("grid");
-    let input = ShellInput {
-        name: "plate".into(),
-        mesh: ShellMesh::from_tri3(grid.mesh, ElementPair::Tri6Tri3, chord_placement),
-        pair: ElementPair::Tri6Tri3,
-        material: MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6),
-        rest: RestOptions::new(ModelOptions::new(ShellModel::Plate)),
-        quadrature: None,
-        damping: 0.0,
-        angular_inertia_density: 0.0,
-    };
-    let options = SystemOptions {
-        gravity: Vector3::zeros(),
-        dynamic: true,
-        dt: 0.01,
-    };
-    let sys = build_system(&[input], Vec::new(), &options).expect("system");
+    let (sys, _) = plate::clamped_plate(aspect * ny, ny, ElementPair::Tri6Tri3, 0.01);
     let pattern = sys.potential.pattern().symbolic();
     let n = pattern.ncols();
     let mut values = vec![0.0; pattern.row_idx().len()];

@@ -1,12 +1,11 @@
 //! Times steps of the plate-under-load setup (scratch profiling tool).
-use cosserat_assembly::boundary::{PositionPenalty, RotationPenalty};
-use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, SystemOptions, build_system};
-use cosserat_fem::mesh::{chord_placement, procedural};
-use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use cosserat_assembly::ElementPair;
 use cosserat_solver::{TimeStepSettings, TimeStepper};
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use std::time::Instant;
+
+#[path = "common/plate.rs"]
+mod plate;
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
@@ -18,56 +17,8 @@ fn main() {
         ElementPair::Tri6Tri3
     };
     let nx = 10 * ny;
-    let grid = procedural::rectangle_grid(0.1, 0.01, nx, ny).unwrap();
-    let input = ShellInput {
-        name: "plate".into(),
-        mesh: ShellMesh::from_tri3(grid.mesh, pair, chord_placement),
-        pair,
-        material: MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6),
-        rest: RestOptions::new(ModelOptions::new(ShellModel::Plate)),
-        quadrature: None,
-        damping: 0.0,
-        angular_inertia_density: 0.0,
-    };
     let t_build = Instant::now();
-    let mut sys = build_system(
-        &[input],
-        Vec::new(),
-        &SystemOptions {
-            gravity: Vector3::zeros(),
-            dynamic: true,
-            dt: 0.01,
-        },
-    )
-    .unwrap();
-    let dx = 0.1 / nx as f64;
-    let lay = &sys.shells[0];
-    let clamp: Vec<usize> = (0..lay.rest_disp_positions.len())
-        .filter(|&i| lay.rest_disp_positions[i].x <= -0.05 + 0.05 * dx)
-        .collect();
-    let clamp_r: Vec<usize> = (0..lay.rest_rot_positions.len())
-        .filter(|&i| lay.rest_rot_positions[i].x <= -0.05 + 0.05 * dx)
-        .collect();
-    let tip: Vec<usize> = (0..lay.rest_disp_positions.len())
-        .filter(|&i| lay.rest_disp_positions[i].x >= 0.05 - 0.05 * dx)
-        .collect();
-    let parts = &mut sys.potential.parts;
-    let targets = clamp.iter().map(|&i| parts.state.x[i]).collect();
-    parts.position_penalties.push(PositionPenalty {
-        label: "clamp".into(),
-        nodes: clamp,
-        targets,
-        active: [true; 3],
-        stiffness: 1e6,
-    });
-    let n = clamp_r.len();
-    parts.rotation_penalties.push(RotationPenalty {
-        label: "clamp".into(),
-        nodes: clamp_r,
-        targets: vec![Matrix3::identity(); n],
-        columns: [false, false, true],
-        stiffness: 1e4,
-    });
+    let (mut sys, tip) = plate::clamped_plate(nx, ny, pair, 0.01);
     println!(
         "build {:.3} s, dofs {}, nnz {}",
         t_build.elapsed().as_secs_f64(),

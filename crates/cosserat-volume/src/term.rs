@@ -227,11 +227,11 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
         let r = &self.disc.rot_elements[e];
         let node_jets: [&RotationJet; N] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
         let q = &eval.state.q_points[self.disc.first_point + e];
-        let point_omega = point_omega(point, &omega);
+        let omega_g = point_omega(point, &omega);
         let point_jet = if with_hessian {
-            RotationJet::of_update(q, &point_omega, eval.dt)
+            RotationJet::of_update(q, &omega_g, eval.dt)
         } else {
-            RotationJet::of_update_first_order(q, &point_omega, eval.dt)
+            RotationJet::of_update_first_order(q, &omega_g, eval.dt)
         };
         let state = PointState {
             f: deformation_gradient(point, &x),

@@ -698,8 +698,8 @@ impl Simulation {
             avg_newton_iterations: s.newton_iterations as f64 / steps,
             wall_seconds: wall,
             avg_step_ms: 1e3 * s.step_seconds / steps,
-            // Shares of the time in steps, not of the whole run: set-up, symbolic analysis and output
-            // are outside the steps (10 s of wall time against 9.2 s of steps on the Tri6 320 × 32 plate).
+            // Shares of the time in steps, not of the whole run, whose set-up, symbolic analysis and
+            // output lie outside the steps.
             assembly_share: share(s.assembly_seconds, s.step_seconds),
             linear_solve_share: share(s.solve_seconds, s.step_seconds),
             n_step_reductions: s.reductions,

@@ -3,7 +3,7 @@
 
 use super::common::{self, rel_err};
 use cosserat_geometry::rotation::{RotationJet, quaternion_from_matrix, quaternion_product, rotation_matrix};
-use cosserat_material::element::{ElementDerivatives, accumulate, point_omega};
+use cosserat_material::element::{ElementDerivatives, accumulate_upper, point_omega};
 use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
 use cosserat_material::oracle::{PointContext, element_point_energy, local_energy};
 use cosserat_material::strain_space::{StrainVector, local_geometry, strain_hessian, strain_offset};
@@ -221,7 +221,8 @@ fn element_fast<const NU: usize, const NR: usize, const NL: usize, const NE: usi
 ) -> ElementDerivatives<NE> {
     let local = fast::<NU, NR, NL>(case, terms, axl);
     let mut out = ElementDerivatives::<NE>::zeros();
-    accumulate(&case.shape, &local, case.dt, case.shape.weight, &mut out);
+    accumulate_upper(&case.shape, &local, case.dt, case.shape.weight, &mut out);
+    out.fill_lower_from_upper();
     out
 }
 
