@@ -24,6 +24,7 @@
 pub mod boundary;
 pub mod dofs;
 pub mod error;
+pub mod finite;
 pub mod inertia;
 pub mod parallel;
 pub mod pattern;

@@ -75,15 +75,39 @@ where
             buf.resize_with(len, &init);
         }
     }
-    let n_chunks = n.div_ceil(CHUNK);
-    if n_chunks == 0 {
+    if n == 0 {
         return Ok(());
     }
+    // Each chunk joins two tasks. From a thread outside the pool every join would hand its work to the
+    // pool and sleep until it is done, a round trip through the kernel per chunk; so the whole loop runs
+    // on a pool thread, where joins are cheap.
+    if par == Parallelism::Rayon && rayon::current_thread_index().is_none() {
+        rayon::scope(|_| run_chunks(n, par, buffers, &compute, &mut consume))
+    } else {
+        run_chunks(n, par, buffers, &compute, &mut consume)
+    }
+}
+
+/// The chunk loop of [`ordered_map`], with buffers of at least `min(n, CHUNK)` slots.
+fn run_chunks<T, E, F, C>(
+    n: usize,
+    par: Parallelism,
+    buffers: &mut ChunkBuffers<T>,
+    compute: &F,
+    consume: &mut C,
+) -> Result<(), E>
+where
+    T: Send + Sync,
+    F: Fn(usize, &mut T) + Sync,
+    C: FnMut(usize, &T) -> Result<(), E> + Send,
+    E: Send,
+{
+    let n_chunks = n.div_ceil(CHUNK);
     let range = |c: usize| c * CHUNK..((c + 1) * CHUNK).min(n);
     let ChunkBuffers { front, back } = buffers;
     let (mut current, mut next) = (front, back);
     let r0 = range(0);
-    fill(&mut current[..r0.len()], r0.start, par, &compute);
+    fill(&mut current[..r0.len()], r0.start, par, compute);
     for c in 0..n_chunks {
         let r = range(c);
         let mut consume_current = |items: &[T]| -> Result<(), E> {
@@ -99,14 +123,14 @@ where
             let result = match par {
                 Parallelism::Rayon => {
                     rayon::join(
-                        || fill(next_slice, rn.start, par, &compute),
+                        || fill(next_slice, rn.start, par, compute),
                         || consume_current(current_slice),
                     )
                     .1
                 }
                 Parallelism::Sequential => {
                     let result = consume_current(current_slice);
-                    fill(next_slice, rn.start, par, &compute);
+                    fill(next_slice, rn.start, par, compute);
                     result
                 }
             };

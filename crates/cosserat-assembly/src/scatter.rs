@@ -69,7 +69,12 @@ impl<const N: usize> ElementScatter<N> {
         }
     }
 
-    /// Adds an element Hessian (`3N × 3N`, symmetric) into the global upper-triangular values.
+    /// Adds a symmetric element Hessian (`3N × 3N`) into the global upper-triangular values.
+    ///
+    /// Only the element's upper block triangle is read (blocks `(i, j)` with `i ≤ j`, of the diagonal
+    /// blocks their upper triangles): where the global order of two blocks is the reverse of the local
+    /// one, the transpose of the local upper block is added. Producers may therefore leave the lower
+    /// triangle unfilled.
     #[inline]
     pub fn add_hessian<const NE: usize>(
         &self,
@@ -82,17 +87,24 @@ impl<const N: usize> ElementScatter<N> {
         let el = &self.blocks[e];
         let pos = &self.positions[e];
         for i in 0..N {
-            for j in 0..N {
+            for j in i..N {
                 let (a, b) = (el[i], el[j]);
-                if a > b || (a == b && i > j) {
-                    continue;
-                }
+                debug_assert!(a != b || i == j, "an element couples a block with itself");
                 let k = pos[i][j] as usize;
-                for c in 0..3 {
-                    let start = pattern.col_start(3 * b + c) + 3 * k;
-                    let rows = if a == b { c + 1 } else { 3 };
-                    for r in 0..rows {
-                        values[start + r] += h[(3 * i + r, 3 * j + c)];
+                if a <= b {
+                    for c in 0..3 {
+                        let start = pattern.col_start(3 * b + c) + 3 * k;
+                        let rows = if a == b { c + 1 } else { 3 };
+                        for r in 0..rows {
+                            values[start + r] += h[(3 * i + r, 3 * j + c)];
+                        }
+                    }
+                } else {
+                    for c in 0..3 {
+                        let start = pattern.col_start(3 * a + c) + 3 * k;
+                        for r in 0..3 {
+                            values[start + r] += h[(3 * i + c, 3 * j + r)];
+                        }
                     }
                 }
             }

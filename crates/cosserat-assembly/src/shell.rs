@@ -8,6 +8,7 @@
 
 use crate::dofs::DofLayout;
 use crate::error::AssemblyError;
+use crate::finite::all_finite;
 use crate::parallel::{ChunkBuffers, ordered_map};
 use crate::pattern::SparsityPattern;
 use crate::scatter::ElementScatter;
@@ -15,12 +16,14 @@ use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
 use cosserat_material::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, f_hat, point_omega};
-use cosserat_material::kernel::{PointInput, point_gradient, point_hessian, point_value};
+use cosserat_material::kernel::{
+    LocalDerivatives, PointInput, PointShape, point_gradient, point_hessian_into, point_value,
+};
 use cosserat_material::rest::ShellRest;
-use cosserat_material::strain_space::{StrainVector, strain_offset};
+use cosserat_material::strain_space::{DensityMatrix, StrainVector, strain_offset};
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
-use nalgebra::{Matrix3, SMatrix, Vector3};
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 use std::sync::Mutex;
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
@@ -203,28 +206,26 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         value
     }
 
-    fn element_derivatives(
+    /// Calls `f(shape, input, density)` at each quadrature point of element `e`, with the point's
+    /// rotation jet to second order when `second_order` (else to first order).
+    #[inline]
+    fn for_each_point(
         &self,
         e: usize,
         eval: &Evaluation<'_>,
-        with_hessian: bool,
-        out: &mut ElementDerivatives<NE>,
+        second_order: bool,
+        mut f: impl FnMut(&PointShape<NU, NR>, &PointInput<'_, NR>, &DensityMatrix),
     ) {
         let x = self.positions(e, eval);
         let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
         let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
-        out.value = 0.0;
-        out.gradient.fill(0.0);
-        if with_hessian {
-            out.hessian.as_mut_slice().fill(0.0);
-        }
         for g in 0..self.disc.rest.points_per_element {
             let p = e * self.disc.rest.points_per_element + g;
             let shape = &self.disc.rest.shapes[p];
             let q = &eval.state.q_points[self.disc.first_point + p];
             let omega_g = point_omega(shape, &omega);
-            let point_jet = if with_hessian {
+            let point_jet = if second_order {
                 RotationJet::of_update(q, &omega_g, eval.dt)
             } else {
                 RotationJet::of_update_first_order(q, &omega_g, eval.dt)
@@ -235,20 +236,22 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 node_jets,
                 offset: self.offset(p),
             };
-            let d = self.disc.rest.densities.get(p);
-            if with_hessian {
-                let mut local = point_hessian::<NU, NR, NL>(shape, &input, d, self.disc.axl);
-                if let Some(m) = &self.disc.volume {
-                    let (v, gv, hv) = volume_hessian(&input.f_hat, m);
-                    local.value += v;
-                    let mut gl = local.gradient.fixed_rows_mut::<6>(0);
-                    gl += gv;
-                    let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
-                    hl += hv;
-                }
-                accumulate_upper(shape, &local, eval.dt, shape.weight, out);
-            } else {
-                let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, &input, d, self.disc.axl);
+            f(shape, &input, self.disc.rest.densities.get(p));
+        }
+    }
+
+    fn element_derivatives(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        with_hessian: bool,
+        out: &mut ElementDerivatives<NE>,
+    ) {
+        if !with_hessian {
+            out.value = 0.0;
+            out.gradient.fill(0.0);
+            self.for_each_point(e, eval, false, |shape, input, d| {
+                let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, input, d, self.disc.axl);
                 if let Some(m) = &self.disc.volume {
                     let (v, gv, _) = volume_hessian(&input.f_hat, m);
                     value += v;
@@ -257,21 +260,46 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 }
                 out.value += shape.weight * value;
                 accumulate_gradient(shape, &gradient, eval.dt, shape.weight, &mut out.gradient);
-            }
+            });
+            mark_non_finite(out, false);
+            return;
         }
-        if with_hessian {
+        // Only the upper block triangle is accumulated and scattered; the lower one stays zero (the
+        // whole matrix is cleared, which is faster than clearing its upper part column by column).
+        out.value = 0.0;
+        out.gradient.fill(0.0);
+        out.hessian.as_mut_slice().fill(0.0);
+        // One scratch for the points' local derivatives; each kernel call overwrites all of it.
+        let mut local = LocalDerivatives {
+            value: 0.0,
+            gradient: SVector::<f64, NL>::zeros(),
+            hessian: SMatrix::<f64, NL, NL>::zeros(),
+        };
+        self.for_each_point(e, eval, true, |shape, input, d| {
+            point_hessian_into(shape, input, d, self.disc.axl, &mut local);
+            if let Some(m) = &self.disc.volume {
+                let (v, gv, hv) = volume_hessian(&input.f_hat, m);
+                local.value += v;
+                let mut gl = local.gradient.fixed_rows_mut::<6>(0);
+                gl += gv;
+                let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
+                hl += hv;
+            }
+            accumulate_upper(shape, &local, eval.dt, shape.weight, out);
+        });
+        // The scatter reads only the upper block triangle (`ElementScatter::add_hessian`), so the lower
+        // triangle is filled only where the whole matrix is needed.
+        if self.project_pd {
             out.fill_lower_from_upper();
-            if self.project_pd {
-                out.hessian = project_positive_semidefinite(&out.hessian);
-            }
+            out.hessian = project_positive_semidefinite(&out.hessian);
         }
+        mark_non_finite(out, true);
     }
 
-    fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
-        let ok = d.value.is_finite()
-            && d.gradient.iter().all(|x| x.is_finite())
-            && (!with_hessian || d.hessian.as_slice().iter().all(|x| x.is_finite()));
-        if ok {
+    /// Whether an element's results are usable. [`Self::element_derivatives`] has already marked
+    /// non-finite gradients and Hessians by a NaN value.
+    fn check(&self, d: &ElementDerivatives<NE>, e: usize) -> Result<(), AssemblyError> {
+        if d.value.is_finite() {
             Ok(())
         } else {
             Err(AssemblyError::NonFinite {
@@ -280,6 +308,18 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 index: e,
             })
         }
+    }
+}
+
+/// Sets the value of an element's results to NaN if its gradient or (`with_hessian`) its Hessian has a
+/// non-finite entry, so that whoever consumes the results checks one number.
+///
+/// This runs on the thread that computed the element, while its numbers are in that core's cache; a
+/// check by the (serial) consumer would read them once more from a farther cache.
+#[inline]
+fn mark_non_finite<const NE: usize>(d: &mut ElementDerivatives<NE>, with_hessian: bool) {
+    if !(all_finite(d.gradient.as_slice()) && (!with_hessian || all_finite(d.hessian.as_slice()))) {
+        d.value = f64::NAN;
     }
 }
 
@@ -346,7 +386,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             ElementDerivatives::zeros,
             |e, slot| self.element_derivatives(e, eval, false, slot),
             |e, d| {
-                self.check(d, e, false)?;
+                self.check(d, e)?;
                 total += d.value;
                 scatter.add_gradient(e, &d.gradient, grad);
                 Ok(())
@@ -372,7 +412,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             ElementDerivatives::zeros,
             |e, slot| self.element_derivatives(e, eval, true, slot),
             |e, d| {
-                self.check(d, e, true)?;
+                self.check(d, e)?;
                 total += d.value;
                 scatter.add_gradient(e, &d.gradient, grad);
                 scatter.add_hessian(e, &d.hessian, pattern, values);

@@ -12,6 +12,7 @@ use crate::rest::StencilRest;
 use crate::scatter::LocalScatter;
 use crate::stencil::{Stencil, build_stencils};
 use crate::thickness::ThicknessRule;
+use cosserat_assembly::finite::all_finite;
 use cosserat_assembly::parallel::{ChunkBuffers, ordered_map};
 use cosserat_assembly::term::{Evaluation, PotentialTerm};
 use cosserat_assembly::{AssemblyError, DofLayout, SparsityPattern};
@@ -177,8 +178,8 @@ impl KirchhoffLoveTerm {
             |f, slot| self.derivatives_into(f, eval, with_hessian, slot),
             |f, d| {
                 let finite = d.value.is_finite()
-                    && d.gradient.iter().all(|v| v.is_finite())
-                    && (!with_hessian || d.hessian.as_slice().iter().all(|v| v.is_finite()));
+                    && all_finite(d.gradient.as_slice())
+                    && (!with_hessian || all_finite(d.hessian.as_slice()));
                 if !finite {
                     return Err(AssemblyError::NonFinite {
                         term: self.name(),

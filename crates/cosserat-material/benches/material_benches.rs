@@ -8,7 +8,7 @@ use cosserat_geometry::rotation::{RotationJet, exp_map, quaternion_from_matrix, 
 use cosserat_material::element::{ElementDerivatives, accumulate_upper, f_hat, point_omega};
 use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
 use cosserat_material::oracle::{PointContext, local_energy};
-use cosserat_material::strain_space::{local_geometry, strain_hessian, strain_offset};
+use cosserat_material::strain_space::{DensityMatrix, local_geometry, strain_hessian, strain_offset};
 use cosserat_material::{AxlVariant, MaterialParameters, ModelOptions, ShellModel, TermSet};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
@@ -55,11 +55,11 @@ fn bench_point(c: &mut Criterion) {
     let material = MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6);
     let moduli = material.moduli().unwrap();
     let terms = TermSet::select(&ModelOptions::new(ShellModel::Plate), &moduli, false).unwrap();
-    let d = strain_hessian(
+    let d = DensityMatrix::new(strain_hessian(
         &terms,
         &local_geometry(&Matrix3::identity(), &Matrix3::zeros()),
         &moduli,
-    );
+    ));
     let dt = 0.01;
     let data = inputs::<6, 3>(64);
     let offset = strain_offset(&Matrix3::identity(), None, None);

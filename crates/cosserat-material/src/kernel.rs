@@ -21,7 +21,7 @@
 //! kept as the test oracle, see `oracle`).
 
 use crate::model::AxlVariant;
-use crate::strain_space::{StrainMatrix, StrainVector, VARIABLE_STRAINS};
+use crate::strain_space::{DensityMatrix, StrainVector};
 use cosserat_geometry::rotation::{RotationJet, axl, axl_upper, skew};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -104,15 +104,40 @@ pub fn strain_vector<const NU: usize, const NR: usize>(
     offset: &StrainVector,
     variant: AxlVariant,
 ) -> StrainVector {
+    let x = rotation_gradients(shape, node_r);
+    strains_from_rotation_gradients(shape, f_hat, r, &x, offset, variant)
+}
+
+/// The interpolated rotation gradients `X_γ = Σ_k C_kγ R_k`.
+#[inline]
+fn rotation_gradients<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    node_r: [&Matrix3<f64>; NR],
+) -> [Matrix3<f64>; 2] {
+    let mut x = [Matrix3::zeros(); 2];
+    for (gamma, xg) in x.iter_mut().enumerate() {
+        for (k, rk) in node_r.iter().enumerate() {
+            *xg += *rk * shape.rot_grad[(gamma, k)];
+        }
+    }
+    x
+}
+
+/// [`strain_vector`] given the rotation gradients `X_γ`.
+#[inline]
+fn strains_from_rotation_gradients<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    f_hat: &[Vector3<f64>; 2],
+    r: &Matrix3<f64>,
+    x: &[Matrix3<f64>; 2],
+    offset: &StrainVector,
+    variant: AxlVariant,
+) -> StrainVector {
     let qrt = shape.frame.transpose() * r.transpose();
     let mut s = -offset;
     for gamma in 0..2 {
-        let mut x = Matrix3::zeros();
-        for (k, rk) in node_r.iter().enumerate() {
-            x += *rk * shape.rot_grad[(gamma, k)];
-        }
         let e = qrt * f_hat[gamma];
-        let g = shape.frame.transpose() * axial(&(r.transpose() * x), variant);
+        let g = shape.frame.transpose() * axial(&(r.transpose() * x[gamma]), variant);
         for a in 0..3 {
             s[3 * gamma + a] += e[a];
             s[9 + 3 * gamma + a] += g[a];
@@ -129,11 +154,11 @@ pub fn point_value<const NU: usize, const NR: usize>(
     r: &Matrix3<f64>,
     node_r: [&Matrix3<f64>; NR],
     offset: &StrainVector,
-    d: &StrainMatrix,
+    d: &DensityMatrix,
     variant: AxlVariant,
 ) -> f64 {
     let s = strain_vector(shape, f_hat, r, node_r, offset, variant);
-    0.5 * s.dot(&(d * s))
+    0.5 * s.dot(&d.mul_vector(&s))
 }
 
 /// The σ-dependent intermediate quantities shared by gradient and Hessian.
@@ -153,14 +178,15 @@ struct Stress<const NR: usize> {
 fn stress<const NU: usize, const NR: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,
-    d: &StrainMatrix,
+    d: &DensityMatrix,
     variant: AxlVariant,
 ) -> Stress<NR> {
     let q = &shape.frame;
     let r = &input.point_jet.r;
     let node_r = input.node_jets.map(|j| &j.r);
-    let s = strain_vector(shape, &input.f_hat, r, node_r, input.offset, variant);
-    let sigma = d * s;
+    let x = rotation_gradients(shape, node_r);
+    let s = strains_from_rotation_gradients(shape, &input.f_hat, r, &x, input.offset, variant);
+    let sigma = d.mul_vector(&s);
     let value = 0.5 * s.dot(&sigma);
     let w = [q * sigma.fixed_rows::<3>(0), q * sigma.fixed_rows::<3>(3)];
     let t = [
@@ -169,12 +195,9 @@ fn stress<const NU: usize, const NR: usize>(
     ];
     let mut u = [Matrix3::zeros(); NR];
     let mut yz = input.f_hat[0] * w[0].transpose() + input.f_hat[1] * w[1].transpose();
-    let mut x = [Matrix3::zeros(); 2];
     for k in 0..NR {
         u[k] = t[0] * shape.rot_grad[(0, k)] + t[1] * shape.rot_grad[(1, k)];
         yz += node_r[k] * u[k].transpose();
-        x[0] += node_r[k] * shape.rot_grad[(0, k)];
-        x[1] += node_r[k] * shape.rot_grad[(1, k)];
     }
     Stress { value, w, u, yz, x }
 }
@@ -183,7 +206,7 @@ fn stress<const NU: usize, const NR: usize>(
 pub fn point_gradient<const NU: usize, const NR: usize, const NL: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,
-    d: &StrainMatrix,
+    d: &DensityMatrix,
     variant: AxlVariant,
 ) -> (f64, SVector<f64, NL>) {
     const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
@@ -218,27 +241,33 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
 /// The `F̂_γ` columns of `J` are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere, so `D J` needs a
 /// 3-column product for them, and the `F̂` rows of `Jᵀ (D J)` are `RQ (D J)` restricted to the rows of
 /// `Ê_γ`. Only the rotation columns are dense, and of their block only the upper triangle is computed.
-/// This is half the work of the dense product.
+/// `D J` runs over the nonzero entries of `D` (see [`DensityMatrix`]).
 #[inline]
 fn local_hessian_from_strains<const NL: usize>(
     jac: &SMatrix<f64, 12, NL>,
     qrt: &Matrix3<f64>,
-    d_vv: &SMatrix<f64, 12, 12>,
-) -> SMatrix<f64, NL, NL> {
+    d: &DensityMatrix,
+    h: &mut SMatrix<f64, NL, NL>,
+) {
     let mut dj = SMatrix::<f64, 12, NL>::zeros();
-    for gamma in 0..2 {
-        let block = d_vv.fixed_columns::<3>(3 * gamma) * qrt;
-        dj.fixed_columns_mut::<3>(3 * gamma).copy_from(&block);
+    for e in d.variable_entries() {
+        let (r, b, v) = (e.row as usize, e.col as usize, e.value);
+        if b < 6 {
+            let (gamma, a) = (b / 3, b % 3);
+            for c in 0..3 {
+                dj[(r, 3 * gamma + c)] += v * qrt[(a, c)];
+            }
+        }
+        for c in 6..NL {
+            dj[(r, c)] += v * jac[(b, c)];
+        }
     }
-    for c in 6..NL {
-        let column = d_vv * jac.column(c);
-        dj.set_column(c, &column);
-    }
-    let mut h = SMatrix::<f64, NL, NL>::zeros();
+    // Every entry of `h` is written below.
     let rq = qrt.transpose();
     for gamma in 0..2 {
-        let rows = rq * dj.fixed_rows::<3>(3 * gamma);
-        h.fixed_rows_mut::<3>(3 * gamma).copy_from(&rows);
+        // `rq * dj.fixed_rows(3γ)`, written in place.
+        h.fixed_rows_mut::<3>(3 * gamma)
+            .gemm(1.0, &rq, &dj.fixed_rows::<3>(3 * gamma), 0.0);
     }
     for c in 6..NL {
         for r in 0..6 {
@@ -250,19 +279,37 @@ fn local_hessian_from_strains<const NL: usize>(
             h[(c, r)] = v;
         }
     }
-    h
 }
 
 /// Energy density, gradient and exact Hessian with respect to the locals.
 pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,
-    d: &StrainMatrix,
+    d: &DensityMatrix,
     variant: AxlVariant,
 ) -> LocalDerivatives<NL> {
+    let mut out = LocalDerivatives {
+        value: 0.0,
+        gradient: SVector::zeros(),
+        hessian: SMatrix::zeros(),
+    };
+    point_hessian_into(shape, input, d, variant, &mut out);
+    out
+}
+
+/// [`point_hessian`] written into `out` (every entry is overwritten). Element loops reuse one `out`,
+/// which saves moving the 15 × 15 result at every point.
+pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    d: &DensityMatrix,
+    variant: AxlVariant,
+    out: &mut LocalDerivatives<NL>,
+) {
     const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
     let st = stress(shape, input, d, variant);
-    let gradient = gradient_from_stress(shape, input, &st);
+    out.value = st.value;
+    out.gradient = gradient_from_stress(shape, input, &st);
     let jet = input.point_jet;
     let q = &shape.frame;
     let qt = q.transpose();
@@ -301,13 +348,8 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
         }
     }
 
-    let mut d_vv = SMatrix::<f64, 12, 12>::zeros();
-    for (a, &ia) in VARIABLE_STRAINS.iter().enumerate() {
-        for (b, &ib) in VARIABLE_STRAINS.iter().enumerate() {
-            d_vv[(a, b)] = d[(ia, ib)];
-        }
-    }
-    let mut hessian = local_hessian_from_strains(&jac, &qrt, &d_vv);
+    let hessian = &mut out.hessian;
+    local_hessian_from_strains(&jac, &qrt, d, hessian);
 
     // Second-order terms of the bilinear strain maps, weighted by σ.
     for k in 0..NR {
@@ -358,10 +400,5 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
                 }
             }
         }
-    }
-    LocalDerivatives {
-        value: st.value,
-        gradient,
-        hessian,
     }
 }

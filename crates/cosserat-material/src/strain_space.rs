@@ -85,11 +85,88 @@ pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) ->
     (h + h.transpose()) * 0.5
 }
 
+/// One nonzero entry of a density Hessian.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Entry {
+    /// Row.
+    pub row: u8,
+    /// Column.
+    pub col: u8,
+    /// Value.
+    pub value: f64,
+}
+
+/// A density Hessian `D` together with the nonzero entries of its block on the variable strains.
+///
+/// `D` is sparse: a flat plate's has 16 nonzero entries in the 12 × 12 block of the variable strains
+/// (of 144), a curved shell's about half. The kernels' products `D s` and `D J` (12 × 12 by 12 × 15)
+/// therefore run over the nonzero entries, column by column in increasing order, which adds exactly
+/// the nonzero terms of the dense products in the same order: the same numbers at a fraction of the
+/// work.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DensityMatrix {
+    matrix: StrainMatrix,
+    /// Nonzero entries of `D`, sorted by column and then row.
+    entries: Vec<Entry>,
+    /// Nonzero entries of the block of the variable strains, indexed by position in
+    /// [`VARIABLE_STRAINS`] (0–11), sorted by column and then row.
+    variable_entries: Vec<Entry>,
+}
+
+impl DensityMatrix {
+    /// Prepares a density Hessian.
+    pub fn new(matrix: StrainMatrix) -> Self {
+        let nonzeros = |indices: &[usize]| {
+            let mut out = Vec::new();
+            for (c, &ic) in indices.iter().enumerate() {
+                for (r, &ir) in indices.iter().enumerate() {
+                    let value = matrix[(ir, ic)];
+                    if value != 0.0 {
+                        out.push(Entry {
+                            row: r as u8,
+                            col: c as u8,
+                            value,
+                        });
+                    }
+                }
+            }
+            out
+        };
+        let all: [usize; 18] = std::array::from_fn(|i| i);
+        Self {
+            entries: nonzeros(&all),
+            variable_entries: nonzeros(&VARIABLE_STRAINS),
+            matrix,
+        }
+    }
+
+    /// `D s`, over the nonzero entries (the same sums as the dense product).
+    #[inline]
+    pub fn mul_vector(&self, s: &StrainVector) -> StrainVector {
+        let mut out = StrainVector::zeros();
+        for e in &self.entries {
+            out[e.row as usize] += e.value * s[e.col as usize];
+        }
+        out
+    }
+
+    /// The dense matrix.
+    pub fn matrix(&self) -> &StrainMatrix {
+        &self.matrix
+    }
+
+    /// The nonzero entries of the block of the variable strains (indices are positions in
+    /// [`VARIABLE_STRAINS`]), sorted by column and then row.
+    pub fn variable_entries(&self) -> &[Entry] {
+        &self.variable_entries
+    }
+}
+
 /// The density Hessians of all points of a shell: one shared matrix where the rest state allows it
 /// (every flat point of a material), one per point otherwise.
 #[derive(Debug, Clone, PartialEq)]
 pub struct DensityTable {
-    matrices: Vec<StrainMatrix>,
+    matrices: Vec<DensityMatrix>,
     /// Matrix index per point; empty when all points share `matrices[0]`.
     index: Vec<u32>,
 }
@@ -98,7 +175,7 @@ impl DensityTable {
     /// One matrix for every point.
     pub fn uniform(d: StrainMatrix) -> Self {
         Self {
-            matrices: vec![d],
+            matrices: vec![DensityMatrix::new(d)],
             index: Vec::new(),
         }
     }
@@ -116,13 +193,16 @@ impl DensityTable {
         if matrices.len() == 1 {
             Self::uniform(matrices[0])
         } else {
-            Self { matrices, index }
+            Self {
+                matrices: matrices.into_iter().map(DensityMatrix::new).collect(),
+                index,
+            }
         }
     }
 
     /// The matrix of point `p`.
     #[inline]
-    pub fn get(&self, p: usize) -> &StrainMatrix {
+    pub fn get(&self, p: usize) -> &DensityMatrix {
         if self.index.is_empty() {
             &self.matrices[0]
         } else {

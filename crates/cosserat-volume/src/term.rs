@@ -13,6 +13,7 @@ use crate::kernel::{PointState, point_gradient, point_hessian, point_value};
 use crate::material::MicropolarModuli;
 use crate::tet4::{VolumePoint, deformation_gradient, point_omega};
 use cosserat_assembly::dofs::DofLayout;
+use cosserat_assembly::finite::all_finite;
 use cosserat_assembly::parallel::{ChunkBuffers, ordered_map};
 use cosserat_assembly::scatter::ElementScatter;
 use cosserat_assembly::shell::project_positive_semidefinite;
@@ -266,8 +267,8 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
 
     fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
         let ok = d.value.is_finite()
-            && d.gradient.iter().all(|x| x.is_finite())
-            && (!with_hessian || d.hessian.as_slice().iter().all(|x| x.is_finite()));
+            && all_finite(d.gradient.as_slice())
+            && (!with_hessian || all_finite(d.hessian.as_slice()));
         if ok { Ok(()) } else { Err(self.non_finite(e)) }
     }
 }

@@ -1,5 +1,6 @@
 mod common;
 mod curved;
 mod dynamic;
+mod finite;
 mod pattern;
 mod potential;

@@ -6,7 +6,7 @@ use cosserat_geometry::rotation::{RotationJet, quaternion_from_matrix, quaternio
 use cosserat_material::element::{ElementDerivatives, accumulate_upper, point_omega};
 use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
 use cosserat_material::oracle::{PointContext, element_point_energy, local_energy};
-use cosserat_material::strain_space::{StrainVector, local_geometry, strain_hessian, strain_offset};
+use cosserat_material::strain_space::{DensityMatrix, StrainVector, local_geometry, strain_hessian, strain_offset};
 use cosserat_material::{AxlVariant, CurvedTerms, MaterialParameters, ModelOptions, ShellModel, TermSet};
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
 use num_dual::Dual2SVec64;
@@ -72,7 +72,7 @@ fn fast<const NU: usize, const NR: usize, const NL: usize>(
 ) -> cosserat_material::kernel::LocalDerivatives<NL> {
     let moduli = material().moduli().unwrap();
     let geom = local_geometry(&case.shape.frame, &case.b_world);
-    let d = strain_hessian(terms, &geom, &moduli);
+    let d = DensityMatrix::new(strain_hessian(terms, &geom, &moduli));
     let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
     let nj: [RotationJet; NR] =
         std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
@@ -320,7 +320,7 @@ fn rest_state_and_rigid_motions_have_zero_energy_and_gradient_for_the_curved_she
     let terms = terms_for(&shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
     for _ in 0..5 {
         let (shape, b, offset) = rest_case::<6, 3>(&mut rng);
-        let d = strain_hessian(&terms, &local_geometry(&shape.frame, &b), &moduli);
+        let d = DensityMatrix::new(strain_hessian(&terms, &local_geometry(&shape.frame, &b), &moduli));
         // A rigid rotation q of everything, then a common angular velocity ω over a step of dt: the
         // point and all nodes turn by the same cay(dt ω) q, and so do the tangents.
         let q = common::quaternion(&mut rng, 3.0);
@@ -343,7 +343,7 @@ fn rest_state_and_rigid_motions_have_zero_energy_and_gradient_for_the_curved_she
             };
             let out = point_hessian::<6, 3, 15>(&shape, &input, &d, AxlVariant::SkewPart);
             assert!(out.value.abs() < 1e-20, "energy at a rigid motion: {:e}", out.value);
-            let scale = d.amax();
+            let scale = d.matrix().amax();
             assert!(
                 out.gradient.amax() < 1e-12 * scale,
                 "gradient at a rigid motion: {:e}",
@@ -365,7 +365,11 @@ fn energy_is_frame_indifferent() {
         };
         let terms = terms_for(&options, curved);
         let case = Case::<6, 3>::random(&mut rng, curved);
-        let d = strain_hessian(&terms, &local_geometry(&case.shape.frame, &case.b_world), &moduli);
+        let d = DensityMatrix::new(strain_hessian(
+            &terms,
+            &local_geometry(&case.shape.frame, &case.b_world),
+            &moduli,
+        ));
         let value = |f_hat: [Vector3<f64>; 2], q_point: Quaternion<f64>, q_nodes: [Quaternion<f64>; 3]| {
             let r = rotation_matrix(&q_point);
             let rn = q_nodes.map(|q| rotation_matrix(&q));
@@ -399,7 +403,11 @@ fn gradient_only_path_agrees_with_hessian_path() {
     let moduli = material().moduli().unwrap();
     let terms = terms_for(&ModelOptions::new(ShellModel::Plate), false);
     let case = Case::<6, 3>::random(&mut rng, false);
-    let d = strain_hessian(&terms, &local_geometry(&case.shape.frame, &case.b_world), &moduli);
+    let d = DensityMatrix::new(strain_hessian(
+        &terms,
+        &local_geometry(&case.shape.frame, &case.b_world),
+        &moduli,
+    ));
     let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
     let nj: [RotationJet; 3] =
         std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
@@ -413,4 +421,39 @@ fn gradient_only_path_agrees_with_hessian_path() {
     let (v, g) = point_gradient::<6, 3, 15>(&case.shape, &input, &d, AxlVariant::SkewPart);
     assert_eq!(v, full.value);
     assert_eq!(g, full.gradient);
+}
+
+/// The products over the density's nonzero entries are the dense products, to the last bit, for the
+/// plate's sparse matrix and for the curved shell's denser ones.
+#[test]
+fn sparse_density_products_equal_the_dense_ones() {
+    use cosserat_material::strain_space::VARIABLE_STRAINS;
+    let mut rng = common::rng(31);
+    let moduli = material().moduli().unwrap();
+    let plate = terms_for(&ModelOptions::new(ShellModel::Plate), false);
+    let curved = terms_for(&shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
+    for (terms, is_curved) in [(&plate, false), (&curved, true), (&curved, true)] {
+        let (shape, b, _) = rest_case::<6, 3>(&mut rng);
+        let b = if is_curved { b } else { Matrix3::zeros() };
+        let d = DensityMatrix::new(strain_hessian(terms, &local_geometry(&shape.frame, &b), &moduli));
+        let m = d.matrix();
+        let variable = d.variable_entries();
+        let nonzero = VARIABLE_STRAINS
+            .iter()
+            .flat_map(|&i| VARIABLE_STRAINS.iter().map(move |&j| (i, j)))
+            .filter(|&(i, j)| m[(i, j)] != 0.0)
+            .count();
+        assert_eq!(variable.len(), nonzero);
+        assert!(variable.len() < 144, "{} entries", variable.len());
+        for e in variable {
+            assert_eq!(
+                e.value,
+                m[(VARIABLE_STRAINS[e.row as usize], VARIABLE_STRAINS[e.col as usize])]
+            );
+        }
+        for _ in 0..10 {
+            let s = StrainVector::from_fn(|_, _| common::vec3(&mut rng, 1.0).x);
+            assert_eq!(d.mul_vector(&s), m * s);
+        }
+    }
 }

@@ -25,6 +25,7 @@ use crate::error::{NewtonError, NonFiniteQuantity, ProblemError};
 use crate::line_search::ArmijoTest;
 use crate::linear::{CgStop, LinearSolverKind, SparseSolver};
 use crate::problem::NewtonProblem;
+use cosserat_assembly::finite::first_non_finite;
 
 mod report;
 mod settings;
@@ -399,7 +400,7 @@ impl NewtonSolver {
     }
 
     fn check_gradient(&self, g: &[f64], iteration: usize, run: &Run) -> Result<(), NewtonError> {
-        match g.iter().position(|v| !v.is_finite()) {
+        match first_non_finite(g) {
             None => Ok(()),
             Some(i) => Err(NewtonError::NonFinite {
                 iteration,
@@ -452,7 +453,7 @@ impl NewtonSolver {
         })?;
         self.check_energy(e, iteration, run)?;
         self.check_gradient(&self.grad, iteration, run)?;
-        if let Some(i) = self.hess_values.iter().position(|v| !v.is_finite()) {
+        if let Some(i) = first_non_finite(&self.hess_values) {
             return Err(NewtonError::NonFinite {
                 iteration,
                 quantity: NonFiniteQuantity::Hessian,
