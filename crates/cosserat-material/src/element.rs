@@ -106,7 +106,8 @@ pub fn accumulate_gradient<const NU: usize, const NR: usize, const NL: usize, co
 /// triangle of its Hessian (blocks below the block diagonal are left untouched).
 ///
 /// The element Hessian is symmetric, so the lower triangle is filled once per element
-/// ([`ElementDerivatives::fill_lower_from_upper`]) instead of once per quadrature point.
+/// ([`ElementDerivatives::fill_lower_from_upper`]) where the whole matrix is needed, instead of once per
+/// quadrature point; the assembly's scatter reads only the upper block triangle and skips it.
 pub fn accumulate_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
     shape: &PointShape<NU, NR>,
     local: &LocalDerivatives<NL>,
