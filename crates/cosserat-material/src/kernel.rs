@@ -168,6 +168,8 @@ struct Stress<const NR: usize> {
     w: [Vector3<f64>; 2],
     /// `U_k = Σ_γ C_kγ T_γ` with `T_γ` the axial adjoint of `Q σ_Γ̂,γ`.
     u: [Matrix3<f64>; NR],
+    /// `R U_k`, the weights of the nodal rotations' derivatives.
+    ru: [Matrix3<f64>; NR],
     /// `Y + Z = Σ_k R_k U_kᵀ + Σ_γ F̂_γ w_γᵀ`: `⟨R_i, Y + Z⟩` is the gradient along the point rotation.
     yz: Matrix3<f64>,
     /// The interpolated rotation gradients `X_γ = Σ_k C_kγ R_k`.
@@ -195,11 +197,13 @@ fn stress<const NU: usize, const NR: usize>(
     ];
     let mut u = [Matrix3::zeros(); NR];
     let mut yz = input.f_hat[0] * w[0].transpose() + input.f_hat[1] * w[1].transpose();
+    let mut ru = [Matrix3::zeros(); NR];
     for k in 0..NR {
         u[k] = t[0] * shape.rot_grad[(0, k)] + t[1] * shape.rot_grad[(1, k)];
         yz += node_r[k] * u[k].transpose();
+        ru[k] = r * u[k];
     }
-    Stress { value, w, u, yz, x }
+    Stress { value, w, u, ru, yz, x }
 }
 
 /// Energy density and its gradient with respect to the locals.
@@ -226,10 +230,9 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
     }
     let gp: [f64; 3] = std::array::from_fn(|i| frob(&jet.d1[i], &st.yz));
     for k in 0..NR {
-        let ru = jet.r * st.u[k];
         let mk = shape.rot_values[k];
         for i in 0..3 {
-            grad[6 + 3 * k + i] = mk * gp[i] + frob(&ru, &input.node_jets[k].d1[i]);
+            grad[6 + 3 * k + i] = mk * gp[i] + frob(&st.ru[k], &input.node_jets[k].d1[i]);
         }
     }
     grad
@@ -352,12 +355,13 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     local_hessian_from_strains(&jac, &qrt, d, hessian);
 
     // Second-order terms of the bilinear strain maps, weighted by σ.
+    let d1w: [[Vector3<f64>; 2]; 3] = std::array::from_fn(|i| [jet.d1[i] * st.w[0], jet.d1[i] * st.w[1]]);
     for k in 0..NR {
         let mk = shape.rot_values[k];
         for i in 0..3 {
             let col = 6 + 3 * k + i;
             for gamma in 0..2 {
-                let v = jet.d1[i] * st.w[gamma] * mk;
+                let v = d1w[i][gamma] * mk;
                 for a in 0..3 {
                     hessian[(3 * gamma + a, col)] += v[a];
                     hessian[(col, 3 * gamma + a)] += v[a];
@@ -386,15 +390,16 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     }
     for k in 0..NR {
         let mk = shape.rot_values[k];
-        let ru = r * st.u[k];
+        let ru = &st.ru[k];
         let nj = input.node_jets[k];
         for l in 0..NR {
             let ml = shape.rot_values[l];
+            let mkml = mk * ml;
             for i in 0..3 {
                 for j in 0..3 {
-                    let mut v = mk * ml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
+                    let mut v = mkml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
                     if k == l {
-                        v += frob(&ru, &nj.d2[i][j]);
+                        v += frob(ru, &nj.d2[i][j]);
                     }
                     hessian[(6 + 3 * k + i, 6 + 3 * l + j)] += v;
                 }
