@@ -15,7 +15,9 @@ use crate::scatter::ElementScatter;
 use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
-use cosserat_material::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, f_hat, point_omega};
+use cosserat_material::element::{
+    ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
+};
 use cosserat_material::kernel::{
     LocalDerivatives, PointInput, PointShape, point_gradient, point_hessian_into, point_value,
 };
@@ -44,6 +46,31 @@ pub struct ShellDiscretization<const NU: usize, const NR: usize> {
     pub axl: AxlVariant,
 }
 
+/// One element's place in the chunk buffers: its results, and the scratch its points' kernels write
+/// into.
+///
+/// The Hessian's blocks below the block diagonal are zero from the slot's creation on and are never
+/// written (the points write the upper block triangle, the first of them by assignment, and the
+/// scatter reads only that), so a slot needs no clearing per element.
+#[derive(Debug)]
+struct ElementSlot<const NE: usize, const NL: usize> {
+    derivatives: ElementDerivatives<NE>,
+    local: LocalDerivatives<NL>,
+}
+
+impl<const NE: usize, const NL: usize> ElementSlot<NE, NL> {
+    fn zeros() -> Self {
+        Self {
+            derivatives: ElementDerivatives::zeros(),
+            local: LocalDerivatives {
+                value: 0.0,
+                gradient: SVector::zeros(),
+                hessian: SMatrix::zeros(),
+            },
+        }
+    }
+}
+
 /// The elastic energy of one shell with `NU`-node displacement and `NR`-node rotation elements.
 /// `NL = 6 + 3 NR` locals per point, `NE = 3 (NU + NR)` unknowns and `NB = NU + NR` blocks per element.
 #[derive(Debug)]
@@ -58,7 +85,7 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
     pub project_pd: bool,
     /// Reusable chunk buffers of element results (values; derivatives).
     values: Mutex<ChunkBuffers<f64>>,
-    derivatives: Mutex<ChunkBuffers<ElementDerivatives<NE>>>,
+    derivatives: Mutex<ChunkBuffers<ElementSlot<NE, NL>>>,
 }
 
 /// Linear displacement and rotation elements.
@@ -240,16 +267,14 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
     }
 
-    fn element_derivatives(
-        &self,
-        e: usize,
-        eval: &Evaluation<'_>,
-        with_hessian: bool,
-        out: &mut ElementDerivatives<NE>,
-    ) {
+    fn element_derivatives(&self, e: usize, eval: &Evaluation<'_>, with_hessian: bool, slot: &mut ElementSlot<NE, NL>) {
+        let ElementSlot {
+            derivatives: out,
+            local,
+        } = slot;
+        out.value = 0.0;
+        out.gradient.fill(0.0);
         if !with_hessian {
-            out.value = 0.0;
-            out.gradient.fill(0.0);
             self.for_each_point(e, eval, false, |shape, input, d| {
                 let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, input, d, self.disc.axl);
                 if let Some(m) = &self.disc.volume {
@@ -264,19 +289,12 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             mark_non_finite(out, false);
             return;
         }
-        // Only the upper block triangle is accumulated and scattered; the lower one stays zero (the
-        // whole matrix is cleared, which is faster than clearing its upper part column by column).
-        out.value = 0.0;
-        out.gradient.fill(0.0);
-        out.hessian.as_mut_slice().fill(0.0);
-        // One scratch for the points' local derivatives; each kernel call overwrites all of it.
-        let mut local = LocalDerivatives {
-            value: 0.0,
-            gradient: SVector::<f64, NL>::zeros(),
-            hessian: SMatrix::<f64, NL, NL>::zeros(),
-        };
+        if self.disc.rest.points_per_element == 0 {
+            out.hessian.fill(0.0);
+        }
+        let mut first = true;
         self.for_each_point(e, eval, true, |shape, input, d| {
-            point_hessian_into(shape, input, d, self.disc.axl, &mut local);
+            point_hessian_into(shape, input, d, self.disc.axl, local);
             if let Some(m) = &self.disc.volume {
                 let (v, gv, hv) = volume_hessian(&input.f_hat, m);
                 local.value += v;
@@ -285,15 +303,23 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
                 hl += hv;
             }
-            accumulate_upper(shape, &local, eval.dt, shape.weight, out);
+            if first {
+                assign_upper(shape, local, eval.dt, shape.weight, out);
+                first = false;
+            } else {
+                accumulate_upper(shape, local, eval.dt, shape.weight, out);
+            }
         });
         // The scatter reads only the upper block triangle (`ElementScatter::add_hessian`), so the lower
-        // triangle is filled only where the whole matrix is needed.
+        // triangle is filled only where the whole matrix is needed, and cleared again afterwards.
         if self.project_pd {
             out.fill_lower_from_upper();
             out.hessian = project_positive_semidefinite(&out.hessian);
+            mark_non_finite(out, true);
+            out.clear_below_block_diagonal();
+        } else {
+            mark_non_finite(out, true);
         }
-        mark_non_finite(out, true);
     }
 
     /// Whether an element's results are usable. [`Self::element_derivatives`] has already marked
@@ -383,9 +409,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             self.n_elements(),
             eval.parallelism,
             &mut buffers,
-            ElementDerivatives::zeros,
+            ElementSlot::zeros,
             |e, slot| self.element_derivatives(e, eval, false, slot),
-            |e, d| {
+            |e, ElementSlot { derivatives: d, .. }| {
                 self.check(d, e)?;
                 total += d.value;
                 scatter.add_gradient(e, &d.gradient, grad);
@@ -409,9 +435,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             self.n_elements(),
             eval.parallelism,
             &mut buffers,
-            ElementDerivatives::zeros,
+            ElementSlot::zeros,
             |e, slot| self.element_derivatives(e, eval, true, slot),
-            |e, d| {
+            |e, ElementSlot { derivatives: d, .. }| {
                 self.check(d, e)?;
                 total += d.value;
                 scatter.add_gradient(e, &d.gradient, grad);

@@ -30,6 +30,14 @@ impl<const NE: usize> ElementDerivatives<NE> {
         }
     }
 
+    /// Sets the Hessian's blocks below the block diagonal to zero: the part that [`accumulate_upper`]
+    /// and [`assign_upper`] never write.
+    pub fn clear_below_block_diagonal(&mut self) {
+        for (c, column) in self.hessian.as_mut_slice().chunks_exact_mut(NE).enumerate() {
+            column[3 * (c / 3 + 1)..].fill(0.0);
+        }
+    }
+
     /// Copies the upper triangle of the Hessian onto its lower triangle.
     pub fn fill_lower_from_upper(&mut self) {
         // Column-major: entry (r, c) is at c NE + r.
@@ -115,9 +123,40 @@ pub fn accumulate_upper<const NU: usize, const NR: usize, const NL: usize, const
     weight: f64,
     out: &mut ElementDerivatives<NE>,
 ) {
+    map_upper::<NU, NR, NL, NE, false>(shape, local, dt, weight, out);
+}
+
+/// [`accumulate_upper`] for an element's first point: the upper block triangle of the Hessian is
+/// overwritten instead of added to (the energy and the gradient are still added to), which saves
+/// clearing the element Hessian before its points are added.
+pub fn assign_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    local: &LocalDerivatives<NL>,
+    dt: f64,
+    weight: f64,
+    out: &mut ElementDerivatives<NE>,
+) {
+    map_upper::<NU, NR, NL, NE, true>(shape, local, dt, weight, out);
+}
+
+#[inline]
+fn map_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const ASSIGN: bool>(
+    shape: &PointShape<NU, NR>,
+    local: &LocalDerivatives<NL>,
+    dt: f64,
+    weight: f64,
+    out: &mut ElementDerivatives<NE>,
+) {
     const { assert!(NL == 6 + 3 * NR && NE == 3 * (NU + NR), "inconsistent element sizes") };
     out.value += weight * local.value;
     accumulate_gradient(shape, &local.gradient, dt, weight, &mut out.gradient);
+    let put = |m: &mut SMatrix<f64, NE, NE>, r: usize, c: usize, b: &Matrix3<f64>| {
+        if ASSIGN {
+            m.fixed_view_mut::<3, 3>(r, c).copy_from(b);
+        } else {
+            add_block(m, r, c, b);
+        }
+    };
     let h = &local.hessian;
     let b = &shape.disp_grad;
     // K_iδ = Σ_γ B_iγ H[F̂_γ, F̂_δ] and P_ik = Σ_γ B_iγ H[F̂_γ, ω_k].
@@ -131,18 +170,18 @@ pub fn accumulate_upper<const NU: usize, const NR: usize, const NL: usize, const
         let k1 = (hff[0][1] * b[(0, i)] + hff[1][1] * b[(1, i)]) * s2;
         for j in i..NU {
             let blk = k0 * b[(0, j)] + k1 * b[(1, j)];
-            add_block(&mut out.hessian, 3 * i, 3 * j, &blk);
+            put(&mut out.hessian, 3 * i, 3 * j, &blk);
         }
         let (b0, b1) = (b[(0, i)] * s1, b[(1, i)] * s1);
         for k in 0..NR {
             let blk = hfw[0][k] * b0 + hfw[1][k] * b1;
-            add_block(&mut out.hessian, 3 * i, 3 * (NU + k), &blk);
+            put(&mut out.hessian, 3 * i, 3 * (NU + k), &blk);
         }
     }
     for k in 0..NR {
         for l in k..NR {
             let blk = block(h, 6 + 3 * k, 6 + 3 * l) * weight;
-            add_block(&mut out.hessian, 3 * (NU + k), 3 * (NU + l), &blk);
+            put(&mut out.hessian, 3 * (NU + k), 3 * (NU + l), &blk);
         }
     }
 }

@@ -457,3 +457,37 @@ fn sparse_density_products_equal_the_dense_ones() {
         }
     }
 }
+
+/// An element's first point may overwrite the upper block triangle instead of adding to it: the
+/// result is the same, and the blocks below the block diagonal are neither read nor written.
+#[test]
+fn assigning_the_first_point_equals_adding_it_to_zero() {
+    use cosserat_material::element::assign_upper;
+    let mut rng = common::rng(41);
+    let terms = terms_for(&ModelOptions::new(ShellModel::Plate), false);
+    let first = Case::<6, 3>::random(&mut rng, false);
+    let second = Case::<6, 3>::random(&mut rng, false);
+    let l1 = fast::<6, 3, 15>(&first, &terms, AxlVariant::SkewPart);
+    let l2 = fast::<6, 3, 15>(&second, &terms, AxlVariant::SkewPart);
+    let mut added = ElementDerivatives::<27>::zeros();
+    accumulate_upper(&first.shape, &l1, first.dt, 0.3, &mut added);
+    accumulate_upper(&second.shape, &l2, second.dt, 0.7, &mut added);
+    let mut assigned = ElementDerivatives::<27>::zeros();
+    assigned.hessian.fill(f64::NAN);
+    assign_upper(&first.shape, &l1, first.dt, 0.3, &mut assigned);
+    accumulate_upper(&second.shape, &l2, second.dt, 0.7, &mut assigned);
+    assert_eq!(assigned.value, added.value);
+    assert_eq!(assigned.gradient, added.gradient);
+    for c in 0..27 {
+        for r in 0..27 {
+            if r < 3 * (c / 3 + 1) {
+                assert_eq!(assigned.hessian[(r, c)], added.hessian[(r, c)], "({r}, {c})");
+            } else {
+                assert!(assigned.hessian[(r, c)].is_nan(), "({r}, {c}) written");
+            }
+        }
+    }
+    assigned.clear_below_block_diagonal();
+    added.clear_below_block_diagonal();
+    assert_eq!(assigned, added);
+}
