@@ -289,6 +289,8 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             mark_non_finite(out, false);
             return;
         }
+        // The first point assigns the upper block triangle (see `ElementSlot`); without points nothing
+        // would.
         if self.disc.rest.points_per_element == 0 {
             out.hessian.fill(0.0);
         }

@@ -163,3 +163,36 @@ fn assembly_is_bit_identical_for_one_and_two_threads() {
     let two = run(2, Parallelism::Rayon);
     assert!(seq == one && one == two, "results differ between thread counts");
 }
+
+/// With projection on, each element Hessian is replaced by its nearest positive semi-definite matrix,
+/// so the static shell's Hessian is positive semi-definite; switching it off again gives back exactly
+/// the unprojected Hessian (the projected element buffers leave nothing behind).
+#[test]
+fn projected_element_hessians_sum_to_a_positive_semidefinite_matrix_and_leave_no_trace() {
+    let mut rng = ChaCha8Rng::seed_from_u64(12);
+    let mut p = strip(ElementPair::Tri6Tri3, 6, 2, ShellModel::Plate, false).potential;
+    for x in &mut p.parts.state.x {
+        *x += random_vec(&mut rng, 5e-3);
+    }
+    for q in p.parts.state.q.iter_mut().chain(p.parts.state.q_points.iter_mut()) {
+        *q = quaternion_from_matrix(&exp_map(&random_vec(&mut rng, 0.5)));
+    }
+    let u: Vec<f64> = (0..p.n_dofs()).map(|_| rng.random_range(-0.2..0.2)).collect();
+    let min_eigenvalue = |h: &DMatrix<f64>| h.clone().symmetric_eigenvalues().min();
+    let plain = dense_hessian(&mut p, &u);
+    let scale = plain.amax();
+    assert!(
+        min_eigenvalue(&plain) < -1e-6 * scale,
+        "the test needs an indefinite Hessian"
+    );
+    p.parts.shells[0].set_project_pd(true);
+    let projected = dense_hessian(&mut p, &u);
+    assert!(
+        min_eigenvalue(&projected) > -1e-10 * scale,
+        "{}",
+        min_eigenvalue(&projected)
+    );
+    assert_eq!(dense_hessian(&mut p, &u), projected);
+    p.parts.shells[0].set_project_pd(false);
+    assert_eq!(dense_hessian(&mut p, &u), plain);
+}
