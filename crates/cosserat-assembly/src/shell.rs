@@ -25,7 +25,7 @@ use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, StrainVector, strain_offset};
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
-use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
+use nalgebra::{Matrix3, SMatrix, Vector3};
 use std::sync::Mutex;
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
@@ -62,11 +62,7 @@ impl<const NE: usize, const NL: usize> ElementSlot<NE, NL> {
     fn zeros() -> Self {
         Self {
             derivatives: ElementDerivatives::zeros(),
-            local: LocalDerivatives {
-                value: 0.0,
-                gradient: SVector::zeros(),
-                hessian: SMatrix::zeros(),
-            },
+            local: LocalDerivatives::zeros(),
         }
     }
 }

@@ -6,6 +6,7 @@
 //! respect to those differences (3, 6 or 9 numbers) instead of all twelve coordinates; the map back to
 //! the twelve coordinates is a constant matrix of ±1 blocks, applied here by index arithmetic.
 
+use cosserat_assembly::finite::all_finite;
 use nalgebra::{SMatrix, SVector};
 #[cfg(test)]
 use {nalgebra::Vector3, num_dual::Dual2SVec64};
@@ -86,9 +87,7 @@ impl PairJet {
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        self.value.is_finite()
-            && self.gradient.iter().all(|v| v.is_finite())
-            && self.hessian.as_slice().iter().all(|v| v.is_finite())
+        self.value.is_finite() && all_finite(self.gradient.as_slice()) && all_finite(self.hessian.as_slice())
     }
 }
 

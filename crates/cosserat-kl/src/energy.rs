@@ -23,6 +23,7 @@ use crate::fundamental_form::{N_LOCALS, first_form, inverse2, second_form, strai
 use crate::material::{MaterialConstants, plane_stress_density};
 use crate::mid_edge::{add_edge_hessian, measure_jet, set_edge_jacobian, unit_normal_jet, weighted_normal_hessian};
 use crate::rest::{StencilRest, ThicknessPoint};
+use cosserat_assembly::finite::all_finite;
 use cosserat_geometry::Real;
 use nalgebra::{Matrix2, Matrix3, SMatrix, SVector, Vector3};
 use num_dual::{Dual2SVec64, DualSVec64};
@@ -53,9 +54,7 @@ impl StencilDerivatives {
 
     /// Whether every entry is finite.
     pub fn is_finite(&self) -> bool {
-        self.value.is_finite()
-            && self.gradient.iter().all(|v| v.is_finite())
-            && self.hessian.as_slice().iter().all(|v| v.is_finite())
+        self.value.is_finite() && all_finite(self.gradient.as_slice()) && all_finite(self.hessian.as_slice())
     }
 }
 

@@ -52,6 +52,17 @@ pub struct LocalDerivatives<const NL: usize> {
     pub hessian: SMatrix<f64, NL, NL>,
 }
 
+impl<const NL: usize> LocalDerivatives<NL> {
+    /// All zero.
+    pub fn zeros() -> Self {
+        Self {
+            value: 0.0,
+            gradient: SVector::zeros(),
+            hessian: SMatrix::zeros(),
+        }
+    }
+}
+
 /// The current state of a point as the kernels need it.
 #[derive(Debug, Clone, Copy)]
 pub struct PointInput<'a, const NR: usize> {
@@ -291,11 +302,7 @@ pub fn point_hessian<const NU: usize, const NR: usize, const NL: usize>(
     d: &DensityMatrix,
     variant: AxlVariant,
 ) -> LocalDerivatives<NL> {
-    let mut out = LocalDerivatives {
-        value: 0.0,
-        gradient: SVector::zeros(),
-        hessian: SMatrix::zeros(),
-    };
+    let mut out = LocalDerivatives::zeros();
     point_hessian_into(shape, input, d, variant, &mut out);
     out
 }
