@@ -82,11 +82,11 @@ impl SymmetricFactor {
             symbolic.factorize_numeric_intranode_lblt_scratch::<f64>(par, super::ldlt::lblt_params()),
             symbolic.solve_in_place_scratch::<f64>(1, par),
         ]);
-        let mem = MemBuffer::try_new(req).map_err(|_| LinearSolveError::Faer {
+        let mem = super::memory::mapped_workspace(req).ok_or(LinearSolveError::Faer {
             stage: LinearSolveStage::Workspace,
             source: faer::sparse::FaerError::OutOfMemory,
         })?;
-        let l_values = super::mapped_zeros(symbolic.len_val());
+        let l_values = super::memory::mapped_zeros(symbolic.len_val());
         let stats = factor_stats(&symbolic);
         Ok(Self {
             symbolic,

@@ -95,13 +95,13 @@ impl LuFactor {
             symbolic.factorize_numeric_lu_scratch::<f64>(par, Default::default()),
             symbolic.solve_in_place_scratch::<f64>(1, par),
         ]);
-        let mem = MemBuffer::try_new(req).map_err(|_| LinearSolveError::Faer {
+        let mem = super::memory::mapped_workspace(req).ok_or(LinearSolveError::Faer {
             stage: LinearSolveStage::Workspace,
             source: faer::sparse::FaerError::OutOfMemory,
         })?;
         Ok(Self {
             full,
-            full_values: vec![0.0; nnz_full],
+            full_values: super::memory::mapped_zeros(nnz_full),
             slot,
             mirror_slot,
             symbolic,

@@ -69,6 +69,10 @@ struct Domain {
     first_separator_supernode: usize,
     /// The local vector of forward and backward substitution.
     work: Vec<f64>,
+    /// The entries of `work` at one supernode's rows (its columns, then the rows below them), gathered
+    /// once per supernode so that the substitutions run over contiguous memory and read the row
+    /// indices once per supernode instead of once per column (as long as the tallest supernode).
+    local: Vec<f64>,
     /// `Gᵢ`, the separator block of the factor (dense, lower triangle).
     g: Mat<f64>,
 }
@@ -105,11 +109,17 @@ impl Domain {
             return Ok(None);
         };
         let first_separator_supernode = sn.supernode_end().partition_point(|&end| end <= n_own);
-        let mem = MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()))
-            .map_err(|_| out_of_memory())?;
+        let tallest = (0..sn.n_supernodes())
+            .map(|s| sn.supernode_end()[s] - sn.supernode_begin()[s] + sn.supernode(s).pattern().len())
+            .max()
+            .unwrap_or(0);
+        let mem = super::memory::mapped_workspace(
+            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        )
+        .ok_or_else(out_of_memory)?;
         Ok(Some(Self {
-            l_values: super::mapped_zeros(symbolic.len_val()),
-            values: vec![0.0; gather.len()],
+            l_values: super::memory::mapped_zeros(symbolic.len_val()),
+            values: super::memory::mapped_zeros(gather.len()),
             global,
             n_own,
             gather,
@@ -118,6 +128,7 @@ impl Domain {
             mem,
             first_separator_supernode,
             work: vec![0.0; n_own + n_sep],
+            local: vec![0.0; tallest],
             g: Mat::zeros(n_sep, n_sep),
         }))
     }
@@ -176,19 +187,20 @@ impl Domain {
         for s in 0..(self.first_separator_supernode + 1).min(sn.n_supernodes()) {
             let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
             let below = sn.supernode(s).pattern();
-            let width = end - begin;
-            let rows = width + below.len();
+            let local = gather_rows(&mut self.local, work, begin..end, below);
+            let rows = local.len();
             let block = &self.l_values[sn.col_ptr_for_val()[s]..sn.col_ptr_for_val()[s + 1]];
-            for j in 0..width.min(n_own.saturating_sub(begin)) {
+            for j in 0..(end - begin).min(n_own.saturating_sub(begin)) {
                 let col = &block[j * rows..(j + 1) * rows];
-                let x = work[begin + j] / col[j];
-                work[begin + j] = x;
-                for (i, &l) in col.iter().enumerate().take(width).skip(j + 1) {
-                    work[begin + i] -= l * x;
+                let x = local[j] / col[j];
+                local[j] = x;
+                for (v, &l) in local[j + 1..].iter_mut().zip(&col[j + 1..]) {
+                    *v -= l * x;
                 }
-                for (&r, &l) in below.iter().zip(&col[width..]) {
-                    work[r] -= l * x;
-                }
+            }
+            work[begin..end].copy_from_slice(&local[..end - begin]);
+            for (&v, &r) in local[end - begin..].iter().zip(below) {
+                work[r] = v;
             }
         }
     }
@@ -202,17 +214,14 @@ impl Domain {
         for s in (0..(self.first_separator_supernode + 1).min(sn.n_supernodes())).rev() {
             let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
             let below = sn.supernode(s).pattern();
-            let width = end - begin;
-            let rows = width + below.len();
+            let local = gather_rows(&mut self.local, work, begin..end, below);
+            let rows = local.len();
             let block = &self.l_values[sn.col_ptr_for_val()[s]..sn.col_ptr_for_val()[s + 1]];
-            for j in (0..width.min(n_own.saturating_sub(begin))).rev() {
+            for j in (0..(end - begin).min(n_own.saturating_sub(begin))).rev() {
                 let col = &block[j * rows..(j + 1) * rows];
-                let mut t = work[begin + j];
-                for (i, &l) in col.iter().enumerate().take(width).skip(j + 1) {
-                    t -= l * work[begin + i];
-                }
-                work[begin + j] = (t - gathered_dot(&col[width..], below, work)) / col[j];
+                local[j] = (local[j] - dot(&col[j + 1..], &local[j + 1..])) / col[j];
             }
+            work[begin..end].copy_from_slice(&local[..end - begin]);
         }
     }
 
@@ -433,18 +442,34 @@ fn amd_order(upper: SymbolicSparseColMatRef<'_, usize>) -> Result<Vec<usize>, Li
     Ok(perm)
 }
 
-/// `Σ l[k] · x[rows[k]]` with four independent partial sums, so that the additions do not wait on
-/// each other (a single running sum makes the backward substitution latency-bound).
-fn gathered_dot(l: &[f64], rows: &[usize], x: &[f64]) -> f64 {
+/// `work` at the rows `columns` then `below`, copied to the front of `local`.
+fn gather_rows<'a>(
+    local: &'a mut [f64],
+    work: &[f64],
+    columns: std::ops::Range<usize>,
+    below: &[usize],
+) -> &'a mut [f64] {
+    let width = columns.len();
+    let local = &mut local[..width + below.len()];
+    local[..width].copy_from_slice(&work[columns]);
+    for (v, &r) in local[width..].iter_mut().zip(below) {
+        *v = work[r];
+    }
+    local
+}
+
+/// `Σ l[k] · x[k]` with four independent partial sums, so that the additions do not wait on each
+/// other (a single running sum makes the backward substitution latency-bound) and run as one vector.
+fn dot(l: &[f64], x: &[f64]) -> f64 {
     let mut partial = [0.0; 4];
     let (l_quads, l_rest) = l.split_at(l.len() - l.len() % 4);
-    let (r_quads, r_rest) = rows.split_at(l_quads.len());
-    for (lq, rq) in l_quads.chunks_exact(4).zip(r_quads.chunks_exact(4)) {
+    let (x_quads, x_rest) = x.split_at(l_quads.len());
+    for (lq, xq) in l_quads.chunks_exact(4).zip(x_quads.chunks_exact(4)) {
         for k in 0..4 {
-            partial[k] += lq[k] * x[rq[k]];
+            partial[k] += lq[k] * xq[k];
         }
     }
-    let rest: f64 = l_rest.iter().zip(r_rest).map(|(&v, &r)| v * x[r]).sum();
+    let rest: f64 = l_rest.iter().zip(x_rest).map(|(&v, &x)| v * x).sum();
     (partial[0] + partial[1]) + (partial[2] + partial[3]) + rest
 }
 

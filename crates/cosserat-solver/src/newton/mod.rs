@@ -85,7 +85,7 @@ impl NewtonSolver {
             linear,
             grad: vec![0.0; n],
             grad_trial: vec![0.0; n],
-            hess_values: vec![0.0; nnz],
+            hess_values: crate::linear::memory::mapped_zeros(nnz),
             dx: vec![0.0; n],
             x_trial: vec![0.0; n],
             fixed: vec![false; n],
