@@ -18,7 +18,7 @@
 
 use nalgebra::Matrix3;
 
-use super::pattern::UpperPattern;
+use super::pattern::{SymmetricProduct, UpperPattern};
 use crate::error::LinearSolveError;
 
 /// Settings of the conjugate-gradient solver ([`LinearSolverKind::Cg`](super::LinearSolverKind::Cg)).
@@ -207,47 +207,24 @@ pub(crate) struct CgSolver {
     z: Vec<f64>,
     p: Vec<f64>,
     q: Vec<f64>,
+    product: SymmetricProduct,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
-/// `y = A x` for the symmetric matrix whose upper triangle (pattern order) is `values`, column by
-/// column: the column's own contribution `Σ_row A[row, col] x[row]` is accumulated in a register and
-/// written once. This product is where CG spends its time.
-fn symmetric_product_into(pattern: &UpperPattern, values: &[f64], x: &[f64], y: &mut [f64]) {
-    let symbolic = pattern.as_ref();
-    let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
-    y.fill(0.0);
-    for col in 0..x.len() {
-        let x_col = x[col];
-        let mut acc = 0.0;
-        for (&row, &v) in row_idx[col_ptr[col]..col_ptr[col + 1]]
-            .iter()
-            .zip(&values[col_ptr[col]..col_ptr[col + 1]])
-        {
-            if row == col {
-                acc += v * x_col;
-            } else {
-                y[row] += v * x_col;
-                acc += v * x[row];
-            }
-        }
-        // Entries of row `col` lie in later columns, so `y[col]` is still zero here.
-        y[col] = acc;
-    }
-}
-
 impl CgSolver {
-    /// Buffers for dimension `n`.
-    pub(crate) fn new(n: usize) -> Self {
+    /// Buffers for `pattern`.
+    pub(crate) fn new(pattern: &UpperPattern) -> Self {
+        let n = pattern.n();
         Self {
             preconditioner: BlockJacobi::new(n),
             r: vec![0.0; n],
             z: vec![0.0; n],
             p: vec![0.0; n],
             q: vec![0.0; n],
+            product: SymmetricProduct::new(pattern),
         }
     }
 
@@ -273,6 +250,7 @@ impl CgSolver {
             z,
             p,
             q,
+            product,
         } = self;
         x.fill(0.0);
         r.copy_from_slice(b);
@@ -307,7 +285,7 @@ impl CgSolver {
                     p[i] = z[i] + beta * p[i];
                 }
             }
-            symmetric_product_into(pattern, values, p, q);
+            product.apply(pattern, values, p, q);
             let curvature = dot(p, q);
             iterations += 1;
             if !curvature.is_finite() {
@@ -374,7 +352,7 @@ mod tests {
         let pattern = UpperPattern::try_new(symbolic.as_ref()).unwrap();
         let values = [4.0, 1.0, 5.0, 2.0, -3.0, 6.0];
         let mut y = [f64::NAN; 3];
-        symmetric_product_into(&pattern, &values, &[1.0, 2.0, 3.0], &mut y);
+        SymmetricProduct::new(&pattern).apply(&pattern, &values, &[1.0, 2.0, 3.0], &mut y);
         assert_eq!(y, [4.0 + 2.0 + 6.0, 1.0 + 10.0 - 9.0, 2.0 - 6.0 + 18.0]);
     }
 

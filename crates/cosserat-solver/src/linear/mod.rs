@@ -44,7 +44,7 @@ use self::cg::CgSolver;
 use self::cholesky::SymmetricFactor;
 use self::ldlt::LbltFactor;
 use self::lu::LuFactor;
-use self::pattern::{UpperPattern, backward_error};
+use self::pattern::{SymmetricProduct, UpperPattern, backward_error};
 use self::two_domain::TwoDomainCholesky;
 use crate::error::{Factorisation, LinearSolveError};
 
@@ -211,6 +211,8 @@ pub struct SparseSolver {
     current: Option<Factorisation>,
     rhs_copy: Vec<f64>,
     product: Vec<f64>,
+    /// The tasks of the product `A x` that checks every solution.
+    product_tasks: SymmetricProduct,
     symbolic_analyses: usize,
     last_backward_error: Option<f64>,
     last_cg: Option<CgReport>,
@@ -244,6 +246,7 @@ impl SparseSolver {
         let pattern = UpperPattern::try_new(pattern)?;
         let n = pattern.n();
         let nnz = pattern.nnz();
+        let product_tasks = SymmetricProduct::new(&pattern);
         let mut solver = Self {
             settings,
             pattern,
@@ -259,6 +262,7 @@ impl SparseSolver {
             current: None,
             rhs_copy: vec![0.0; n],
             product: vec![0.0; n],
+            product_tasks,
             symbolic_analyses: 0,
             last_backward_error: None,
             last_cg: None,
@@ -273,7 +277,7 @@ impl SparseSolver {
         let kind = self.settings.kind;
         if kind == LinearSolverKind::Cg {
             if self.cg.is_none() {
-                self.cg = Some(CgSolver::new(self.pattern.n()));
+                self.cg = Some(CgSolver::new(&self.pattern));
             }
             return Ok(());
         }
@@ -517,7 +521,7 @@ impl SparseSolver {
     }
 
     fn prepare_cg(&mut self) -> Factorisation {
-        let cg = self.cg.get_or_insert_with(|| CgSolver::new(self.pattern.n()));
+        let cg = self.cg.get_or_insert_with(|| CgSolver::new(&self.pattern));
         cg.preconditioner.update(&self.pattern, &self.values);
         Factorisation::Cg
     }
@@ -618,7 +622,7 @@ impl SparseSolver {
                 *x = 0.0;
             }
         }
-        self.pattern.symmetric_product_into(&self.values, rhs, &mut self.product);
+        self.product_tasks.apply(&self.pattern, &self.values, rhs, &mut self.product);
         let eta = backward_error(self.norm_a, &self.rhs_copy, rhs, &self.product);
         self.last_backward_error = Some(eta);
         if rhs.iter().any(|v| !v.is_finite()) {

@@ -5,6 +5,7 @@
 //! values, so nothing is allocated per Newton iteration.
 
 use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
+use rayon::prelude::*;
 
 use crate::error::{LinearSolveError, LinearSolveStage};
 
@@ -143,13 +144,97 @@ impl UpperPattern {
         Ok(scratch.iter().copied().fold(0.0, f64::max))
     }
 
-    /// `y = A x` for the symmetric matrix whose upper triangle holds `values`.
-    pub(crate) fn symmetric_product_into(&self, values: &[f64], x: &[f64], y: &mut [f64]) {
-        y.fill(0.0);
-        for ((&v, &row), &col) in values.iter().zip(self.row_idx()).zip(&self.col_of_entry) {
-            y[row] += v * x[col];
-            if row != col {
-                y[col] += v * x[row];
+    /// The column ranges of the tasks of [`SymmetricProduct`]: about equal numbers of entries, and a
+    /// count that depends on the number of entries only, so that the product's sums (and so CG's
+    /// iterates) are the same on any number of threads.
+    fn product_tasks(&self) -> Vec<usize> {
+        if self.n() == 0 {
+            return vec![0, 0];
+        }
+        let col_ptr = self.symbolic.col_ptr();
+        let nnz = self.nnz();
+        let tasks = (nnz / PRODUCT_TASK_ENTRIES).clamp(1, MAX_PRODUCT_TASKS);
+        let mut bounds = vec![0];
+        for t in 1..tasks {
+            bounds.push(col_ptr.partition_point(|&p| p < t * nnz / tasks));
+        }
+        bounds.push(self.n());
+        bounds.dedup();
+        bounds
+    }
+}
+
+/// Entries per task of [`SymmetricProduct`] below which a product runs as one task.
+const PRODUCT_TASK_ENTRIES: usize = 1 << 18;
+/// The most tasks a product is split into (fixed, whatever the number of threads).
+const MAX_PRODUCT_TASKS: usize = 4;
+
+/// `y = A x` for the symmetric matrix whose upper triangle (pattern order) holds `values`, split into
+/// tasks of consecutive columns that run on the rayon pool.
+///
+/// Each column is one pass over its entries: its own row `Σ_row A[row, col] x[row]` is accumulated in a
+/// register and written once, and the entries above the diagonal are scattered into the rows they
+/// belong to. A task's columns only scatter into rows before its last column, so every task but the
+/// last writes into a partial vector of that length, and the partials are added to the last task's
+/// result in task order. This product is where CG spends its time, and it checks every direct solve.
+#[derive(Debug, Clone)]
+pub(crate) struct SymmetricProduct {
+    /// Column boundaries of the tasks (`tasks + 1` entries).
+    bounds: Vec<usize>,
+    /// One partial result per task but the last, as long as the task's last column.
+    partials: Vec<Vec<f64>>,
+}
+
+impl SymmetricProduct {
+    /// The tasks and partial vectors for `pattern`.
+    pub(crate) fn new(pattern: &UpperPattern) -> Self {
+        let bounds = pattern.product_tasks();
+        let partials = bounds[1..bounds.len() - 1].iter().map(|&end| vec![0.0; end]).collect();
+        Self { bounds, partials }
+    }
+
+    /// `y = A x`.
+    pub(crate) fn apply(&mut self, pattern: &UpperPattern, values: &[f64], x: &[f64], y: &mut [f64]) {
+        let symbolic = pattern.as_ref();
+        let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
+        let columns = |start: usize, end: usize, t: &mut [f64]| {
+            t.fill(0.0);
+            for col in start..end {
+                let x_col = x[col];
+                let mut acc = 0.0;
+                for (&row, &v) in row_idx[col_ptr[col]..col_ptr[col + 1]]
+                    .iter()
+                    .zip(&values[col_ptr[col]..col_ptr[col + 1]])
+                {
+                    if row == col {
+                        acc += v * x_col;
+                    } else {
+                        t[row] += v * x_col;
+                        acc += v * x[row];
+                    }
+                }
+                // Entries of row `col` lie in later columns, so `t[col]` is still zero here.
+                t[col] = acc;
+            }
+        };
+        let bounds = &self.bounds;
+        let last = bounds.len() - 2;
+        if last == 0 {
+            columns(0, bounds[1], y);
+            return;
+        }
+        rayon::join(
+            || {
+                self.partials
+                    .par_iter_mut()
+                    .enumerate()
+                    .for_each(|(c, t)| columns(bounds[c], bounds[c + 1], t));
+            },
+            || columns(bounds[last], bounds[last + 1], y),
+        );
+        for partial in &self.partials {
+            for (yi, &pi) in y.iter_mut().zip(partial) {
+                *yi += pi;
             }
         }
     }
@@ -216,12 +301,45 @@ mod tests {
         let p = pattern(3, vec![0, 1, 3, 6], vec![0, 0, 1, 0, 1, 2]);
         let up = UpperPattern::try_new(p.as_ref()).unwrap();
         let values = [4.0, 1.0, 5.0, 2.0, -3.0, 6.0];
-        let mut y = [0.0; 3];
-        up.symmetric_product_into(&values, &[1.0, 2.0, 3.0], &mut y);
+        let mut y = [f64::NAN; 3];
+        SymmetricProduct::new(&up).apply(&up, &values, &[1.0, 2.0, 3.0], &mut y);
         assert_eq!(y, [4.0 + 2.0 + 6.0, 1.0 + 10.0 - 9.0, 2.0 - 6.0 + 18.0]);
         let (mut out, mut scratch) = ([0.0; 6], [0.0; 3]);
         assert_eq!(up.prepare_values(&values, None, &mut out, &mut scratch), Ok(11.0));
         assert_eq!(out, values);
+    }
+
+    #[test]
+    fn the_product_split_into_tasks_matches_the_entrywise_product() {
+        // A band of 31 diagonals (about 930 000 stored entries: three tasks). Small integers keep
+        // every sum exact, so the task split must give exactly the entry-by-entry product.
+        let (n, band) = (30_000usize, 30);
+        let (mut col_ptr, mut row_idx) = (vec![0], Vec::new());
+        for j in 0..n {
+            row_idx.extend(j.saturating_sub(band)..=j);
+            col_ptr.push(row_idx.len());
+        }
+        let up = UpperPattern::try_new(pattern(n, col_ptr, row_idx).as_ref()).unwrap();
+        let values: Vec<f64> = (0..up.nnz())
+            .map(|k| ((up.row_idx()[k] * 7 + up.col_idx()[k] * 13) % 17) as f64 - 8.0)
+            .collect();
+        let x: Vec<f64> = (0..n).map(|i| (i % 11) as f64 - 5.0).collect();
+        let mut expected = vec![0.0; n];
+        for ((&v, &row), &col) in values.iter().zip(up.row_idx()).zip(up.col_idx()) {
+            expected[row] += v * x[col];
+            if row != col {
+                expected[col] += v * x[row];
+            }
+        }
+        let mut product = SymmetricProduct::new(&up);
+        assert_eq!(product.bounds.len(), 4);
+        let mut y = vec![f64::NAN; n];
+        product.apply(&up, &values, &x, &mut y);
+        assert_eq!(y, expected);
+        // Reused, it overwrites the previous result and its partials.
+        let x2: Vec<f64> = x.iter().map(|v| -v).collect();
+        product.apply(&up, &values, &x2, &mut y);
+        assert!(y.iter().zip(&expected).all(|(a, b)| *a == -b));
     }
 
     #[test]
