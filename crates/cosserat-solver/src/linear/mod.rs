@@ -592,7 +592,11 @@ impl SparseSolver {
         let cap = self.settings.cg.iteration_cap(self.pattern.n());
         let tolerance = self.settings.cg.relative_tolerance;
         let cg = self.cg.as_mut().expect("the preconditioner exists after a CG factorise");
-        let report = cg.solve(&self.pattern, &self.values, &self.rhs_copy, rhs, tolerance, cap)?;
+        let (pattern, values, b) = (&self.pattern, &self.values, &self.rhs_copy);
+        // The whole recursion runs on a pool thread: called from outside the pool, each product's
+        // join would be a round trip through the kernel, and the caller's thread would compete for
+        // the cores with the pool's threads waiting for the next product.
+        let report = rayon::scope(|_| cg.solve(pattern, values, b, rhs, tolerance, cap))?;
         for (x, &f) in rhs.iter_mut().zip(&self.fixed) {
             if f {
                 *x = 0.0;
