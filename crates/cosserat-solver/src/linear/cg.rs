@@ -18,7 +18,7 @@
 
 use nalgebra::Matrix3;
 
-use super::pattern::{SymmetricProduct, UpperPattern};
+use super::pattern::{ColumnTasks, UpperPattern};
 use crate::error::LinearSolveError;
 
 /// Settings of the conjugate-gradient solver ([`LinearSolverKind::Cg`](super::LinearSolverKind::Cg)).
@@ -207,7 +207,7 @@ pub(crate) struct CgSolver {
     z: Vec<f64>,
     p: Vec<f64>,
     q: Vec<f64>,
-    product: SymmetricProduct,
+    product: ColumnTasks,
 }
 
 fn dot(a: &[f64], b: &[f64]) -> f64 {
@@ -224,7 +224,7 @@ impl CgSolver {
             z: vec![0.0; n],
             p: vec![0.0; n],
             q: vec![0.0; n],
-            product: SymmetricProduct::new(pattern),
+            product: ColumnTasks::new(pattern),
         }
     }
 
@@ -285,7 +285,7 @@ impl CgSolver {
                     p[i] = z[i] + beta * p[i];
                 }
             }
-            product.apply(pattern, values, p, q);
+            product.product_into(pattern, values, p, q);
             let curvature = dot(p, q);
             iterations += 1;
             if !curvature.is_finite() {
@@ -352,7 +352,7 @@ mod tests {
         let pattern = UpperPattern::try_new(symbolic.as_ref()).unwrap();
         let values = [4.0, 1.0, 5.0, 2.0, -3.0, 6.0];
         let mut y = [f64::NAN; 3];
-        SymmetricProduct::new(&pattern).apply(&pattern, &values, &[1.0, 2.0, 3.0], &mut y);
+        ColumnTasks::new(&pattern).product_into(&pattern, &values, &[1.0, 2.0, 3.0], &mut y);
         assert_eq!(y, [4.0 + 2.0 + 6.0, 1.0 + 10.0 - 9.0, 2.0 - 6.0 + 18.0]);
     }
 

@@ -44,7 +44,7 @@ use self::cg::CgSolver;
 use self::cholesky::SymmetricFactor;
 use self::ldlt::LbltFactor;
 use self::lu::LuFactor;
-use self::pattern::{SymmetricProduct, UpperPattern, backward_error};
+use self::pattern::{ColumnTasks, UpperPattern, backward_error};
 use self::two_domain::TwoDomainCholesky;
 use crate::error::{Factorisation, LinearSolveError};
 
@@ -212,7 +212,7 @@ pub struct SparseSolver {
     rhs_copy: Vec<f64>,
     product: Vec<f64>,
     /// The tasks of the product `A x` that checks every solution.
-    product_tasks: SymmetricProduct,
+    column_tasks: ColumnTasks,
     symbolic_analyses: usize,
     last_backward_error: Option<f64>,
     last_cg: Option<CgReport>,
@@ -246,7 +246,7 @@ impl SparseSolver {
         let pattern = UpperPattern::try_new(pattern)?;
         let n = pattern.n();
         let nnz = pattern.nnz();
-        let product_tasks = SymmetricProduct::new(&pattern);
+        let column_tasks = ColumnTasks::new(&pattern);
         let mut solver = Self {
             settings,
             pattern,
@@ -262,7 +262,7 @@ impl SparseSolver {
             current: None,
             rhs_copy: vec![0.0; n],
             product: vec![0.0; n],
-            product_tasks,
+            column_tasks,
             symbolic_analyses: 0,
             last_backward_error: None,
             last_cg: None,
@@ -475,9 +475,9 @@ impl SparseSolver {
             assert_eq!(f.len(), self.n(), "fixed mask length differs from the dimension");
         }
         self.current = None;
-        self.norm_a = self
-            .pattern
-            .prepare_values(values, fixed, &mut self.values, &mut self.product)?;
+        self.norm_a =
+            self.column_tasks
+                .prepare_values(&self.pattern, values, fixed, &mut self.values, &mut self.product)?;
         match fixed {
             Some(f) => self.fixed.copy_from_slice(f),
             None => self.fixed.fill(false),
@@ -626,7 +626,8 @@ impl SparseSolver {
                 *x = 0.0;
             }
         }
-        self.product_tasks.apply(&self.pattern, &self.values, rhs, &mut self.product);
+        self.column_tasks
+            .product_into(&self.pattern, &self.values, rhs, &mut self.product);
         let eta = backward_error(self.norm_a, &self.rhs_copy, rhs, &self.product);
         self.last_backward_error = Some(eta);
         if rhs.iter().any(|v| !v.is_finite()) {

@@ -93,58 +93,7 @@ impl UpperPattern {
             && other.row_idx() == self.symbolic.row_idx()
     }
 
-    /// Prepares the values of a factorisation in one pass over the entries: checks them for NaN and
-    /// infinity, copies them into `out` with the rows and columns of fixed unknowns replaced by those of
-    /// the identity, and returns `‖out‖∞` (the largest absolute row sum of the symmetric matrix), using
-    /// `scratch` (length `n`) for the row sums.
-    ///
-    /// One pass instead of three, because each is a memory-bound sweep over every entry of the Hessian
-    /// (17 million at the paper's largest plate) once per factorisation. The system solved with `out`
-    /// and a right-hand side whose fixed entries are zero has the solution of the reduced
-    /// (free × free) system on the free unknowns and zero on the fixed ones.
-    ///
-    /// # Errors
-    /// [`LinearSolveError::NonFiniteValue`] for the first non-finite entry in storage order.
-    pub(crate) fn prepare_values(
-        &self,
-        values: &[f64],
-        fixed: Option<&[bool]>,
-        out: &mut [f64],
-        scratch: &mut [f64],
-    ) -> Result<f64, LinearSolveError> {
-        scratch.fill(0.0);
-        let col_ptr = self.symbolic.col_ptr();
-        let rows = self.row_idx();
-        for (col, range) in col_ptr.windows(2).enumerate() {
-            let col_fixed = fixed.is_some_and(|f| f[col]);
-            let mut col_sum = 0.0;
-            for k in range[0]..range[1] {
-                let (row, v) = (rows[k], values[k]);
-                if !v.is_finite() {
-                    return Err(LinearSolveError::NonFiniteValue {
-                        index: k,
-                        row,
-                        col,
-                        value: v,
-                    });
-                }
-                let v = if col_fixed || fixed.is_some_and(|f| f[row]) {
-                    if row == col { 1.0 } else { 0.0 }
-                } else {
-                    v
-                };
-                out[k] = v;
-                col_sum += v.abs();
-                if row != col {
-                    scratch[row] += v.abs();
-                }
-            }
-            scratch[col] += col_sum;
-        }
-        Ok(scratch.iter().copied().fold(0.0, f64::max))
-    }
-
-    /// The column ranges of the tasks of [`SymmetricProduct`]: about equal numbers of entries, and a
+    /// The column ranges of the tasks of [`ColumnTasks`]: about equal numbers of entries, and a
     /// count that depends on the number of entries only, so that the product's sums (and so CG's
     /// iterates) are the same on any number of threads.
     fn product_tasks(&self) -> Vec<usize> {
@@ -164,28 +113,29 @@ impl UpperPattern {
     }
 }
 
-/// Entries per task of [`SymmetricProduct`] below which a product runs as one task.
+/// Entries per task of [`ColumnTasks`] below which a product runs as one task.
 const PRODUCT_TASK_ENTRIES: usize = 1 << 18;
 /// The most tasks a product is split into (fixed, whatever the number of threads).
 const MAX_PRODUCT_TASKS: usize = 4;
 
-/// `y = A x` for the symmetric matrix whose upper triangle (pattern order) holds `values`, split into
-/// tasks of consecutive columns that run on the rayon pool.
+/// The per-iteration passes over the stored values (the symmetric product `A x`, and the values of a
+/// factorisation with their norm), split into tasks of consecutive columns that run on the rayon pool.
 ///
-/// Each column is one pass over its entries: its own row `Σ_row A[row, col] x[row]` is accumulated in a
-/// register and written once, and the entries above the diagonal are scattered into the rows they
-/// belong to. A task's columns only scatter into rows before its last column, so every task but the
-/// last writes into a partial vector of that length, and the partials are added to the last task's
-/// result in task order. This product is where CG spends its time, and it checks every direct solve.
+/// Both passes go column by column and scatter each entry above the diagonal into its row. A task's
+/// columns only scatter into rows before its last column, so every task but the last writes into a
+/// partial vector of that length, and the partials are added to the last task's result in task
+/// order. The product is where CG spends its time and it checks every direct solve; the values'
+/// preparation precedes every factorisation: both are memory-bound sweeps over every entry of the
+/// Hessian (17 million at the paper's largest plate).
 #[derive(Debug, Clone)]
-pub(crate) struct SymmetricProduct {
+pub(crate) struct ColumnTasks {
     /// Column boundaries of the tasks (`tasks + 1` entries).
     bounds: Vec<usize>,
     /// One partial result per task but the last, as long as the task's last column.
     partials: Vec<Vec<f64>>,
 }
 
-impl SymmetricProduct {
+impl ColumnTasks {
     /// The tasks and partial vectors for `pattern`.
     pub(crate) fn new(pattern: &UpperPattern) -> Self {
         let bounds = pattern.product_tasks();
@@ -194,7 +144,7 @@ impl SymmetricProduct {
     }
 
     /// `y = A x`.
-    pub(crate) fn apply(&mut self, pattern: &UpperPattern, values: &[f64], x: &[f64], y: &mut [f64]) {
+    pub(crate) fn product_into(&mut self, pattern: &UpperPattern, values: &[f64], x: &[f64], y: &mut [f64]) {
         let symbolic = pattern.as_ref();
         let (col_ptr, row_idx) = (symbolic.col_ptr(), symbolic.row_idx());
         let columns = |start: usize, end: usize, t: &mut [f64]| {
@@ -232,6 +182,100 @@ impl SymmetricProduct {
             },
             || columns(bounds[last], bounds[last + 1], y),
         );
+        self.add_partials(y);
+    }
+
+    /// Prepares the values of a factorisation in one pass over the entries: checks them for NaN and
+    /// infinity, copies them into `out` with the rows and columns of fixed unknowns replaced by those of
+    /// the identity, and returns `‖out‖∞` (the largest absolute row sum of the symmetric matrix), using
+    /// `row_sums` (length `n`) for the row sums.
+    ///
+    /// One pass instead of three, split into the tasks. The system solved with `out` and a right-hand
+    /// side whose fixed entries are zero has the solution of the reduced (free × free) system on the
+    /// free unknowns and zero on the fixed ones.
+    ///
+    /// # Errors
+    /// [`LinearSolveError::NonFiniteValue`] for the first non-finite entry in storage order.
+    pub(crate) fn prepare_values(
+        &mut self,
+        pattern: &UpperPattern,
+        values: &[f64],
+        fixed: Option<&[bool]>,
+        out: &mut [f64],
+        row_sums: &mut [f64],
+    ) -> Result<f64, LinearSolveError> {
+        let col_ptr = pattern.as_ref().col_ptr();
+        let rows = pattern.row_idx();
+        // Columns `start..end` into `out` (their entries only) and `sums`; the first non-finite entry's
+        // index, or `usize::MAX`.
+        let task = |start: usize, end: usize, out: &mut [f64], sums: &mut [f64]| -> usize {
+            sums.fill(0.0);
+            let base = col_ptr[start];
+            for col in start..end {
+                let col_fixed = fixed.is_some_and(|f| f[col]);
+                let mut col_sum = 0.0;
+                for k in col_ptr[col]..col_ptr[col + 1] {
+                    let (row, v) = (rows[k], values[k]);
+                    if !v.is_finite() {
+                        return k;
+                    }
+                    let v = if col_fixed || fixed.is_some_and(|f| f[row]) {
+                        if row == col { 1.0 } else { 0.0 }
+                    } else {
+                        v
+                    };
+                    out[k - base] = v;
+                    col_sum += v.abs();
+                    if row != col {
+                        sums[row] += v.abs();
+                    }
+                }
+                // Entries of row `col` lie in later columns, so `sums[col]` is still zero here.
+                sums[col] = col_sum;
+            }
+            usize::MAX
+        };
+        let bounds = &self.bounds;
+        let last = bounds.len() - 2;
+        let mut outs: [&mut [f64]; MAX_PRODUCT_TASKS] = Default::default();
+        let mut rest = out;
+        for (c, slot) in outs.iter_mut().enumerate().take(last + 1) {
+            let (head, tail) = rest.split_at_mut(col_ptr[bounds[c + 1]] - col_ptr[bounds[c]]);
+            *slot = head;
+            rest = tail;
+        }
+        let (head, tail) = outs.split_at_mut(last);
+        let first_bad = if last == 0 {
+            task(bounds[0], bounds[1], &mut *tail[0], row_sums)
+        } else {
+            let (a, b) = rayon::join(
+                || {
+                    self.partials
+                        .par_iter_mut()
+                        .zip(head.par_iter_mut())
+                        .enumerate()
+                        .map(|(c, (sums, out))| task(bounds[c], bounds[c + 1], out, sums))
+                        .min()
+                        .unwrap_or(usize::MAX)
+                },
+                || task(bounds[last], bounds[last + 1], &mut *tail[0], row_sums),
+            );
+            a.min(b)
+        };
+        if first_bad != usize::MAX {
+            return Err(LinearSolveError::NonFiniteValue {
+                index: first_bad,
+                row: rows[first_bad],
+                col: pattern.col_idx()[first_bad],
+                value: values[first_bad],
+            });
+        }
+        self.add_partials(row_sums);
+        Ok(row_sums.iter().copied().fold(0.0, f64::max))
+    }
+
+    /// Adds the partial results of the tasks but the last to `y`, in task order.
+    fn add_partials(&self, y: &mut [f64]) {
         for partial in &self.partials {
             for (yi, &pi) in y.iter_mut().zip(partial) {
                 *yi += pi;
@@ -278,14 +322,15 @@ mod tests {
         let up = UpperPattern::try_new(p.as_ref()).unwrap();
         let values = [4.0, 1.0, 5.0, 2.0, 3.0, 6.0];
         let (mut out, mut scratch) = ([0.0; 6], [0.0; 3]);
-        let norm = up.prepare_values(&values, Some(&[false, true, false]), &mut out, &mut scratch);
+        let norm =
+            ColumnTasks::new(&up).prepare_values(&up, &values, Some(&[false, true, false]), &mut out, &mut scratch);
         assert_eq!(out, [4.0, 0.0, 1.0, 2.0, 0.0, 6.0]);
         // The eliminated matrix [[4, 0, 2], [0, 1, 0], [2, 0, 6]].
         assert_eq!(norm, Ok(8.0));
         let mut bad = values;
         bad[3] = f64::NAN;
         assert!(matches!(
-            up.prepare_values(&bad, None, &mut out, &mut scratch),
+            ColumnTasks::new(&up).prepare_values(&up, &bad, None, &mut out, &mut scratch),
             Err(LinearSolveError::NonFiniteValue {
                 index: 3,
                 row: 0,
@@ -302,10 +347,13 @@ mod tests {
         let up = UpperPattern::try_new(p.as_ref()).unwrap();
         let values = [4.0, 1.0, 5.0, 2.0, -3.0, 6.0];
         let mut y = [f64::NAN; 3];
-        SymmetricProduct::new(&up).apply(&up, &values, &[1.0, 2.0, 3.0], &mut y);
+        ColumnTasks::new(&up).product_into(&up, &values, &[1.0, 2.0, 3.0], &mut y);
         assert_eq!(y, [4.0 + 2.0 + 6.0, 1.0 + 10.0 - 9.0, 2.0 - 6.0 + 18.0]);
         let (mut out, mut scratch) = ([0.0; 6], [0.0; 3]);
-        assert_eq!(up.prepare_values(&values, None, &mut out, &mut scratch), Ok(11.0));
+        assert_eq!(
+            ColumnTasks::new(&up).prepare_values(&up, &values, None, &mut out, &mut scratch),
+            Ok(11.0)
+        );
         assert_eq!(out, values);
     }
 
@@ -331,15 +379,45 @@ mod tests {
                 expected[col] += v * x[row];
             }
         }
-        let mut product = SymmetricProduct::new(&up);
-        assert_eq!(product.bounds.len(), 4);
+        let mut tasks = ColumnTasks::new(&up);
+        assert_eq!(tasks.bounds.len(), 4);
         let mut y = vec![f64::NAN; n];
-        product.apply(&up, &values, &x, &mut y);
+        tasks.product_into(&up, &values, &x, &mut y);
         assert_eq!(y, expected);
         // Reused, it overwrites the previous result and its partials.
         let x2: Vec<f64> = x.iter().map(|v| -v).collect();
-        product.apply(&up, &values, &x2, &mut y);
+        tasks.product_into(&up, &values, &x2, &mut y);
         assert!(y.iter().zip(&expected).all(|(a, b)| *a == -b));
+
+        // The values of a factorisation: unknowns fixed in every task, and the norm of the result.
+        let fixed: Vec<bool> = (0..n).map(|i| i % 7_919 == 3).collect();
+        let mut expected_out = values.clone();
+        let mut row_sum = vec![0.0; n];
+        for (k, (&row, &col)) in up.row_idx().iter().zip(up.col_idx()).enumerate() {
+            if fixed[row] || fixed[col] {
+                expected_out[k] = if row == col { 1.0 } else { 0.0 };
+            }
+            row_sum[row] += expected_out[k].abs();
+            if row != col {
+                row_sum[col] += expected_out[k].abs();
+            }
+        }
+        let expected_norm = row_sum.iter().copied().fold(0.0, f64::max);
+        let (mut out, mut sums) = (vec![f64::NAN; up.nnz()], vec![f64::NAN; n]);
+        let norm = tasks.prepare_values(&up, &values, Some(&fixed), &mut out, &mut sums);
+        assert_eq!(norm, Ok(expected_norm));
+        assert_eq!(out, expected_out);
+        // Non-finite values in two tasks: the first in storage order is named.
+        let mut bad = values.clone();
+        let (k1, k2) = (up.nnz() - 10, up.nnz() / 2);
+        bad[k1] = f64::INFINITY;
+        bad[k2] = f64::NAN;
+        match tasks.prepare_values(&up, &bad, None, &mut out, &mut sums) {
+            Err(LinearSolveError::NonFiniteValue { index, row, col, .. }) => {
+                assert_eq!((index, row, col), (k2, up.row_idx()[k2], up.col_idx()[k2]));
+            }
+            other => panic!("expected a non-finite value error, got {other:?}"),
+        }
     }
 
     #[test]
