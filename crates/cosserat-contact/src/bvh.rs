@@ -91,7 +91,8 @@ impl Bvh {
         let mut items: Vec<u32> = (0..boxes.len() as u32).collect();
         let mut nodes = Vec::with_capacity(2 * boxes.len() / LEAF_SIZE + 1);
         if !boxes.is_empty() {
-            build_node(&boxes, &mut items, 0, &mut nodes);
+            let centroids: Vec<Vector3<f64>> = boxes.iter().map(Aabb::centroid).collect();
+            build_node(&boxes, &centroids, &mut items, 0, &mut nodes);
         }
         Self { nodes, items, boxes }
     }
@@ -140,7 +141,15 @@ impl Bvh {
 }
 
 /// Builds the subtree over `items` (whose first entry has global offset `offset`) and returns its index.
-fn build_node(boxes: &[Aabb], items: &mut [u32], offset: usize, nodes: &mut Vec<Node>) -> u32 {
+/// `centroids` are the boxes' centres, computed once per build rather than in every comparison of
+/// every level's median selection.
+fn build_node(
+    boxes: &[Aabb],
+    centroids: &[Vector3<f64>],
+    items: &mut [u32],
+    offset: usize,
+    nodes: &mut Vec<Node>,
+) -> u32 {
     let aabb = items.iter().fold(Aabb::empty(), |acc, &i| acc.union(&boxes[i as usize]));
     let index = nodes.len() as u32;
     if items.len() <= LEAF_SIZE {
@@ -158,8 +167,8 @@ fn build_node(boxes: &[Aabb], items: &mut [u32], offset: usize, nodes: &mut Vec<
         end: 0,
         leaf: false,
     });
-    let centroids = Aabb::from_points(items.iter().map(|&i| boxes[i as usize].centroid()).collect::<Vec<_>>().iter());
-    let extent = centroids.max - centroids.min;
+    let bounds = Aabb::from_points(items.iter().map(|&i| &centroids[i as usize]));
+    let extent = bounds.max - bounds.min;
     let axis = if extent.x >= extent.y && extent.x >= extent.z {
         0
     } else if extent.y >= extent.z {
@@ -169,12 +178,12 @@ fn build_node(boxes: &[Aabb], items: &mut [u32], offset: usize, nodes: &mut Vec<
     };
     let mid = items.len() / 2;
     items.select_nth_unstable_by(mid, |&a, &b| {
-        let (ca, cb) = (boxes[a as usize].centroid()[axis], boxes[b as usize].centroid()[axis]);
+        let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
         ca.total_cmp(&cb).then(a.cmp(&b))
     });
     let (left_items, right_items) = items.split_at_mut(mid);
-    let left = build_node(boxes, left_items, offset, nodes);
-    let right = build_node(boxes, right_items, offset + mid, nodes);
+    let left = build_node(boxes, centroids, left_items, offset, nodes);
+    let right = build_node(boxes, centroids, right_items, offset + mid, nodes);
     nodes[index as usize].start = left;
     nodes[index as usize].end = right;
     index
