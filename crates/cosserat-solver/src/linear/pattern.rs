@@ -94,15 +94,15 @@ impl UpperPattern {
     }
 
     /// The column ranges of the tasks of [`ColumnTasks`]: about equal numbers of entries, and a
-    /// count that depends on the number of entries only, so that the product's sums (and so CG's
-    /// iterates) are the same on any number of threads.
-    fn product_tasks(&self) -> Vec<usize> {
+    /// count that depends on the number of entries only, so that the sums (and so CG's iterates) are
+    /// the same on any number of threads.
+    fn column_task_bounds(&self) -> Vec<usize> {
         if self.n() == 0 {
             return vec![0, 0];
         }
         let col_ptr = self.symbolic.col_ptr();
         let nnz = self.nnz();
-        let tasks = (nnz / PRODUCT_TASK_ENTRIES).clamp(1, MAX_PRODUCT_TASKS);
+        let tasks = (nnz / TASK_ENTRIES).clamp(1, MAX_TASKS);
         let mut bounds = vec![0];
         for t in 1..tasks {
             bounds.push(col_ptr.partition_point(|&p| p < t * nnz / tasks));
@@ -113,10 +113,10 @@ impl UpperPattern {
     }
 }
 
-/// Entries per task of [`ColumnTasks`] below which a product runs as one task.
-const PRODUCT_TASK_ENTRIES: usize = 1 << 18;
-/// The most tasks a product is split into (fixed, whatever the number of threads).
-const MAX_PRODUCT_TASKS: usize = 4;
+/// Entries per task of [`ColumnTasks`]: smaller patterns run as one task, on the calling thread.
+const TASK_ENTRIES: usize = 1 << 18;
+/// The most tasks a pass is split into (fixed, whatever the number of threads).
+const MAX_TASKS: usize = 4;
 
 /// The per-iteration passes over the stored values (the symmetric product `A x`, and the values of a
 /// factorisation with their norm), split into tasks of consecutive columns that run on the rayon pool.
@@ -138,7 +138,7 @@ pub(crate) struct ColumnTasks {
 impl ColumnTasks {
     /// The tasks and partial vectors for `pattern`.
     pub(crate) fn new(pattern: &UpperPattern) -> Self {
-        let bounds = pattern.product_tasks();
+        let bounds = pattern.column_task_bounds();
         let partials = bounds[1..bounds.len() - 1].iter().map(|&end| vec![0.0; end]).collect();
         Self { bounds, partials }
     }
@@ -237,7 +237,7 @@ impl ColumnTasks {
         };
         let bounds = &self.bounds;
         let last = bounds.len() - 2;
-        let mut outs: [&mut [f64]; MAX_PRODUCT_TASKS] = Default::default();
+        let mut outs: [&mut [f64]; MAX_TASKS] = Default::default();
         let mut rest = out;
         for (c, slot) in outs.iter_mut().enumerate().take(last + 1) {
             let (head, tail) = rest.split_at_mut(col_ptr[bounds[c + 1]] - col_ptr[bounds[c]]);
