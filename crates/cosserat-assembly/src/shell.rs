@@ -313,11 +313,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         if self.project_pd {
             out.fill_lower_from_upper();
             out.hessian = project_positive_semidefinite(&out.hessian);
-            mark_non_finite(out, true);
             out.clear_below_block_diagonal();
-        } else {
-            mark_non_finite(out, true);
         }
+        mark_non_finite(out, true);
     }
 
     /// Whether an element's results are usable. [`Self::element_derivatives`] has already marked

@@ -211,7 +211,8 @@ pub struct SparseSolver {
     current: Option<Factorisation>,
     rhs_copy: Vec<f64>,
     product: Vec<f64>,
-    /// The tasks of the product `A x` that checks every solution.
+    /// The column tasks of the passes over the values: their preparation before each factorisation,
+    /// the product `A x` that checks every direct solution, and CG's products.
     column_tasks: ColumnTasks,
     symbolic_analyses: usize,
     last_backward_error: Option<f64>,
@@ -277,7 +278,7 @@ impl SparseSolver {
         let kind = self.settings.kind;
         if kind == LinearSolverKind::Cg {
             if self.cg.is_none() {
-                self.cg = Some(CgSolver::new(&self.pattern));
+                self.cg = Some(CgSolver::new(self.pattern.n()));
             }
             return Ok(());
         }
@@ -521,7 +522,7 @@ impl SparseSolver {
     }
 
     fn prepare_cg(&mut self) -> Factorisation {
-        let cg = self.cg.get_or_insert_with(|| CgSolver::new(&self.pattern));
+        let cg = self.cg.get_or_insert_with(|| CgSolver::new(self.pattern.n()));
         cg.preconditioner.update(&self.pattern, &self.values);
         Factorisation::Cg
     }
@@ -592,11 +593,11 @@ impl SparseSolver {
         let cap = self.settings.cg.iteration_cap(self.pattern.n());
         let tolerance = self.settings.cg.relative_tolerance;
         let cg = self.cg.as_mut().expect("the preconditioner exists after a CG factorise");
-        let (pattern, values, b) = (&self.pattern, &self.values, &self.rhs_copy);
+        let (pattern, tasks, values, b) = (&self.pattern, &mut self.column_tasks, &self.values, &self.rhs_copy);
         // The whole recursion runs on a pool thread: called from outside the pool, each product's
         // join would be a round trip through the kernel, and the caller's thread would compete for
         // the cores with the pool's threads waiting for the next product.
-        let report = rayon::scope(|_| cg.solve(pattern, values, b, rhs, tolerance, cap))?;
+        let report = rayon::scope(|_| cg.solve(pattern, tasks, values, b, rhs, tolerance, cap))?;
         for (x, &f) in rhs.iter_mut().zip(&self.fixed) {
             if f {
                 *x = 0.0;
