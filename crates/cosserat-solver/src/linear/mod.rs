@@ -10,8 +10,9 @@
 //!
 //! Solvers ([`LinearSolverKind`]), four direct ones:
 //! - supernodal Cholesky `L Lᵀ` for positive definite matrices (`cholesky.rs`, which also holds the
-//!   shared symbolic analysis), on large meshes as two halves factorised at once and joined through
-//!   their separator's dense Schur complement (`two_domain.rs`, [`DomainSplit`]);
+//!   shared symbolic analysis), on large meshes as two halves factorised at once by a multifrontal
+//!   kernel (`multifrontal.rs`) and joined through their separator's dense Schur complement
+//!   (`two_domain.rs`, [`DomainSplit`]);
 //! - supernodal Bunch–Kaufman `L B Lᵀ` with rook pivoting inside supernodes for indefinite ones
 //!   (`ldlt.rs`);
 //! - sparse LU with partial pivoting on the mirrored full matrix (`lu.rs`);
@@ -31,6 +32,7 @@ mod cholesky;
 mod ldlt;
 mod lu;
 pub(crate) mod memory;
+mod multifrontal;
 mod ordering;
 mod pattern;
 mod two_domain;

@@ -1,9 +1,9 @@
 //! Two-domain Cholesky: the two halves of a bisected mesh are factorised at the same time, one per
 //! core, and joined through the dense Schur complement of their separator.
 //!
-//! faer's supernodal Cholesky walks the supernodes one after the other; its parallel mode only splits
-//! the dense kernels inside a supernode, and the supernodes of a shell mesh are too small for that to
-//! pay (measured slower than sequential, docs/performance.md). Two halves of a mesh that no matrix
+//! A sparse Cholesky walks the supernodes one after the other; faer's parallel mode only splits the
+//! dense kernels inside a supernode, and the supernodes of a shell mesh are too small for that to pay
+//! (measured slower than sequential, docs/performance.md). Two halves of a mesh that no matrix
 //! entry couples, however, are eliminated independently. With a vertex separator `S` between the
 //! parts `D₁`, `D₂` and the ordering `[D₁, D₂, S]`,
 //!
@@ -13,19 +13,19 @@
 //!     [ Aₛ₁  Aₛ₂  Aₛₛ ]           [ B₁   B₂  Lₛ ]
 //! ```
 //!
-//! Domain `i` factorises the principal submatrix `Mᵢ = [Aᵢᵢ Aᵢₛ; Aₛᵢ Aₛₛ]`, its own unknowns in an AMD
-//! order that knows the separator comes last ([`domain_order`]) and the separator last, with faer (sequentially; both domains at once). The factor is
-//! `[Lᵢ 0; Bᵢ Gᵢ]` with `Gᵢ Gᵢᵀ = Aₛₛ − Bᵢ Bᵢᵀ`, which is positive definite whenever `A` is (it is at
-//! least the Schur complement of `A`). The separator's Schur complement is then
-//! `Lₛ Lₛᵀ = G₁ G₁ᵀ + G₂ G₂ᵀ − Aₛₛ`, a small dense Cholesky. A solve runs forward in both domains at
-//! once (which also forms `Bᵢ zᵢ`), through the separator, and back in both domains at once.
+//! Domain `i` eliminates the own unknowns of the principal submatrix `Mᵢ = [Aᵢᵢ Aᵢₛ; Aₛᵢ Aₛₛ]`,
+//! in an AMD order that knows the separator comes last ([`domain_order`]), on its own core with the
+//! multifrontal kernel of `multifrontal.rs` (faer's symbolic analysis of `Mᵢ` gives the supernodes).
+//! That yields `Lᵢ`, `Bᵢ` and `−Bᵢ Bᵢᵀ`; the separator's columns of `Mᵢ` are never factorised. The
+//! separator's Schur complement `Lₛ Lₛᵀ = Aₛₛ − B₁ B₁ᵀ − B₂ B₂ᵀ` is then a small dense Cholesky. A
+//! solve runs forward in both domains at once (which also forms `Bᵢ zᵢ`), through the separator, and
+//! back in both domains at once.
 //!
 //! Results do not depend on the number of threads: each domain is computed sequentially and the two
 //! are combined in a fixed order.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization, cholesky_in_place, cholesky_in_place_scratch};
-use faer::linalg::matmul::triangular::{BlockStructure, matmul};
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::reborrow::ReborrowMut;
 use faer::sparse::linalg::SupernodalThreshold;
@@ -35,11 +35,11 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use faer::{Accum, Mat, MatMut, Par, Side};
+use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
+use faer::{Mat, MatMut, Par, Side};
 
 use super::FactorStats;
-use super::cholesky::factor_stats;
+use super::multifrontal::Fronts;
 use super::ordering::Bisection;
 use super::pattern::UpperPattern;
 use crate::error::{LinearSolveError, LinearSolveStage};
@@ -50,21 +50,17 @@ const NONE: usize = usize::MAX;
 /// ones (a long separator) are left as they are to bound the clique's size.
 const MAX_HALO_CLIQUE: usize = 4000;
 
-/// One half of the bisection with the separator: its principal submatrix, factor and work vector.
+/// One half of the bisection with the separator: its principal submatrix's factor and work vector.
 struct Domain {
     /// The caller's index of each local unknown: the domain's own in AMD order, then the separator's.
     global: Vec<usize>,
     /// Number of the domain's own unknowns (the separator starts at this local index).
     n_own: usize,
-    /// Position in the caller's values slice of each stored entry of `M`'s lower triangle.
-    gather: Vec<usize>,
-    /// The values of `M`'s lower triangle, gathered for each factorisation.
-    values: Vec<f64>,
-    /// `M`'s lower triangle (local numbering, factorisation order).
-    pattern: SymbolicSparseColMat<usize>,
+    /// faer's supernodal structure of `M`'s factor, which the fronts fill and the substitutions read.
     symbolic: SymbolicCholesky<usize>,
     l_values: Vec<f64>,
-    mem: MemBuffer,
+    /// The multifrontal schedule of the own columns.
+    fronts: Fronts,
     /// The first supernode that holds a separator column.
     first_separator_supernode: usize,
     /// The local vector of forward and backward substitution.
@@ -73,10 +69,9 @@ struct Domain {
     /// once per supernode so that the substitutions run over contiguous memory and read the row
     /// indices once per supernode instead of once per column (as long as the tallest supernode).
     local: Vec<f64>,
-    /// `Gᵢ`, the separator block of the factor (dense, lower triangle).
-    g: Mat<f64>,
-    /// `Gᵢ Gᵢᵀ`, the domain's part of the separator's Schur complement, formed on the domain's thread.
-    gg: Mat<f64>,
+    /// `−Bᵢ Bᵢᵀ`, the domain's part of the separator's Schur complement (column-major, lower
+    /// triangle), formed on the domain's thread.
+    separator_update: Vec<f64>,
 }
 
 impl Domain {
@@ -88,9 +83,9 @@ impl Domain {
         for (l, &g) in global.iter().enumerate() {
             local[g] = l;
         }
-        // The lower triangle, which faer's supernodal factorisation reads without a transposed copy.
-        // faer 0.24's symbolic analysis without a permutation reads its input as the upper triangle
-        // whatever side it is told, so it gets the transpose.
+        // The lower triangle, whose columns the fronts assemble. faer 0.24's symbolic analysis
+        // without a permutation reads its input as the upper triangle whatever side it is told, so it
+        // gets the transpose.
         let mut entries = lower_entries(pattern, &local);
         let (m_pattern, gather) = csc(n_own + n_sep, &entries);
         for e in &mut entries {
@@ -115,79 +110,31 @@ impl Domain {
             .map(|s| sn.supernode_end()[s] - sn.supernode_begin()[s] + sn.supernode(s).pattern().len())
             .max()
             .unwrap_or(0);
-        let mem = super::memory::mapped_workspace(
-            symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        )
-        .ok_or_else(out_of_memory)?;
+        let l_values = super::memory::mapped_zeros(symbolic.len_val());
+        // faer's supernodes nest (each front's rows are rows of its parent); if they did not, the
+        // whole matrix is factorised instead.
+        let Some(fronts) = Fronts::try_new(sn, m_pattern.as_ref(), &gather, n_own) else {
+            return Ok(None);
+        };
         Ok(Some(Self {
-            l_values: super::memory::mapped_zeros(symbolic.len_val()),
-            values: super::memory::mapped_zeros(gather.len()),
+            l_values,
             global,
             n_own,
-            gather,
-            pattern: m_pattern,
             symbolic,
-            mem,
+            fronts,
             first_separator_supernode,
             work: vec![0.0; n_own + n_sep],
             local: vec![0.0; tallest],
-            g: Mat::zeros(n_sep, n_sep),
-            gg: Mat::zeros(n_sep, n_sep),
+            separator_update: super::memory::mapped_zeros(n_sep * n_sep),
         }))
     }
 
-    /// Factorises `M` and extracts `G`; on a non-positive pivot returns the caller's column.
+    /// Factorises the own columns of `M` and forms `−Bᵢ Bᵢᵀ`; on a non-positive pivot returns the
+    /// caller's column.
     fn factorise(&mut self, values: &[f64]) -> Result<(), usize> {
-        for (v, &k) in self.values.iter_mut().zip(&self.gather) {
-            *v = values[k];
-        }
-        let a = SparseColMatRef::new(self.pattern.as_ref(), &self.values);
-        let result = self.symbolic.factorize_numeric_llt(
-            &mut self.l_values,
-            a,
-            Side::Lower,
-            LltRegularization::default(),
-            Par::Seq,
-            MemStack::new(&mut self.mem),
-            Default::default(),
-        );
-        if let Err(LltError::NonPositivePivot { index }) = result {
-            return Err(self.global.get(index).copied().unwrap_or(index));
-        }
-        let n_own = self.n_own;
-        let sn = supernodes(&self.symbolic);
-        let g = &mut self.g;
-        for s in self.first_separator_supernode..sn.n_supernodes() {
-            let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
-            let below = sn.supernode(s).pattern();
-            let width = end - begin;
-            let rows = width + below.len();
-            let block = &self.l_values[sn.col_ptr_for_val()[s]..sn.col_ptr_for_val()[s + 1]];
-            for c in begin.max(n_own)..end {
-                let j = c - begin;
-                let col = &block[j * rows..(j + 1) * rows];
-                for i in j..width {
-                    g[(begin + i - n_own, c - n_own)] = col[i];
-                }
-                for (&r, &v) in below.iter().zip(&col[width..]) {
-                    g[(r - n_own, c - n_own)] = v;
-                }
-            }
-        }
-        // Both domains form their part of the Schur complement at once; `G` is lower triangular,
-        // which the product exploits (a third of a dense product's operations).
-        matmul(
-            self.gg.as_mut(),
-            BlockStructure::Rectangular,
-            Accum::Replace,
-            self.g.as_ref(),
-            BlockStructure::TriangularLower,
-            self.g.transpose(),
-            BlockStructure::TriangularUpper,
-            1.0,
-            Par::Seq,
-        );
-        Ok(())
+        self.fronts
+            .factorise(values, &mut self.l_values, &mut self.separator_update)
+            .map_err(|index| self.global.get(index).copied().unwrap_or(index))
     }
 
     /// Forward substitution `Lᵢ zᵢ = bᵢ` over the domain's own columns; leaves `zᵢ` in the own part of
@@ -241,9 +188,9 @@ impl Domain {
         }
     }
 
-    /// `Σ c_j²` over the columns of the domain's factor, its entries and supernodes.
+    /// `Σ c_j²` over the domain's own columns, their entries and supernodes.
     fn stats(&self) -> FactorStats {
-        factor_stats(&self.symbolic)
+        self.fronts.stats()
     }
 }
 
@@ -435,7 +382,7 @@ pub(crate) fn whole_operations(pattern: &UpperPattern) -> Result<f64, LinearSolv
 }
 
 /// faer's AMD ordering (`perm[new] = old`) of the symmetric pattern `upper` (one triangle suffices).
-fn amd_order(upper: SymbolicSparseColMatRef<'_, usize>) -> Result<Vec<usize>, LinearSolveError> {
+pub(super) fn amd_order(upper: SymbolicSparseColMatRef<'_, usize>) -> Result<Vec<usize>, LinearSolveError> {
     let n = upper.ncols();
     let mut perm = vec![0usize; n];
     if n == 0 {
@@ -549,7 +496,7 @@ pub(crate) struct TwoDomainCholesky {
     separator: Vec<usize>,
     /// `(values position, row, column)` of the stored entries of `Aₛₛ`, in separator numbering.
     separator_entries: Vec<(usize, usize, usize)>,
-    /// `G₁ G₁ᵀ + G₂ G₂ᵀ − Aₛₛ`, then its Cholesky factor `Lₛ` (lower triangle).
+    /// `Aₛₛ − B₁ B₁ᵀ − B₂ B₂ᵀ`, then its Cholesky factor `Lₛ` (lower triangle).
     schur: Mat<f64>,
     mem: MemBuffer,
     x_separator: Vec<f64>,
@@ -648,17 +595,16 @@ impl TwoDomainCholesky {
         let [d0, d1] = &mut self.domains;
         let (r0, r1) = rayon::join(|| d0.factorise(values), || d1.factorise(values));
         r0.and(r1).map_err(|col| LinearSolveError::NotPositiveDefinite { col })?;
+        // `Aₛₛ − B₁ B₁ᵀ − B₂ B₂ᵀ`, lower triangle (the dense Cholesky reads no other).
+        let n_sep = self.separator.len();
         let mut schur = self.schur.as_mut();
-        for j in 0..schur.ncols() {
-            for i in 0..schur.nrows() {
-                schur[(i, j)] = d0.gg[(i, j)] + d1.gg[(i, j)];
+        for j in 0..n_sep {
+            for i in j..n_sep {
+                schur[(i, j)] = d0.separator_update[j * n_sep + i] + d1.separator_update[j * n_sep + i];
             }
         }
         for &(k, i, j) in &self.separator_entries {
-            schur[(i, j)] -= values[k];
-            if i != j {
-                schur[(j, i)] -= values[k];
-            }
+            schur[(i.max(j), i.min(j))] += values[k];
         }
         cholesky_in_place(
             schur,
