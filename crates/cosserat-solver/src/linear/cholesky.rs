@@ -12,6 +12,7 @@ use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
@@ -157,31 +158,35 @@ impl SymmetricFactor {
 
 /// Number of stored entries of `L` and the operation-count estimate `Σ_j c_j²` from the symbolic
 /// structure, with `c_j` the stored entries of column `j` including the diagonal.
-pub(super) fn factor_stats(symbolic: &SymbolicCholesky<usize>) -> FactorStats {
-    let mut nnz_l = 0usize;
-    let mut flops = 0.0f64;
-    let mut add_column = |count: usize| {
-        nnz_l += count;
-        flops += (count as f64) * (count as f64);
-    };
-    let n_supernodes = match symbolic.raw() {
-        SymbolicCholeskyRaw::Supernodal(sn) => {
-            for s in 0..sn.n_supernodes() {
-                let width = sn.supernode_end()[s] - sn.supernode_begin()[s];
-                let below = sn.supernode(s).pattern().len();
-                for local in 0..width {
-                    add_column(width - local + below);
-                }
-            }
-            sn.n_supernodes()
-        }
+fn factor_stats(symbolic: &SymbolicCholesky<usize>) -> FactorStats {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(sn) => supernodal_stats(sn, sn.nrows()),
         SymbolicCholeskyRaw::Simplicial(simp) => {
-            for w in simp.col_ptr().windows(2) {
-                add_column(w[1] - w[0]);
+            let counts = simp.col_ptr().windows(2).map(|w| w[1] - w[0]);
+            FactorStats {
+                nnz_l: counts.clone().sum(),
+                flops: counts.map(|c| (c as f64) * (c as f64)).sum(),
+                n_supernodes: simp.ncols(),
+                domains: 1,
             }
-            simp.ncols()
         }
-    };
+    }
+}
+
+/// [`factor_stats`] of the columns before `columns_end` of a supernodal factor, and the number of
+/// supernodes that hold any of them (the two-domain halves eliminate only their own columns).
+pub(super) fn supernodal_stats(sn: &SymbolicSupernodalCholesky<usize>, columns_end: usize) -> FactorStats {
+    let (mut nnz_l, mut flops) = (0usize, 0.0f64);
+    let n_supernodes = sn.supernode_begin().partition_point(|&begin| begin < columns_end);
+    for s in 0..n_supernodes {
+        let (begin, end) = (sn.supernode_begin()[s], sn.supernode_end()[s]);
+        let below = sn.supernode(s).pattern().len();
+        for local in 0..end.min(columns_end) - begin {
+            let count = end - begin - local + below;
+            nnz_l += count;
+            flops += (count as f64) * (count as f64);
+        }
+    }
     FactorStats {
         nnz_l,
         flops,

@@ -39,6 +39,7 @@ use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Mat, MatMut, Par, Side};
 
 use super::FactorStats;
+use super::cholesky::supernodal_stats;
 use super::multifrontal::Fronts;
 use super::ordering::Bisection;
 use super::pattern::UpperPattern;
@@ -190,7 +191,7 @@ impl Domain {
 
     /// `Σ c_j²` over the domain's own columns, their entries and supernodes.
     fn stats(&self) -> FactorStats {
-        self.fronts.stats()
+        supernodal_stats(supernodes(&self.symbolic), self.n_own)
     }
 }
 
