@@ -49,6 +49,8 @@ pub struct NewtonSolver {
     x_trial: Vec<f64>,
     fixed: Vec<bool>,
     has_fixed: bool,
+    /// Whether the next solve assembles the Hessian with its first gradient (see [`Self::solve`]).
+    start_with_hessian: bool,
 }
 
 /// Counters of one solve, turned into a report or an error.
@@ -90,6 +92,7 @@ impl NewtonSolver {
             x_trial: vec![0.0; n],
             fixed: vec![false; n],
             has_fixed: false,
+            start_with_hessian: true,
         })
     }
 
@@ -163,10 +166,23 @@ impl NewtonSolver {
             },
         };
 
-        let energy = self.eval_gradient(problem, x, 0, &mut run)?;
+        // A solve seldom starts at a solution (a time step starts at its predictor), so the first
+        // Hessian is assembled at once and its gradient gives the first residual: one gradient
+        // evaluation less per solve. After a solve that stopped where it started, the next one
+        // evaluates the gradient alone first, so that a state at rest does not pay for a Hessian.
+        let mut hessian_at_x = None;
+        let energy = if self.start_with_hessian && s.max_iterations > 0 {
+            let e = self.eval_hessian(problem, x, 0, &mut run)?;
+            hessian_at_x = Some(e);
+            e
+        } else {
+            self.eval_gradient(problem, x, 0, &mut run)?
+        };
         let r = self.residual(&self.grad);
         run.residuals.push(r);
-        if r < s.residual_tolerance && s.min_iterations == 0 {
+        let converged_at_start = r < s.residual_tolerance && s.min_iterations == 0;
+        self.start_with_hessian = !converged_at_start;
+        if converged_at_start {
             return Ok(run.finish(0, energy));
         }
         // Whether `grad` holds ∇Π(x) and the last residual belongs to `x`.
@@ -194,10 +210,10 @@ impl NewtonSolver {
             k += 1;
 
             let chord = reuse_next && grad_current;
-            let e0 = if chord {
-                energy_current
-            } else {
-                self.eval_hessian(problem, x, k, &mut run)?
+            let e0 = match (chord, hessian_at_x.take()) {
+                (true, _) => energy_current,
+                (false, Some(e)) => e,
+                (false, None) => self.eval_hessian(problem, x, k, &mut run)?,
             };
             if !grad_current {
                 let r = self.residual(&self.grad);

@@ -54,6 +54,62 @@ fn start_at_the_minimiser_takes_zero_iterations() {
     assert_eq!(x, [1.0, 1.0]);
 }
 
+/// A problem that counts its gradient and Hessian evaluations.
+struct Counting<P> {
+    inner: P,
+    gradients: usize,
+    hessians: usize,
+}
+
+impl<P: NewtonProblem> NewtonProblem for Counting<P> {
+    fn n_dofs(&self) -> usize {
+        self.inner.n_dofs()
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.inner.hessian_pattern()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        self.inner.value(x)
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        self.gradients += 1;
+        self.inner.gradient(x, g)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        self.hessians += 1;
+        self.inner.hessian(x, g, h)
+    }
+}
+
+#[test]
+fn the_first_hessian_brings_the_first_gradient_unless_the_last_solve_started_converged() {
+    let mut r = rng(17);
+    let a = block_grid(4, 3, 1e-1, &mut r);
+    let b = random_vector(a.n(), &mut r);
+    let mut problem = Counting {
+        inner: Quadratic { a, b },
+        gradients: 0,
+        hessians: 0,
+    };
+    let mut solver = NewtonSolver::for_problem(&problem, NewtonSettings::default()).unwrap();
+    let mut x = vec![0.0; problem.n_dofs()];
+    let mut counts = |problem: &mut Counting<Quadratic>, x: &mut Vec<f64>| {
+        (problem.gradients, problem.hessians) = (0, 0);
+        let report = solver.solve(problem, x).unwrap();
+        (report.iterations, problem.gradients, problem.hessians)
+    };
+    // One Newton step on a quadratic: the Hessian at the start, the gradient at the step.
+    assert_eq!(counts(&mut problem, &mut x), (1, 1, 1));
+    // From the minimiser: the Hessian at once (the last solve did not start converged), then no step.
+    assert_eq!(counts(&mut problem, &mut x), (0, 0, 1));
+    // Once more from the minimiser: the gradient alone.
+    assert_eq!(counts(&mut problem, &mut x), (0, 1, 0));
+    // Away from it again: the gradient alone shows the need for a step, then the step as before.
+    x.iter_mut().for_each(|v| *v += 0.5);
+    assert_eq!(counts(&mut problem, &mut x), (1, 2, 1));
+    assert_eq!(counts(&mut problem, &mut x), (0, 0, 1));
+}
+
 #[test]
 fn rosenbrock_converges_from_the_standard_start() {
     let mut problem = Rosenbrock::new(2);
@@ -303,6 +359,9 @@ impl NewtonProblem for Faulty {
     }
     fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
         let e = self.inner.hessian(x, g, h)?;
+        if self.nan_gradient {
+            g[1] = f64::NAN;
+        }
         if self.nan_hessian {
             h[2] = f64::INFINITY;
         }
@@ -315,7 +374,8 @@ fn non_finite_values_are_errors_never_states() {
     let start = [-1.2, 1.0];
     let cases = [
         (Faulty::new(true, false, false), NonFiniteQuantity::Gradient, Some(1), 0),
-        (Faulty::new(false, true, false), NonFiniteQuantity::Hessian, Some(2), 1),
+        // The first Hessian comes with the initial evaluation.
+        (Faulty::new(false, true, false), NonFiniteQuantity::Hessian, Some(2), 0),
     ];
     for (mut problem, quantity, index, iteration) in cases {
         let mut x = start;
