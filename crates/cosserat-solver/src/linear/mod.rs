@@ -36,6 +36,7 @@ mod multifrontal;
 mod ordering;
 mod pattern;
 mod two_domain;
+mod vector_state;
 
 use faer::Par;
 use faer::sparse::SymbolicSparseColMatRef;
@@ -469,6 +470,24 @@ impl SparseSolver {
     /// If `values.len() != self.nnz()` or `fixed` has a length other than `self.n()`.
     #[track_caller]
     pub fn factorise(&mut self, values: &[f64], fixed: Option<&[bool]>) -> Result<Factorisation, LinearSolveError> {
+        let result = self.factorise_values(values, fixed);
+        self.clear_vector_state();
+        result
+    }
+
+    /// Leaves the vector registers of the threads that ran faer's kernels clean (see
+    /// [`vector_state`]).
+    fn clear_vector_state(&self) {
+        if self.settings.parallelism == Par::Seq {
+            vector_state::clear_this_thread();
+        } else {
+            vector_state::clear_all_threads();
+        }
+    }
+
+    /// [`factorise`](Self::factorise) without the clean-up of the vector registers.
+    #[track_caller]
+    fn factorise_values(&mut self, values: &[f64], fixed: Option<&[bool]>) -> Result<Factorisation, LinearSolveError> {
         assert_eq!(
             values.len(),
             self.nnz(),
@@ -555,6 +574,14 @@ impl SparseSolver {
     /// If `rhs.len() != self.n()`.
     #[track_caller]
     pub fn solve_in_place(&mut self, rhs: &mut [f64]) -> Result<Factorisation, LinearSolveError> {
+        let result = self.solve_rhs(rhs);
+        self.clear_vector_state();
+        result
+    }
+
+    /// [`solve_in_place`](Self::solve_in_place) without the clean-up of the vector registers.
+    #[track_caller]
+    fn solve_rhs(&mut self, rhs: &mut [f64]) -> Result<Factorisation, LinearSolveError> {
         assert_eq!(rhs.len(), self.n(), "right-hand side length differs from the dimension");
         let Some(current) = self.current else {
             return Err(LinearSolveError::NotFactorised);

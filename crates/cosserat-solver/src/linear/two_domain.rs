@@ -614,7 +614,13 @@ impl TwoDomainCholesky {
     /// Numerical factorisation of the matrix whose upper triangle is `values` (pattern order).
     pub(crate) fn factorise(&mut self, values: &[f64]) -> Result<(), LinearSolveError> {
         let [d0, d1] = &mut self.domains;
-        let (r0, r1) = rayon::join(|| d0.factorise(values), || d1.factorise(values));
+        // Each worker leaves its vector registers clean for the element kernels that run on it next.
+        let factorise = |d: &mut Domain| {
+            let result = d.factorise(values);
+            super::vector_state::clear_this_thread();
+            result
+        };
+        let (r0, r1) = rayon::join(|| factorise(d0), || factorise(d1));
         r0.and(r1).map_err(|col| LinearSolveError::NotPositiveDefinite { col })?;
         // `Aₛₛ − B₁ B₁ᵀ − B₂ B₂ᵀ`, lower triangle (the dense Cholesky reads no other).
         let n_sep = self.separator.len();
