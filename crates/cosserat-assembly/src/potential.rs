@@ -219,7 +219,7 @@ impl IncrementalPotential {
         if !self.has_dynamic_terms() {
             return false;
         }
-        self.update_rotations(u, false);
+        self.update_rotations(u, RotationOrder::Values);
         let eval = self.evaluation(u);
         self.parts.extra.iter().any(|t| t.needs_resolve(&eval))
     }
@@ -229,7 +229,7 @@ impl IncrementalPotential {
         if !self.parts.extra.iter().any(|t| t.is_dynamic()) {
             return 1.0;
         }
-        self.update_rotations(u, false);
+        self.update_rotations(u, RotationOrder::Values);
         let eval = self.evaluation(u);
         self.parts
             .extra
@@ -280,7 +280,8 @@ impl IncrementalPotential {
         names
     }
 
-    fn update_rotations(&mut self, u: &[f64], jets: bool) {
+    fn update_rotations(&mut self, u: &[f64], order: RotationOrder) {
+        let jets = order != RotationOrder::Values;
         if matches!(self.rotations, NodeRotations::Jets(_)) != jets {
             std::mem::swap(&mut self.rotations, &mut self.spare_rotations);
         }
@@ -290,7 +291,11 @@ impl IncrementalPotential {
         match &mut self.rotations {
             NodeRotations::Jets(buf) => {
                 buf.resize(q.len(), RotationJet::constant(Matrix3::identity()));
-                fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
+                if order == RotationOrder::SecondDerivatives {
+                    fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
+                } else {
+                    fill(buf, par, |k| RotationJet::of_update_first_order(&q[k], &omega(k), dt));
+                }
             }
             NodeRotations::Matrices(buf) => {
                 buf.resize(q.len(), Matrix3::identity());
@@ -316,7 +321,7 @@ impl IncrementalPotential {
     /// A non-finite contribution, or a wrong length of `u`.
     pub fn value(&mut self, u: &[f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, false);
+        self.update_rotations(u, RotationOrder::Values);
         let eval = self.evaluation(u);
         self.terms().try_fold(0.0, |acc, t| Ok(acc + t.value(&eval)?))
     }
@@ -327,7 +332,7 @@ impl IncrementalPotential {
     /// As [`IncrementalPotential::value`].
     pub fn gradient(&mut self, u: &[f64], grad: &mut [f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, true);
+        self.update_rotations(u, RotationOrder::FirstDerivatives);
         grad.fill(0.0);
         let eval = self.evaluation(u);
         self.terms().try_fold(0.0, |acc, t| Ok(acc + t.gradient(&eval, grad)?))
@@ -339,11 +344,22 @@ impl IncrementalPotential {
     /// # Errors
     /// As [`IncrementalPotential::value`].
     pub fn hessian(&mut self, u: &[f64], grad: &mut [f64], values: &mut [f64]) -> Result<f64, AssemblyError> {
-        self.check_len(u)?;
-        self.update_rotations(u, true);
         grad.fill(0.0);
+        values.fill(0.0);
+        self.hessian_add(u, grad, values)
+    }
+
+    /// [`IncrementalPotential::hessian`] added into `grad` and `values` instead of overwriting them.
+    ///
+    /// For callers whose buffers are zero already (Newton's method zeroes them before every call): it
+    /// saves a pass over the Hessian's values, 34 MB at 157k unknowns.
+    ///
+    /// # Errors
+    /// As [`IncrementalPotential::value`].
+    pub fn hessian_add(&mut self, u: &[f64], grad: &mut [f64], values: &mut [f64]) -> Result<f64, AssemblyError> {
+        self.check_len(u)?;
+        self.update_rotations(u, RotationOrder::SecondDerivatives);
         let Some(mut dynamic) = self.dynamic.take() else {
-            values.fill(0.0);
             let eval = self.evaluation(u);
             let pattern = &self.pattern;
             return self
@@ -364,7 +380,6 @@ impl IncrementalPotential {
                 Ok(acc + e)
             })
         };
-        values.fill(0.0);
         for (v, &k) in dynamic.fixed_values.iter().zip(&dynamic.map_fixed) {
             values[k as usize] += v;
         }
@@ -392,7 +407,7 @@ impl IncrementalPotential {
     /// A non-finite contribution.
     pub fn elastic_energy(&mut self) -> Result<f64, AssemblyError> {
         let u = vec![0.0; self.n_dofs()];
-        self.update_rotations(&u, false);
+        self.update_rotations(&u, RotationOrder::Values);
         let eval = self.evaluation(&u);
         self.parts.shells.iter().try_fold(0.0, |acc, s| Ok(acc + s.value(&eval)?))
     }
@@ -460,4 +475,14 @@ fn fill<T: Send>(buf: &mut [T], par: Parallelism, f: impl Fn(usize) -> T + Sync)
         Parallelism::Sequential => buf.iter_mut().enumerate().for_each(|(k, x)| *x = f(k)),
         Parallelism::Rayon => buf.par_iter_mut().enumerate().with_min_len(256).for_each(|(k, x)| *x = f(k)),
     }
+}
+
+/// How much of the nodal rotations an evaluation needs: energies read the matrices, gradients their
+/// first derivatives, Hessians their second derivatives as well (the second derivatives cost about
+/// as much as the rest of a jet, and no gradient reads them).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum RotationOrder {
+    Values,
+    FirstDerivatives,
+    SecondDerivatives,
 }

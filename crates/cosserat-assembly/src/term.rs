@@ -19,7 +19,8 @@ use nalgebra::Matrix3;
 pub enum NodeRotations {
     /// Rotation matrices only (energy evaluations).
     Matrices(Vec<Matrix3<f64>>),
-    /// Rotation jets (gradient and Hessian evaluations).
+    /// Rotation jets: to first order in gradient evaluations (`d2` is zero there), to second order in
+    /// Hessian evaluations.
     Jets(Vec<RotationJet>),
 }
 

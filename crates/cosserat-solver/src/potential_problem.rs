@@ -45,7 +45,8 @@ impl NewtonProblem for PotentialProblem<'_> {
     }
 
     fn hessian(&mut self, x: &[f64], grad: &mut [f64], hess_values: &mut [f64]) -> Result<f64, ProblemError> {
-        self.potential.hessian(x, grad, hess_values).map_err(map_error)
+        // Newton's method zeroes both buffers before the call.
+        self.potential.hessian_add(x, grad, hess_values).map_err(map_error)
     }
 
     fn fixed_dofs(&self) -> Option<&[bool]> {

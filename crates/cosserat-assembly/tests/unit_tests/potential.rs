@@ -119,6 +119,40 @@ fn assembled_derivatives_match_finite_differences() {
     check_derivatives(ElementPair::Tri6Tri6, ShellModel::Shell, 3);
 }
 
+/// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
+/// one of `gradient` (which fills its rotations to first order only).
+#[test]
+fn hessian_add_accumulates_and_its_gradient_is_the_gradient() {
+    let mut rng = ChaCha8Rng::seed_from_u64(4);
+    let mut p = strip(ElementPair::Tri6Tri3, 3, 2, ShellModel::Plate, true).potential;
+    decorate(&mut p, &mut rng);
+    let n = p.n_dofs();
+    let nnz = p.pattern().nnz();
+    let u: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
+    let (mut g, mut h) = (vec![0.0; n], vec![0.0; nnz]);
+    let e = p.hessian(&u, &mut g, &mut h).unwrap();
+    let g_base: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let h_base: Vec<f64> = (0..nnz).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let (mut g_add, mut h_add) = (g_base.clone(), h_base.clone());
+    assert_eq!(
+        p.hessian_add(&u, &mut g_add, &mut h_add).unwrap().to_bits(),
+        e.to_bits()
+    );
+    let close = |sum: &[f64], base: &[f64], part: &[f64]| {
+        let scale = part.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+        sum.iter()
+            .zip(base)
+            .zip(part)
+            .all(|((s, b), x)| (s - b - x).abs() <= 1e-13 * scale)
+    };
+    assert!(close(&g_add, &g_base, &g), "gradient not added");
+    assert!(close(&h_add, &h_base, &h), "Hessian not added");
+    let mut g_only = vec![0.0; n];
+    let e_only = p.gradient(&u, &mut g_only).unwrap();
+    assert!((e_only - e).abs() <= 1e-14 * e.abs().max(1.0));
+    assert!(close(&g_only, &vec![0.0; n], &g), "gradients differ");
+}
+
 #[test]
 fn a_plate_at_rest_without_loads_has_zero_energy_and_gradient() {
     for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3, ElementPair::Tri6Tri6] {
