@@ -110,14 +110,11 @@ impl Domain {
             return Ok(None);
         };
         let first_separator_supernode = sn.supernode_end().partition_point(|&end| end <= n_own);
-        let tallest = (0..sn.n_supernodes())
-            .map(|s| sn.supernode_end()[s] - sn.supernode_begin()[s] + sn.supernode(s).pattern().len())
-            .max()
-            .unwrap_or(0);
-        let widest = (0..sn.n_supernodes())
-            .map(|s| sn.supernode_end()[s] - sn.supernode_begin()[s])
-            .max()
-            .unwrap_or(0);
+        // The substitutions' scratch: the tallest supernode's rows and the widest one's columns.
+        let (tallest, widest) = (0..sn.n_supernodes()).fold((0, 0), |(tall, wide), s| {
+            let width = sn.supernode_end()[s] - sn.supernode_begin()[s];
+            (tall.max(width + sn.supernode(s).pattern().len()), wide.max(width))
+        });
         let l_values = super::memory::mapped_zeros(symbolic.len_val());
         // faer's supernodes nest (each front's rows are rows of its parent); if they did not, the
         // whole matrix is factorised instead.
