@@ -141,6 +141,8 @@ impl RotationPenalty {
         let jet = eval.rotations.jet(k);
         let s = self.stiffness;
         let (mut e, mut g, mut h) = (0.0, Vector3::zeros(), Matrix3::zeros());
+        // The penalised columns' misfits, zero elsewhere: `Σ_j d_j · ∂²R_j/∂ω_a∂ω_b = ⟨∂²R/∂ω_a∂ω_b, D⟩`.
+        let mut misfit = Matrix3::zeros();
         for j in (0..3).filter(|&j| self.columns[j]) {
             let d = jet.r.column(j) - self.targets[n].column(j);
             e += 0.5 * s * d.norm_squared();
@@ -148,11 +150,15 @@ impl RotationPenalty {
                 g[a] += s * d.dot(&jet.d1[a].column(j));
                 if with_hessian {
                     for b in 0..3 {
-                        h[(a, b)] +=
-                            s * (jet.d1[a].column(j).dot(&jet.d1[b].column(j)) + d.dot(&jet.d2[a][b].column(j)));
+                        h[(a, b)] += s * jet.d1[a].column(j).dot(&jet.d1[b].column(j));
                     }
                 }
             }
+            misfit.set_column(j, &d);
+        }
+        if with_hessian {
+            let second = jet.second_contraction(&misfit);
+            h += Matrix3::from_fn(|a, b| s * second[a][b]);
         }
         (e, g, h)
     }

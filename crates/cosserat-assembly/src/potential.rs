@@ -291,11 +291,7 @@ impl IncrementalPotential {
         match &mut self.rotations {
             NodeRotations::Jets(buf) => {
                 buf.resize(q.len(), RotationJet::constant(Matrix3::identity()));
-                if order == RotationOrder::SecondDerivatives {
-                    fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
-                } else {
-                    fill(buf, par, |k| RotationJet::of_update_first_order(&q[k], &omega(k), dt));
-                }
+                fill(buf, par, |k| RotationJet::of_update(&q[k], &omega(k), dt));
             }
             NodeRotations::Matrices(buf) => {
                 buf.resize(q.len(), Matrix3::identity());
@@ -332,7 +328,7 @@ impl IncrementalPotential {
     /// As [`IncrementalPotential::value`].
     pub fn gradient(&mut self, u: &[f64], grad: &mut [f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, RotationOrder::FirstDerivatives);
+        self.update_rotations(u, RotationOrder::Derivatives);
         grad.fill(0.0);
         let eval = self.evaluation(u);
         self.terms().try_fold(0.0, |acc, t| Ok(acc + t.gradient(&eval, grad)?))
@@ -358,7 +354,7 @@ impl IncrementalPotential {
     /// As [`IncrementalPotential::value`].
     pub fn hessian_add(&mut self, u: &[f64], grad: &mut [f64], values: &mut [f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, RotationOrder::SecondDerivatives);
+        self.update_rotations(u, RotationOrder::Derivatives);
         let Some(mut dynamic) = self.dynamic.take() else {
             let eval = self.evaluation(u);
             let pattern = &self.pattern;
@@ -477,12 +473,11 @@ fn fill<T: Send>(buf: &mut [T], par: Parallelism, f: impl Fn(usize) -> T + Sync)
     }
 }
 
-/// How much of the nodal rotations an evaluation needs: energies read the matrices, gradients their
-/// first derivatives, Hessians their second derivatives as well (the second derivatives cost about
-/// as much as the rest of a jet, and no gradient reads them).
+/// How much of the nodal rotations an evaluation needs: energies read the matrices, gradients and
+/// Hessians the jets (whose second derivatives are kept in factored form and cost almost nothing
+/// extra, see [`RotationJet`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 enum RotationOrder {
     Values,
-    FirstDerivatives,
-    SecondDerivatives,
+    Derivatives,
 }

@@ -229,14 +229,12 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         value
     }
 
-    /// Calls `f(shape, input, density)` at each quadrature point of element `e`, with the point's
-    /// rotation jet to second order when `second_order` (else to first order).
+    /// Calls `f(shape, input, density)` at each quadrature point of element `e`.
     #[inline]
     fn for_each_point(
         &self,
         e: usize,
         eval: &Evaluation<'_>,
-        second_order: bool,
         mut f: impl FnMut(&PointShape<NU, NR>, &PointInput<'_, NR>, &DensityMatrix),
     ) {
         let x = self.positions(e, eval);
@@ -248,11 +246,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             let shape = &self.disc.rest.shapes[p];
             let q = &eval.state.q_points[self.disc.first_point + p];
             let omega_g = point_omega(shape, &omega);
-            let point_jet = if second_order {
-                RotationJet::of_update(q, &omega_g, eval.dt)
-            } else {
-                RotationJet::of_update_first_order(q, &omega_g, eval.dt)
-            };
+            let point_jet = RotationJet::of_update(q, &omega_g, eval.dt);
             let input = PointInput {
                 f_hat: f_hat(shape, &x),
                 point_jet: &point_jet,
@@ -271,7 +265,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         out.value = 0.0;
         out.gradient.fill(0.0);
         if !with_hessian {
-            self.for_each_point(e, eval, false, |shape, input, d| {
+            self.for_each_point(e, eval, |shape, input, d| {
                 let (mut value, mut gradient) = point_gradient::<NU, NR, NL>(shape, input, d, self.disc.axl);
                 if let Some(m) = &self.disc.volume {
                     let (v, gv, _) = volume_hessian(&input.f_hat, m);
@@ -291,7 +285,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             out.hessian.fill(0.0);
         }
         let mut first = true;
-        self.for_each_point(e, eval, true, |shape, input, d| {
+        self.for_each_point(e, eval, |shape, input, d| {
             point_hessian_into(shape, input, d, self.disc.axl, local);
             if let Some(m) = &self.disc.volume {
                 let (v, gv, hv) = volume_hessian(&input.f_hat, m);

@@ -208,18 +208,40 @@ fn unit_anticommutator(i: usize, j: usize) -> Matrix3<f64> {
 
 /// The value and the first and second derivatives of `ω ↦ R(Φ(q, ω, Δt))` at one `ω`.
 ///
-/// This is where the nonlinearity of a rotation sits inside the energy. Computing its derivatives with a
-/// three-direction second-order dual number and chaining everything else (bilinear strain maps and a
-/// quadratic density) by hand gives the exact Hessian at a fraction of the cost of differentiating the
-/// whole energy (see `docs/performance.md`).
+/// This is where the nonlinearity of a rotation sits inside the energy. Computing its derivatives in
+/// closed form and chaining everything else (bilinear strain maps and a quadratic density) by hand gives
+/// the exact Hessian at a fraction of the cost of differentiating the whole energy (see
+/// `docs/performance.md`).
+///
+/// The second derivatives are kept in factored form. The kernels never need the nine matrices
+/// `∂²R/∂ω_i∂ω_j` themselves, only their inner products with one matrix `W`
+/// ([`RotationJet::second_contraction`]), and those cost a tenth of forming the matrices.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotationJet {
     /// `R`.
     pub r: Matrix3<f64>,
     /// `∂R/∂ω_i` for `i = 0, 1, 2`.
     pub d1: [Matrix3<f64>; 3],
-    /// `∂²R/∂ω_i∂ω_j` (symmetric in `i, j`).
-    pub d2: [[Matrix3<f64>; 3]; 3],
+    second: SecondFactors,
+}
+
+/// The factors of `∂²R/∂ω_i∂ω_j = Δt² (a s_ij + B_j s_i + B_i s_j + ½ s (E_i E_j + E_j E_i)) R(q)` with
+/// `a = [v]× + ½ [v]×²`, `B_i = ∂a/∂v_i`, `s_i = ∂s/∂v_i` and `s_ij = ∂²s/∂v_i∂v_j` (see
+/// [`RotationJet::of_update`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct SecondFactors {
+    /// `R(q)`, the rotation at the start of the step.
+    r0: Matrix3<f64>,
+    a: Matrix3<f64>,
+    b: [Matrix3<f64>; 3],
+    /// `s_i`.
+    ds: [f64; 3],
+    /// `s_ij`.
+    dds: [[f64; 3]; 3],
+    /// `½ s`.
+    half_s: f64,
+    /// `Δt²`; zero for a constant jet.
+    dt2: f64,
 }
 
 impl RotationJet {
@@ -231,19 +253,6 @@ impl RotationJet {
     /// quaternion update) to round-off and costs a fraction of it.
     #[inline]
     pub fn of_update(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {
-        Self::of_update_to_order(q, omega, dt, true)
-    }
-
-    /// The jet of [`RotationJet::of_update`] truncated after the first derivatives: `d2` is zero.
-    ///
-    /// For evaluations that need only the energy and its gradient (line searches), which never read
-    /// `d2`; it costs about half of the full jet.
-    #[inline]
-    pub fn of_update_first_order(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {
-        Self::of_update_to_order(q, omega, dt, false)
-    }
-
-    fn of_update_to_order(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64, second: bool) -> Self {
         let r0 = rotation_matrix(q);
         let v = omega * dt;
         let s = 4.0 / (4.0 + v.norm_squared());
@@ -261,30 +270,61 @@ impl RotationJet {
         }
         // ∂s/∂v_i = −s²/2 v_i; ∂²s/∂v_i∂v_j = −s²/2 δ_ij + s³/2 v_i v_j.
         let ds = [-0.5 * s * s * v[0], -0.5 * s * s * v[1], -0.5 * s * s * v[2]];
-        let mut jet = Self {
+        let dds = std::array::from_fn(|i| {
+            std::array::from_fn(|j| 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 })
+        });
+        Self {
             r: (Matrix3::identity() + a * s) * r0,
-            d1: [Matrix3::zeros(); 3],
-            d2: [[Matrix3::zeros(); 3]; 3],
-        };
-        for i in 0..3 {
-            jet.d1[i] = (a * ds[i] + b[i] * s) * r0 * dt;
+            d1: std::array::from_fn(|i| (a * ds[i] + b[i] * s) * r0 * dt),
+            second: SecondFactors {
+                r0,
+                a,
+                b,
+                ds,
+                dds,
+                half_s: 0.5 * s,
+                dt2: dt * dt,
+            },
         }
-        if !second {
-            return jet;
-        }
-        for i in 0..3 {
-            for j in 0..3 {
-                let dds = 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 };
-                jet.d2[i][j] =
-                    (a * dds + b[j] * ds[i] + b[i] * ds[j] + unit_anticommutator(i, j) * (0.5 * s)) * r0 * (dt * dt);
-            }
-        }
-        jet
     }
 
-    /// The same jet as [`RotationJet::of_update`], computed with a three-direction second-order dual
-    /// number through [`quaternion_update`] and [`rotation_matrix`] (the reference for tests).
-    pub fn of_update_dual(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Self {
+    /// `∂²R/∂ω_i∂ω_j` (symmetric in `i, j`), formed from the factors.
+    ///
+    /// For tests and for callers that need the matrices; the kernels use
+    /// [`RotationJet::second_contraction`].
+    pub fn second_derivative(&self, i: usize, j: usize) -> Matrix3<f64> {
+        let f = &self.second;
+        (f.a * f.dds[i][j] + f.b[j] * f.ds[i] + f.b[i] * f.ds[j] + unit_anticommutator(i, j) * f.half_s) * f.r0 * f.dt2
+    }
+
+    /// The inner products `⟨∂²R/∂ω_i∂ω_j, W⟩` for all `i, j` (a symmetric 3 × 3 array).
+    ///
+    /// With `M_ij` the matrix polynomial of the factors, `⟨M_ij R(q), W⟩ = ⟨M_ij, W R(q)ᵀ⟩`: one matrix
+    /// product and four inner products instead of nine matrix products.
+    #[inline]
+    pub fn second_contraction(&self, w: &Matrix3<f64>) -> [[f64; 3]; 3] {
+        let f = &self.second;
+        let z = w * f.r0.transpose();
+        let za = f.a.component_mul(&z).sum();
+        let zb: [f64; 3] = std::array::from_fn(|i| f.b[i].component_mul(&z).sum());
+        let trace = z.trace();
+        let mut c = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                // ⟨E_i E_j + E_j E_i, Z⟩ = Z_ij + Z_ji − 2 δ_ij tr Z (see `unit_anticommutator`).
+                let anti = z[(i, j)] + z[(j, i)] - if i == j { 2.0 * trace } else { 0.0 };
+                let x = f.dt2 * (f.dds[i][j] * za + f.ds[i] * zb[j] + f.ds[j] * zb[i] + f.half_s * anti);
+                c[i][j] = x;
+                c[j][i] = x;
+            }
+        }
+        c
+    }
+
+    /// The same jet as [`RotationJet::of_update`] with every derivative formed as a matrix, computed
+    /// with a three-direction second-order dual number through [`quaternion_update`] and
+    /// [`rotation_matrix`] (the reference for tests).
+    pub fn of_update_dual(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> DenseRotationJet {
         type D = Dual2SVec64<3>;
         let w: Vector3<D> = Vector3::from_fn(|i, _| {
             let mut d = D::from_re(omega[i]);
@@ -292,7 +332,7 @@ impl RotationJet {
             d
         });
         let rd = rotation_matrix(&quaternion_update(q, &w, dt));
-        Self::from_dual_matrix(&rd)
+        DenseRotationJet::from_dual_matrix(&rd)
     }
 
     /// The jet of a constant rotation (all derivatives zero).
@@ -300,12 +340,55 @@ impl RotationJet {
         Self {
             r,
             d1: [Matrix3::zeros(); 3],
-            d2: [[Matrix3::zeros(); 3]; 3],
+            second: SecondFactors {
+                r0: r,
+                a: Matrix3::zeros(),
+                b: [Matrix3::zeros(); 3],
+                ds: [0.0; 3],
+                dds: [[0.0; 3]; 3],
+                half_s: 0.0,
+                dt2: 0.0,
+            },
         }
     }
 
+    /// Every derivative as a matrix (the six distinct second derivatives formed once, the other three
+    /// copied).
+    pub fn dense(&self) -> DenseRotationJet {
+        let mut d2 = [[Matrix3::zeros(); 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                d2[i][j] = self.second_derivative(i, j);
+                d2[j][i] = d2[i][j];
+            }
+        }
+        DenseRotationJet {
+            r: self.r,
+            d1: self.d1,
+            d2,
+        }
+    }
+}
+
+/// A rotation jet with its second derivatives formed as matrices: the form of the dual-number
+/// reference, and of [`RotationJet::dense`] for tests and for callers that want the matrices.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DenseRotationJet {
+    /// `R`.
+    pub r: Matrix3<f64>,
+    /// `∂R/∂ω_i`.
+    pub d1: [Matrix3<f64>; 3],
+    /// `∂²R/∂ω_i∂ω_j`.
+    pub d2: [[Matrix3<f64>; 3]; 3],
+}
+
+impl DenseRotationJet {
     fn from_dual_matrix(rd: &Matrix3<Dual2SVec64<3>>) -> Self {
-        let mut jet = Self::constant(rd.map(|x| x.re));
+        let mut jet = Self {
+            r: rd.map(|x| x.re),
+            d1: [Matrix3::zeros(); 3],
+            d2: [[Matrix3::zeros(); 3]; 3],
+        };
         for (idx, x) in rd.iter().enumerate() {
             let (row, col) = (idx % 3, idx / 3);
             let g = x.v1.unwrap_generic(Const::<1>, Const::<3>);
@@ -333,11 +416,8 @@ mod tests {
             (Vector3::zeros(), 0.01),
             (Vector3::new(1.0, 2.0, -3.0), 1.0),
         ] {
-            let a = RotationJet::of_update(&q, &omega, dt);
+            let a = RotationJet::of_update(&q, &omega, dt).dense();
             let b = RotationJet::of_update_dual(&q, &omega, dt);
-            let first = RotationJet::of_update_first_order(&q, &omega, dt);
-            assert_eq!((first.r, first.d1), (a.r, a.d1));
-            assert!(first.d2.iter().flatten().all(|m| *m == Matrix3::zeros()));
             assert!((a.r - b.r).amax() < 1e-14);
             for i in 0..3 {
                 assert!((a.d1[i] - b.d1[i]).amax() < 1e-14 * (1.0 + dt), "d1 {i}");
@@ -346,6 +426,25 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn second_contraction_is_the_inner_product_with_the_second_derivatives() {
+        let q = Quaternion::new(0.3, 0.5, -0.7, 0.2).normalize();
+        let w = Matrix3::new(0.4, -1.3, 2.2, 0.7, 0.05, -0.9, 1.6, -0.2, 0.8);
+        for (omega, dt) in [(Vector3::new(-1.2, 0.4, 2.5), 0.1), (Vector3::zeros(), 0.5)] {
+            let jet = RotationJet::of_update(&q, &omega, dt);
+            let c = jet.second_contraction(&w);
+            let scale = w.amax() * dt * dt;
+            for i in 0..3 {
+                for j in 0..3 {
+                    let expected = jet.second_derivative(i, j).component_mul(&w).sum();
+                    assert!((c[i][j] - expected).abs() < 1e-14 * scale, "({i}, {j})");
+                }
+            }
+        }
+        let constant = RotationJet::constant(rotation_matrix(&q));
+        assert_eq!(constant.second_contraction(&w), [[0.0; 3]; 3]);
     }
 
     #[test]

@@ -249,48 +249,74 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
     grad
 }
 
-/// `Jᵀ D J` for the strain Jacobian `J` of a point, given its rotation columns (`jac`, whose `F̂`
-/// columns are ignored) and `QᵀRᵀ`.
+/// `Jᵀ D J` for the strain Jacobian `J` of a point, given the transpose of its rotation columns
+/// (`jac_t`, row `c` = column `c` of `J`; its `F̂` rows are ignored) and `QᵀRᵀ`.
 ///
 /// The `F̂_γ` columns of `J` are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere, so `D J` needs a
 /// 3-column product for them, and the `F̂` rows of `Jᵀ (D J)` are `RQ (D J)` restricted to the rows of
-/// `Ê_γ`. Only the rotation columns are dense, and of their block only the upper triangle is computed.
-/// `D J` runs over the nonzero entries of `D` (see [`DensityMatrix`]).
+/// `Ê_γ`. Only the rotation columns are dense. `D J` runs over the nonzero entries of `D` (see
+/// [`DensityMatrix`]).
+///
+/// Both `J` and `D J` are held transposed, so that every product here is a sum of scaled contiguous
+/// columns: each entry of the result is a short sum of independent products that the compiler keeps
+/// in vector registers, where dot products of strain columns would each be one long chain of
+/// dependent additions.
 #[inline]
 fn local_hessian_from_strains<const NL: usize>(
-    jac: &SMatrix<f64, 12, NL>,
+    jac_t: &SMatrix<f64, NL, 12>,
     qrt: &Matrix3<f64>,
     d: &DensityMatrix,
     h: &mut SMatrix<f64, NL, NL>,
 ) {
-    let mut dj = SMatrix::<f64, 12, NL>::zeros();
-    for e in d.variable_entries() {
-        let (r, b, v) = (e.row as usize, e.col as usize, e.value);
-        if b < 6 {
-            let (gamma, a) = (b / 3, b % 3);
-            for c in 0..3 {
-                dj[(r, 3 * gamma + c)] += v * qrt[(a, c)];
+    // Column `r` of `dj_t` is row `r` of `D J`.
+    let mut dj_t = SMatrix::<f64, NL, 12>::zeros();
+    {
+        let js = jac_t.as_slice();
+        let ds = dj_t.as_mut_slice();
+        for e in d.variable_entries() {
+            let (r, b, v) = (e.row as usize, e.col as usize, e.value);
+            let dst = &mut ds[r * NL..(r + 1) * NL];
+            if b < 6 {
+                let (gamma, a) = (b / 3, b % 3);
+                for c in 0..3 {
+                    dst[3 * gamma + c] += v * qrt[(a, c)];
+                }
+            }
+            let src = &js[b * NL..(b + 1) * NL];
+            for (o, x) in dst[6..].iter_mut().zip(&src[6..]) {
+                *o += v * x;
             }
         }
-        for c in 6..NL {
-            dj[(r, c)] += v * jac[(b, c)];
-        }
     }
-    // Every entry of `h` is written below.
-    let rq = qrt.transpose();
+    // Every entry of `h` is written below. Columns `3γ + a` (and by symmetry rows): `Jᵀ D J` on the `F̂`
+    // side is `RQ` applied to the rows of `Ê_γ` of `D J`.
     for gamma in 0..2 {
-        // `rq * dj.fixed_rows(3γ)`, written in place.
-        h.fixed_rows_mut::<3>(3 * gamma)
-            .gemm(1.0, &rq, &dj.fixed_rows::<3>(3 * gamma), 0.0);
+        for a in 0..3 {
+            let mut col = SVector::<f64, NL>::zeros();
+            for m in 0..3 {
+                col.axpy(qrt[(m, a)], &dj_t.column(3 * gamma + m), 1.0);
+            }
+            h.set_column(3 * gamma + a, &col);
+        }
     }
     for c in 6..NL {
         for r in 0..6 {
-            h[(c, r)] = h[(r, c)];
+            h[(r, c)] = h[(c, r)];
+        }
+        // Column `c` of the rotation block, `Σ_s (D J)[s, c] J[s, ·]`, of which rows `6..=c` are kept
+        // (and mirrored), so that the result is exactly symmetric.
+        let mut col = [0.0; NL];
+        let js = jac_t.as_slice();
+        for s in 0..12 {
+            let w = dj_t[(c, s)];
+            let src = &js[s * NL..(s + 1) * NL];
+            for (o, x) in col[6..].iter_mut().zip(&src[6..]) {
+                *o += w * x;
+            }
         }
         for r in 6..=c {
-            let v = jac.column(r).dot(&dj.column(c));
-            h[(r, c)] = v;
-            h[(c, r)] = v;
+            h[(r, c)] = col[r];
+            h[(c, r)] = col[r];
         }
     }
 }
@@ -326,9 +352,10 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     let r = &jet.r;
     let rt = r.transpose();
 
-    // Jacobian of the 12 variable strains with respect to the locals. Its `F̂` columns are `QᵀRᵀ` on the
-    // rows of `Ê_γ` and zero elsewhere; they are left out here and used in that form by `local_hessian_from_strains`.
-    let mut jac = SMatrix::<f64, 12, NL>::zeros();
+    // Jacobian of the 12 variable strains with respect to the locals, transposed (row `c` = derivative
+    // along local `c`). Its `F̂` columns are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere; they are left
+    // out here and used in that form by `local_hessian_from_strains`.
+    let mut jac_t = SMatrix::<f64, NL, 12>::zeros();
     let qrt = qt * rt;
     // Strain derivatives along the point rotation (the factor M_k is applied per node below).
     let mut de_dp = [[Vector3::zeros(); 3]; 2];
@@ -351,15 +378,15 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
                 let de = de_dp[gamma][i] * mk;
                 let dg = dg_dp[gamma][i] * mk + dn * shape.rot_grad[(gamma, k)];
                 for a in 0..3 {
-                    jac[(3 * gamma + a, col)] = de[a];
-                    jac[(6 + 3 * gamma + a, col)] = dg[a];
+                    jac_t[(col, 3 * gamma + a)] = de[a];
+                    jac_t[(col, 6 + 3 * gamma + a)] = dg[a];
                 }
             }
         }
     }
 
     let hessian = &mut out.hessian;
-    local_hessian_from_strains(&jac, &qrt, d, hessian);
+    local_hessian_from_strains(&jac_t, &qrt, d, hessian);
 
     // Second-order terms of the bilinear strain maps, weighted by σ.
     let d1w: [[Vector3<f64>; 2]; 3] = std::array::from_fn(|i| [jet.d1[i] * st.w[0], jet.d1[i] * st.w[1]]);
@@ -377,13 +404,7 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
         }
     }
     // ⟨R_ij, Y + Z⟩, symmetric in i, j.
-    let mut hpp = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in i..3 {
-            hpp[i][j] = frob(&jet.d2[i][j], &st.yz);
-            hpp[j][i] = hpp[i][j];
-        }
-    }
+    let hpp = jet.second_contraction(&st.yz);
     // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j.
     let mut cross = [[[0.0; 3]; 3]; NR];
     for k in 0..NR {
@@ -397,8 +418,8 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     }
     for k in 0..NR {
         let mk = shape.rot_values[k];
-        let ru = &st.ru[k];
-        let nj = input.node_jets[k];
+        // ⟨R U_k, R_k,ij⟩.
+        let node_second = input.node_jets[k].second_contraction(&st.ru[k]);
         for l in 0..NR {
             let ml = shape.rot_values[l];
             let mkml = mk * ml;
@@ -406,7 +427,7 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
                 for j in 0..3 {
                     let mut v = mkml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
                     if k == l {
-                        v += frob(ru, &nj.d2[i][j]);
+                        v += node_second[i][j];
                     }
                     hessian[(6 + 3 * k + i, 6 + 3 * l + j)] += v;
                 }

@@ -223,7 +223,7 @@ pub fn point_hessian<const N: usize, const NL: usize>(
             }
         }
     }
-    let hpp: [[f64; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| frob(&jet.d2[i][j], &st.yz)));
+    let hpp = jet.second_contraction(&st.yz);
     // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j.
     let mut cross = [[[0.0; 3]; 3]; N];
     for k in 0..N {
@@ -237,15 +237,15 @@ pub fn point_hessian<const N: usize, const NL: usize>(
     }
     for k in 0..N {
         let mk = point.values[k];
-        let ru = r * st.u[k];
-        let nj = state.node_jets[k];
+        // ⟨R U_k, R_k,ij⟩.
+        let node_second = state.node_jets[k].second_contraction(&(r * st.u[k]));
         for l in 0..N {
             let ml = point.values[l];
             for i in 0..3 {
                 for j in 0..3 {
                     let mut v = mk * ml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
                     if k == l {
-                        v += frob(&ru, &nj.d2[i][j]);
+                        v += node_second[i][j];
                     }
                     hessian[(9 + 3 * k + i, 9 + 3 * l + j)] += v;
                 }

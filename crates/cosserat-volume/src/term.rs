@@ -229,11 +229,7 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
         let node_jets: [&RotationJet; N] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
         let q = &eval.state.q_points[self.disc.first_point + e];
         let omega_g = point_omega(point, &omega);
-        let point_jet = if with_hessian {
-            RotationJet::of_update(q, &omega_g, eval.dt)
-        } else {
-            RotationJet::of_update_first_order(q, &omega_g, eval.dt)
-        };
+        let point_jet = RotationJet::of_update(q, &omega_g, eval.dt);
         let state = PointState {
             f: deformation_gradient(point, &x),
             point_jet: &point_jet,
