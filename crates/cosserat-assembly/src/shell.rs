@@ -192,12 +192,20 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NU] {
         let d = &self.disc.disp_elements[e];
-        std::array::from_fn(|i| eval.state.x[d[i]] + eval.layout.velocity(eval.u, d[i]) * eval.dt)
+        let mut x = [Vector3::zeros(); NU];
+        for (x, &i) in x.iter_mut().zip(d) {
+            *x = eval.state.x[i] + eval.layout.velocity(eval.u, i) * eval.dt;
+        }
+        x
     }
 
     fn omegas(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NR] {
         let r = &self.disc.rot_elements[e];
-        std::array::from_fn(|k| eval.layout.omega(eval.u, r[k]))
+        let mut omega = [Vector3::zeros(); NR];
+        for (o, &k) in omega.iter_mut().zip(r) {
+            *o = eval.layout.omega(eval.u, k);
+        }
+        omega
     }
 
     fn element_value(&self, e: usize, eval: &Evaluation<'_>) -> f64 {

@@ -222,6 +222,10 @@ pub struct RotationJet {
     pub r: Matrix3<f64>,
     /// `∂R/∂ω_i` for `i = 0, 1, 2`.
     pub d1: [Matrix3<f64>; 3],
+    /// `Ξ = Δt s (I + ½ [v]×)`, whose columns `ξ_i` are the spatial angular velocities of the first
+    /// derivatives: `∂R/∂ω_i = [ξ_i]× R`. Kernels contract with `ξ_i` where a product with `∂R/∂ω_i`
+    /// would cost a matrix product.
+    pub generators: Matrix3<f64>,
     second: SecondFactors,
 }
 
@@ -270,12 +274,20 @@ impl RotationJet {
         }
         // ∂s/∂v_i = −s²/2 v_i; ∂²s/∂v_i∂v_j = −s²/2 δ_ij + s³/2 v_i v_j.
         let ds = [-0.5 * s * s * v[0], -0.5 * s * s * v[1], -0.5 * s * s * v[2]];
-        let dds = std::array::from_fn(|i| {
-            std::array::from_fn(|j| 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 })
-        });
+        // Explicit loops rather than `array::from_fn`, whose closures were not inlined in this hot path.
+        let mut dds = [[0.0; 3]; 3];
+        let mut d1 = [Matrix3::zeros(); 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                dds[i][j] = 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 };
+            }
+            d1[i] = (a * ds[i] + b[i] * s) * r0 * dt;
+        }
         Self {
             r: (Matrix3::identity() + a * s) * r0,
-            d1: std::array::from_fn(|i| (a * ds[i] + b[i] * s) * r0 * dt),
+            d1,
+            // ∂cay/∂v_i cayᵀ = [s (I + ½ [v]×) e_i]× (the right-trivialised derivative of the Cayley map).
+            generators: (Matrix3::identity() + k * 0.5) * (dt * s),
             second: SecondFactors {
                 r0,
                 a,
@@ -306,7 +318,11 @@ impl RotationJet {
         let f = &self.second;
         let z = w * f.r0.transpose();
         let za = f.a.component_mul(&z).sum();
-        let zb: [f64; 3] = std::array::from_fn(|i| f.b[i].component_mul(&z).sum());
+        let zb = [
+            f.b[0].component_mul(&z).sum(),
+            f.b[1].component_mul(&z).sum(),
+            f.b[2].component_mul(&z).sum(),
+        ];
         let trace = z.trace();
         let mut c = [[0.0; 3]; 3];
         for i in 0..3 {
@@ -340,6 +356,7 @@ impl RotationJet {
         Self {
             r,
             d1: [Matrix3::zeros(); 3],
+            generators: Matrix3::zeros(),
             second: SecondFactors {
                 r0: r,
                 a: Matrix3::zeros(),
@@ -445,6 +462,18 @@ mod tests {
         }
         let constant = RotationJet::constant(rotation_matrix(&q));
         assert_eq!(constant.second_contraction(&w), [[0.0; 3]; 3]);
+    }
+
+    #[test]
+    fn first_derivatives_are_the_generators_times_the_rotation() {
+        let q = Quaternion::new(-0.2, 0.6, 0.1, 0.7).normalize();
+        for (omega, dt) in [(Vector3::new(2.0, -0.7, 1.4), 0.3), (Vector3::zeros(), 0.01)] {
+            let jet = RotationJet::of_update(&q, &omega, dt);
+            for i in 0..3 {
+                let xi = jet.generators.column(i).into_owned();
+                assert!((skew(&xi) * jet.r - jet.d1[i]).amax() < 1e-15 * (1.0 + dt), "{i}");
+            }
+        }
     }
 
     #[test]

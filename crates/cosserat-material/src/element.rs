@@ -161,8 +161,12 @@ fn map_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize,
     let b = &shape.disp_grad;
     // K_iδ = Σ_γ B_iγ H[F̂_γ, F̂_δ] and P_ik = Σ_γ B_iγ H[F̂_γ, ω_k].
     let hff = [[block(h, 0, 0), block(h, 0, 3)], [block(h, 3, 0), block(h, 3, 3)]];
-    let hfw: [[Matrix3<f64>; NR]; 2] =
-        std::array::from_fn(|gamma| std::array::from_fn(|k| block(h, 3 * gamma, 6 + 3 * k)));
+    let mut hfw = [[Matrix3::zeros(); NR]; 2];
+    for (gamma, row) in hfw.iter_mut().enumerate() {
+        for (k, m) in row.iter_mut().enumerate() {
+            *m = block(h, 3 * gamma, 6 + 3 * k);
+        }
+    }
     let s2 = dt * dt * weight;
     let s1 = dt * weight;
     for i in 0..NU {

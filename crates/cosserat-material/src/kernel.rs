@@ -105,6 +105,23 @@ fn frob(a: &Matrix3<f64>, b: &Matrix3<f64>) -> f64 {
     a.component_mul(b).sum()
 }
 
+/// The vector `m` with `⟨[ξ]×, A Bᵀ⟩ = ξ · m` for every `ξ` (twice the axial vector of the skew part of
+/// `A Bᵀ`), from the six off-diagonal entries of `A Bᵀ` only.
+///
+/// With a rotation derivative `∂R/∂ω_i = [ξ_i]× R`, inner products `⟨∂R/∂ω_i M, N⟩` for all `i` are
+/// `Ξᵀ m(N, R M)`: one such vector instead of three matrix products.
+#[inline]
+fn skew_pairing(a: &Matrix3<f64>, b: &Matrix3<f64>) -> Vector3<f64> {
+    let row = |m: &Matrix3<f64>, r: usize| Vector3::new(m[(r, 0)], m[(r, 1)], m[(r, 2)]);
+    let (a0, a1, a2) = (row(a, 0), row(a, 1), row(a, 2));
+    let (b0, b1, b2) = (row(b, 0), row(b, 1), row(b, 2));
+    Vector3::new(
+        a2.dot(&b1) - a1.dot(&b2),
+        a0.dot(&b2) - a2.dot(&b0),
+        a1.dot(&b0) - a0.dot(&b1),
+    )
+}
+
 /// The 18 strain numbers of a point from its rotations (offset already subtracted).
 #[inline]
 pub fn strain_vector<const NU: usize, const NR: usize>(
@@ -177,9 +194,8 @@ struct Stress<const NR: usize> {
     value: f64,
     /// `w_γ = Q σ_Ê,γ` (world frame).
     w: [Vector3<f64>; 2],
-    /// `U_k = Σ_γ C_kγ T_γ` with `T_γ` the axial adjoint of `Q σ_Γ̂,γ`.
-    u: [Matrix3<f64>; NR],
-    /// `R U_k`, the weights of the nodal rotations' derivatives.
+    /// `R U_k`, the weights of the nodal rotations' derivatives, with `U_k = Σ_γ C_kγ T_γ` and `T_γ` the
+    /// axial adjoint of `Q σ_Γ̂,γ`.
     ru: [Matrix3<f64>; NR],
     /// `Y + Z = Σ_k R_k U_kᵀ + Σ_γ F̂_γ w_γᵀ`: `⟨R_i, Y + Z⟩` is the gradient along the point rotation.
     yz: Matrix3<f64>,
@@ -206,15 +222,14 @@ fn stress<const NU: usize, const NR: usize>(
         axial_adjoint(&(q * sigma.fixed_rows::<3>(9)), variant),
         axial_adjoint(&(q * sigma.fixed_rows::<3>(12)), variant),
     ];
-    let mut u = [Matrix3::zeros(); NR];
     let mut yz = input.f_hat[0] * w[0].transpose() + input.f_hat[1] * w[1].transpose();
     let mut ru = [Matrix3::zeros(); NR];
     for k in 0..NR {
-        u[k] = t[0] * shape.rot_grad[(0, k)] + t[1] * shape.rot_grad[(1, k)];
-        yz += node_r[k] * u[k].transpose();
-        ru[k] = r * u[k];
+        let u = t[0] * shape.rot_grad[(0, k)] + t[1] * shape.rot_grad[(1, k)];
+        yz += node_r[k] * u.transpose();
+        ru[k] = r * u;
     }
-    Stress { value, w, u, ru, yz, x }
+    Stress { value, w, ru, yz, x }
 }
 
 /// Energy density and its gradient with respect to the locals.
@@ -239,7 +254,8 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
     for gamma in 0..2 {
         grad.fixed_rows_mut::<3>(3 * gamma).copy_from(&(jet.r * st.w[gamma]));
     }
-    let gp: [f64; 3] = std::array::from_fn(|i| frob(&jet.d1[i], &st.yz));
+    // ⟨∂R/∂ω_i, Y + Z⟩ = ξ_i · m(Y + Z, R).
+    let gp = jet.generators.tr_mul(&skew_pairing(&st.yz, &jet.r));
     for k in 0..NR {
         let mk = shape.rot_values[k];
         for i in 0..3 {
@@ -304,7 +320,8 @@ fn local_hessian_from_strains<const NL: usize>(
             h[(r, c)] = h[(c, r)];
         }
         // Column `c` of the rotation block, `Σ_s (D J)[s, c] J[s, ·]`, of which rows `6..=c` are kept
-        // (and mirrored), so that the result is exactly symmetric.
+        // (and mirrored), so that the result is exactly symmetric. The whole column costs less than its
+        // upper part: a fixed length keeps the loop in vector registers.
         let mut col = [0.0; NL];
         let js = jac_t.as_slice();
         for s in 0..12 {
@@ -362,8 +379,10 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     let mut dg_dp = [[Vector3::zeros(); 3]; 2];
     for i in 0..3 {
         let rit = jet.d1[i].transpose();
+        let xi = jet.generators.column(i);
         for gamma in 0..2 {
-            de_dp[gamma][i] = qt * (rit * input.f_hat[gamma]);
+            // Qᵀ (∂R/∂ω_i)ᵀ F̂_γ = QᵀRᵀ [ξ_i]×ᵀ F̂_γ = QᵀRᵀ (F̂_γ × ξ_i).
+            de_dp[gamma][i] = qrt * input.f_hat[gamma].cross(&xi);
             dg_dp[gamma][i] = qt * axial(&(rit * st.x[gamma]), variant);
         }
     }
@@ -389,7 +408,13 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     local_hessian_from_strains(&jac_t, &qrt, d, hessian);
 
     // Second-order terms of the bilinear strain maps, weighted by σ.
-    let d1w: [[Vector3<f64>; 2]; 3] = std::array::from_fn(|i| [jet.d1[i] * st.w[0], jet.d1[i] * st.w[1]]);
+    // (∂R/∂ω_i) w_γ = ξ_i × R w_γ.
+    let rw = [r * st.w[0], r * st.w[1]];
+    let mut d1w = [[Vector3::zeros(); 2]; 3];
+    for (i, d) in d1w.iter_mut().enumerate() {
+        let xi = jet.generators.column(i);
+        *d = [xi.cross(&rw[0]), xi.cross(&rw[1])];
+    }
     for k in 0..NR {
         let mk = shape.rot_values[k];
         for i in 0..3 {
@@ -405,14 +430,15 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     }
     // ⟨R_ij, Y + Z⟩, symmetric in i, j.
     let hpp = jet.second_contraction(&st.yz);
-    // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j.
+    // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j. With
+    // R_i = [ξ_i]× R this is ξ_i · m(R_k,j, R U_k).
     let mut cross = [[[0.0; 3]; 3]; NR];
     for k in 0..NR {
         let nj = input.node_jets[k];
-        for i in 0..3 {
-            let riu = jet.d1[i] * st.u[k];
-            for j in 0..3 {
-                cross[k][i][j] = frob(&riu, &nj.d1[j]);
+        for j in 0..3 {
+            let c = jet.generators.tr_mul(&skew_pairing(&nj.d1[j], &st.ru[k]));
+            for i in 0..3 {
+                cross[k][i][j] = c[i];
             }
         }
     }
