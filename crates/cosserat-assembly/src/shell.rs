@@ -19,7 +19,7 @@ use cosserat_material::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
 };
 use cosserat_material::kernel::{
-    LocalDerivatives, PointInput, PointShape, point_gradient, point_hessian_into, point_value,
+    LocalDerivatives, PointInput, PointShape, point_gradient, point_hessian_deferred_into, point_value,
 };
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, StrainVector, strain_offset};
@@ -293,8 +293,14 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             out.hessian.fill(0.0);
         }
         let mut first = true;
+        // Σ_p w_p R U_k,p: the weights of the nodal rotations' second derivatives, contracted once per
+        // node below (see `point_hessian_deferred_into`).
+        let mut node_weights = [Matrix3::zeros(); NR];
         self.for_each_point(e, eval, |shape, input, d| {
-            point_hessian_into(shape, input, d, self.disc.axl, local);
+            let weights = point_hessian_deferred_into(shape, input, d, self.disc.axl, local);
+            for (sum, w) in node_weights.iter_mut().zip(&weights) {
+                *sum += w * shape.weight;
+            }
             if let Some(m) = &self.disc.volume {
                 let (v, gv, hv) = volume_hessian(&input.f_hat, m);
                 local.value += v;
@@ -310,6 +316,16 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 accumulate_upper(shape, local, eval.dt, shape.weight, out);
             }
         });
+        let r = &self.disc.rot_elements[e];
+        for (k, w) in node_weights.iter().enumerate() {
+            let c = eval.rotations.jet(r[k]).second_contraction(w);
+            let b = 3 * (NU + k);
+            for i in 0..3 {
+                for j in 0..3 {
+                    out.hessian[(b + i, b + j)] += c[i][j];
+                }
+            }
+        }
         // The scatter reads only the upper block triangle (`ElementScatter::add_hessian`), so the lower
         // triangle is filled only where the whole matrix is needed, and cleared again afterwards.
         if self.project_pd {

@@ -359,6 +359,31 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     variant: AxlVariant,
     out: &mut LocalDerivatives<NL>,
 ) {
+    let weights = point_hessian_deferred_into(shape, input, d, variant, out);
+    for (k, (w, jet)) in weights.iter().zip(input.node_jets).enumerate() {
+        let c = jet.second_contraction(w);
+        for i in 0..3 {
+            for j in 0..3 {
+                out.hessian[(6 + 3 * k + i, 6 + 3 * k + j)] += c[i][j];
+            }
+        }
+    }
+}
+
+/// [`point_hessian_into`] without the terms of the nodal rotations' second derivatives,
+/// `⟨R U_k, ∂²R_k/∂ω_k,i∂ω_k,j⟩` in the diagonal block of node `k`; returns their weights `R U_k`
+/// instead.
+///
+/// Those terms are linear in the weight, and a node's jet is the same at every point of an element, so
+/// an element adds them once per node from `Σ_p w_p R U_k,p` (see [`RotationJet::second_contraction`])
+/// instead of once per point.
+pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    d: &DensityMatrix,
+    variant: AxlVariant,
+    out: &mut LocalDerivatives<NL>,
+) -> [Matrix3<f64>; NR] {
     const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
     let st = stress(shape, input, d, variant);
     out.value = st.value;
@@ -444,20 +469,16 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
     }
     for k in 0..NR {
         let mk = shape.rot_values[k];
-        // ⟨R U_k, R_k,ij⟩.
-        let node_second = input.node_jets[k].second_contraction(&st.ru[k]);
         for l in 0..NR {
             let ml = shape.rot_values[l];
             let mkml = mk * ml;
             for i in 0..3 {
                 for j in 0..3 {
-                    let mut v = mkml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
-                    if k == l {
-                        v += node_second[i][j];
-                    }
-                    hessian[(6 + 3 * k + i, 6 + 3 * l + j)] += v;
+                    hessian[(6 + 3 * k + i, 6 + 3 * l + j)] +=
+                        mkml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
                 }
             }
         }
     }
+    st.ru
 }
