@@ -91,19 +91,28 @@ impl<const N: usize> ElementScatter<N> {
                 let (a, b) = (el[i], el[j]);
                 debug_assert!(a != b || i == j, "an element couples a block with itself");
                 let k = pos[i][j] as usize;
-                if a <= b {
+                // One bounds check per column segment of three values, so that the additions are
+                // straight-line code.
+                if a < b {
                     for c in 0..3 {
                         let start = pattern.col_start(3 * b + c) + 3 * k;
-                        let rows = if a == b { c + 1 } else { 3 };
-                        for r in 0..rows {
-                            values[start + r] += h[(3 * i + r, 3 * j + c)];
+                        let src = h.fixed_view::<3, 1>(3 * i, 3 * j + c);
+                        for (v, x) in values[start..start + 3].iter_mut().zip(src.iter()) {
+                            *v += x;
+                        }
+                    }
+                } else if a == b {
+                    for c in 0..3 {
+                        let start = pattern.col_start(3 * b + c) + 3 * k;
+                        for (r, v) in values[start..=start + c].iter_mut().enumerate() {
+                            *v += h[(3 * i + r, 3 * j + c)];
                         }
                     }
                 } else {
                     for c in 0..3 {
                         let start = pattern.col_start(3 * a + c) + 3 * k;
-                        for r in 0..3 {
-                            values[start + r] += h[(3 * i + c, 3 * j + r)];
+                        for (r, v) in values[start..start + 3].iter_mut().enumerate() {
+                            *v += h[(3 * i + c, 3 * j + r)];
                         }
                     }
                 }
