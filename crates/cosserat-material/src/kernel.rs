@@ -218,18 +218,37 @@ fn stress<const NU: usize, const NR: usize>(
     let sigma = d.mul_vector(&s);
     let value = 0.5 * s.dot(&sigma);
     let w = [q * sigma.fixed_rows::<3>(0), q * sigma.fixed_rows::<3>(3)];
-    let t = [
-        axial_adjoint(&(q * sigma.fixed_rows::<3>(9)), variant),
-        axial_adjoint(&(q * sigma.fixed_rows::<3>(12)), variant),
-    ];
+    let tau = [q * sigma.fixed_rows::<3>(9), q * sigma.fixed_rows::<3>(12)];
     let mut yz = input.f_hat[0] * w[0].transpose() + input.f_hat[1] * w[1].transpose();
     let mut ru = [Matrix3::zeros(); NR];
-    for k in 0..NR {
-        let u = t[0] * shape.rot_grad[(0, k)] + t[1] * shape.rot_grad[(1, k)];
-        yz += node_r[k] * u.transpose();
-        ru[k] = r * u;
+    match variant {
+        // T_γ = ½ [τ_γ]×, so U_k = [ν_k]× with ν_k = ½ Σ_γ C_kγ τ_γ: the products with U_k are
+        // products with a skew matrix, two columns per column.
+        AxlVariant::SkewPart => {
+            for k in 0..NR {
+                let nu = (tau[0] * shape.rot_grad[(0, k)] + tau[1] * shape.rot_grad[(1, k)]) * 0.5;
+                // R_k U_kᵀ = −R_k [ν_k]×.
+                yz -= times_skew(node_r[k], &nu);
+                ru[k] = times_skew(r, &nu);
+            }
+        }
+        AxlVariant::UpperTriangle => {
+            let t = [axial_adjoint(&tau[0], variant), axial_adjoint(&tau[1], variant)];
+            for k in 0..NR {
+                let u = t[0] * shape.rot_grad[(0, k)] + t[1] * shape.rot_grad[(1, k)];
+                yz += node_r[k] * u.transpose();
+                ru[k] = r * u;
+            }
+        }
     }
     Stress { value, w, ru, yz, x }
+}
+
+/// `M [ν]×`: column `j` is `M (ν × e_j)`, a combination of the other two columns of `M`.
+#[inline]
+fn times_skew(m: &Matrix3<f64>, nu: &Vector3<f64>) -> Matrix3<f64> {
+    let (c0, c1, c2) = (m.column(0), m.column(1), m.column(2));
+    Matrix3::from_columns(&[c1 * nu.z - c2 * nu.y, c2 * nu.x - c0 * nu.z, c0 * nu.y - c1 * nu.x])
 }
 
 /// Energy density and its gradient with respect to the locals.
