@@ -35,6 +35,9 @@ enum Command {
         /// Add the paper's largest plate (Tri6 640x64, 620k unknowns).
         #[arg(long)]
         large: bool,
+        /// Rounds over all cases; each case reports its run with the median time per step.
+        #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..))]
+        rounds: u32,
     },
     /// Run the validation benchmarks and write docs/validation.md.
     Validate(ValidateArgs),
@@ -83,8 +86,8 @@ fn main() -> Result<()> {
     std::env::set_current_dir(workspace_root())?;
     let code = match args.command {
         Command::Run(a) => run::run(&a)?,
-        Command::BenchTable { large } => {
-            bench_table::run(large)?;
+        Command::BenchTable { large, rounds } => {
+            bench_table::run(large, rounds as usize)?;
             0
         }
         Command::Experiments(a) => {
