@@ -243,8 +243,11 @@ pub fn run(large: bool, rounds: usize) -> Result<()> {
             match run_case(&bin, case, &out) {
                 Ok(row) => {
                     eprintln!(
-                        "  {:.1} ms/step ({:.2} it/step), reference {:?}",
-                        row.ms_per_step, row.newton_iterations, row.reference_ms_per_step
+                        "  {:.1} ms/step ({:.2} it/step, assembly {:.1} %), reference {:?}",
+                        row.ms_per_step,
+                        row.newton_iterations,
+                        100.0 * row.assembly_share,
+                        row.reference_ms_per_step
                     );
                     runs.push(row);
                 }
