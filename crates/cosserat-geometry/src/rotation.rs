@@ -274,11 +274,6 @@ impl RotationJet {
         }
         // ∂s/∂v_i = −s²/2 v_i; ∂²s/∂v_i∂v_j = −s²/2 δ_ij + s³/2 v_i v_j.
         let ds = [-0.5 * s * s * v[0], -0.5 * s * s * v[1], -0.5 * s * s * v[2]];
-        let r = (Matrix3::identity() + a * s) * r0;
-        // ∂cay/∂v_i cayᵀ = [s (I + ½ [v]×) e_i]× (the right-trivialised derivative of the Cayley map), so
-        // ∂R/∂ω_i = [ξ_i]× R with ξ_i = Δt s (I + ½ [v]×) e_i: three cross products per derivative
-        // instead of the matrix product (a s_i + B_i s) R(q) Δt.
-        let generators = (Matrix3::identity() + k * 0.5) * (dt * s);
         // Explicit loops rather than `array::from_fn`, whose closures were not inlined in this hot path.
         let mut dds = [[0.0; 3]; 3];
         let mut d1 = [Matrix3::zeros(); 3];
@@ -286,15 +281,13 @@ impl RotationJet {
             for j in 0..3 {
                 dds[i][j] = 0.5 * s * s * s * v[i] * v[j] - if i == j { 0.5 * s * s } else { 0.0 };
             }
-            let xi = generators.column(i);
-            for c in 0..3 {
-                d1[i].set_column(c, &xi.cross(&r.column(c)));
-            }
+            d1[i] = (a * ds[i] + b[i] * s) * r0 * dt;
         }
         Self {
-            r,
+            r: (Matrix3::identity() + a * s) * r0,
             d1,
-            generators,
+            // ∂cay/∂v_i cayᵀ = [s (I + ½ [v]×) e_i]× (the right-trivialised derivative of the Cayley map).
+            generators: (Matrix3::identity() + k * 0.5) * (dt * s),
             second: SecondFactors {
                 r0,
                 a,
