@@ -19,8 +19,8 @@ use nalgebra::Matrix3;
 pub enum NodeRotations {
     /// Rotation matrices only (energy evaluations).
     Matrices(Vec<Matrix3<f64>>),
-    /// Rotation jets: to first order in gradient evaluations (`d2` is zero there), to second order in
-    /// Hessian evaluations.
+    /// Rotation jets (gradient and Hessian evaluations; their second derivatives are kept in factored
+    /// form and cost next to nothing where they are not read).
     Jets(Vec<RotationJet>),
 }
 

@@ -120,7 +120,7 @@ fn assembled_derivatives_match_finite_differences() {
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
-/// one of `gradient` (which fills its rotations to first order only).
+/// one of `gradient`.
 #[test]
 fn hessian_add_accumulates_and_its_gradient_is_the_gradient() {
     let mut rng = ChaCha8Rng::seed_from_u64(4);
