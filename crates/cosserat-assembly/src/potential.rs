@@ -219,7 +219,7 @@ impl IncrementalPotential {
         if !self.has_dynamic_terms() {
             return false;
         }
-        self.update_rotations(u, RotationOrder::Values);
+        self.update_rotations(u, false);
         let eval = self.evaluation(u);
         self.parts.extra.iter().any(|t| t.needs_resolve(&eval))
     }
@@ -229,7 +229,7 @@ impl IncrementalPotential {
         if !self.parts.extra.iter().any(|t| t.is_dynamic()) {
             return 1.0;
         }
-        self.update_rotations(u, RotationOrder::Values);
+        self.update_rotations(u, false);
         let eval = self.evaluation(u);
         self.parts
             .extra
@@ -280,8 +280,9 @@ impl IncrementalPotential {
         names
     }
 
-    fn update_rotations(&mut self, u: &[f64], order: RotationOrder) {
-        let jets = order != RotationOrder::Values;
+    /// Fills the nodal rotations of `u`: their jets when `jets` (gradients and Hessians), else their
+    /// matrices (energies).
+    fn update_rotations(&mut self, u: &[f64], jets: bool) {
         if matches!(self.rotations, NodeRotations::Jets(_)) != jets {
             std::mem::swap(&mut self.rotations, &mut self.spare_rotations);
         }
@@ -317,7 +318,7 @@ impl IncrementalPotential {
     /// A non-finite contribution, or a wrong length of `u`.
     pub fn value(&mut self, u: &[f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, RotationOrder::Values);
+        self.update_rotations(u, false);
         let eval = self.evaluation(u);
         self.terms().try_fold(0.0, |acc, t| Ok(acc + t.value(&eval)?))
     }
@@ -328,7 +329,7 @@ impl IncrementalPotential {
     /// As [`IncrementalPotential::value`].
     pub fn gradient(&mut self, u: &[f64], grad: &mut [f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, RotationOrder::Derivatives);
+        self.update_rotations(u, true);
         grad.fill(0.0);
         let eval = self.evaluation(u);
         self.terms().try_fold(0.0, |acc, t| Ok(acc + t.gradient(&eval, grad)?))
@@ -354,7 +355,7 @@ impl IncrementalPotential {
     /// As [`IncrementalPotential::value`].
     pub fn hessian_add(&mut self, u: &[f64], grad: &mut [f64], values: &mut [f64]) -> Result<f64, AssemblyError> {
         self.check_len(u)?;
-        self.update_rotations(u, RotationOrder::Derivatives);
+        self.update_rotations(u, true);
         let Some(mut dynamic) = self.dynamic.take() else {
             let eval = self.evaluation(u);
             let pattern = &self.pattern;
@@ -403,7 +404,7 @@ impl IncrementalPotential {
     /// A non-finite contribution.
     pub fn elastic_energy(&mut self) -> Result<f64, AssemblyError> {
         let u = vec![0.0; self.n_dofs()];
-        self.update_rotations(&u, RotationOrder::Values);
+        self.update_rotations(&u, false);
         let eval = self.evaluation(&u);
         self.parts.shells.iter().try_fold(0.0, |acc, s| Ok(acc + s.value(&eval)?))
     }
@@ -471,13 +472,4 @@ fn fill<T: Send>(buf: &mut [T], par: Parallelism, f: impl Fn(usize) -> T + Sync)
         Parallelism::Sequential => buf.iter_mut().enumerate().for_each(|(k, x)| *x = f(k)),
         Parallelism::Rayon => buf.par_iter_mut().enumerate().with_min_len(256).for_each(|(k, x)| *x = f(k)),
     }
-}
-
-/// How much of the nodal rotations an evaluation needs: energies read the matrices, gradients and
-/// Hessians the jets (whose second derivatives are kept in factored form and cost almost nothing
-/// extra, see [`RotationJet`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum RotationOrder {
-    Values,
-    Derivatives,
 }

@@ -19,7 +19,8 @@ use cosserat_material::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
 };
 use cosserat_material::kernel::{
-    LocalDerivatives, PointInput, PointShape, point_gradient, point_hessian_deferred_into, point_value,
+    LocalDerivatives, PointInput, PointShape, add_node_second_derivatives, point_gradient, point_hessian_deferred_into,
+    point_value,
 };
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, StrainVector, strain_offset};
@@ -318,13 +319,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         });
         let r = &self.disc.rot_elements[e];
         for (k, w) in node_weights.iter().enumerate() {
-            let c = eval.rotations.jet(r[k]).second_contraction(w);
-            let b = 3 * (NU + k);
-            for i in 0..3 {
-                for j in 0..3 {
-                    out.hessian[(b + i, b + j)] += c[i][j];
-                }
-            }
+            add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), eval.rotations.jet(r[k]), w);
         }
         // The scatter reads only the upper block triangle (`ElementScatter::add_hessian`), so the lower
         // triangle is filled only where the whole matrix is needed, and cleared again afterwards.

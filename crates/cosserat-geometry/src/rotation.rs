@@ -215,7 +215,8 @@ fn unit_anticommutator(i: usize, j: usize) -> Matrix3<f64> {
 ///
 /// The second derivatives are kept in factored form. The kernels never need the nine matrices
 /// `∂²R/∂ω_i∂ω_j` themselves, only their inner products with one matrix `W`
-/// ([`RotationJet::second_contraction`]), and those cost a tenth of forming the matrices.
+/// ([`RotationJet::second_contraction`]): one matrix product and four inner products, where forming
+/// the matrices takes nine products.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RotationJet {
     /// `R`.

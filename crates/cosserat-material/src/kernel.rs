@@ -380,11 +380,24 @@ pub fn point_hessian_into<const NU: usize, const NR: usize, const NL: usize>(
 ) {
     let weights = point_hessian_deferred_into(shape, input, d, variant, out);
     for (k, (w, jet)) in weights.iter().zip(input.node_jets).enumerate() {
-        let c = jet.second_contraction(w);
-        for i in 0..3 {
-            for j in 0..3 {
-                out.hessian[(6 + 3 * k + i, 6 + 3 * k + j)] += c[i][j];
-            }
+        add_node_second_derivatives(&mut out.hessian, 6 + 3 * k, jet, w);
+    }
+}
+
+/// Adds the terms of a nodal rotation's second derivatives, `⟨W, ∂²R_k/∂ω_k,i∂ω_k,j⟩` for the weight
+/// `W` returned by [`point_hessian_deferred_into`] (or a weighted sum of such weights), to the 3 × 3
+/// diagonal block of `m` whose first row and column are `at`.
+#[inline]
+pub fn add_node_second_derivatives<const N: usize>(
+    m: &mut SMatrix<f64, N, N>,
+    at: usize,
+    jet: &RotationJet,
+    weight: &Matrix3<f64>,
+) {
+    let c = jet.second_contraction(weight);
+    for i in 0..3 {
+        for j in 0..3 {
+            m[(at + i, at + j)] += c[i][j];
         }
     }
 }
