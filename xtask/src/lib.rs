@@ -1,6 +1,7 @@
 //! Developer tasks of the Cosserat shell workspace (the library behind `cargo xtask`): the paper's
 //! experiments, their post-processing and tables; the validation benchmarks (`validate`), the
-//! speed–accuracy study (`study`) and the stability matrix with the locking study (`stability`).
+//! speed–accuracy study (`study`), the stability matrix with the locking study (`stability`) and the
+//! repository checks (`tidy`).
 //!
 //! xtask only orchestrates: every physical computation goes through the `cosserat` crate.
 
@@ -14,4 +15,5 @@ pub mod reference;
 pub mod runner;
 pub mod stability;
 pub mod study;
+pub mod tidy;
 pub mod validate;

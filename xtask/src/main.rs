@@ -6,7 +6,7 @@
 mod bench_table;
 mod run;
 
-use xtask::{experiments, runner, stability, study, validate};
+use xtask::{experiments, runner, stability, study, tidy, validate};
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -45,6 +45,8 @@ enum Command {
     Study(study::StudyArgs),
     /// Stability matrix at extreme parameters and the locking study into docs/stability.md.
     Stability(stability::StabilityArgs),
+    /// Repository checks that no compiler makes (also run by the test suite).
+    Tidy,
     /// Run one scene and print the peak memory (used by the studies; one scene per process).
     #[command(hide = true)]
     MeasureRun(cosserat::cli::RunArgs),
@@ -68,9 +70,9 @@ struct ExperimentsArgs {
     /// Only experiments whose name contains this.
     #[arg(long)]
     only: Option<String>,
-    /// Directory of the paper's OBJ meshes.
-    #[arg(long, default_value = "../shared/models")]
-    models: PathBuf,
+    /// Directory of the experiments' OBJ meshes.
+    #[arg(long, default_value = "assets/meshes")]
+    meshes: PathBuf,
 }
 
 /// The workspace root (xtask lives one level below it).
@@ -95,7 +97,7 @@ fn main() -> Result<()> {
                 quick: a.quick,
                 large: a.large,
                 only: a.only.clone(),
-                models: a.models.clone(),
+                meshes: a.meshes.clone(),
                 out: PathBuf::from(if a.quick {
                     "out/experiments_quick"
                 } else {
@@ -136,6 +138,11 @@ fn main() -> Result<()> {
             0
         }
         Command::Study(a) => study::run(&a)?,
+        Command::Tidy => {
+            tidy::run(&workspace_root())?;
+            eprintln!("tidy: ok");
+            0
+        }
         Command::Stability(a) => stability::run(&a)?,
         Command::MeasureRun(a) => {
             let (code, peak) = runner::measure_run(&a)?;

@@ -2,9 +2,9 @@
 //! closed forms (the inextensible elastica by elliptic integrals, the roll-up arc, Euler–Bernoulli and
 //! thin-ring formulas).
 //!
-//! Tables are transcribed from `shared/refdata/sze2004-cantilevers.md`, which names the repository and
-//! commit of every source. The closed forms are evaluated here; the tests check the elastica against
-//! the independently computed table of that file (mpmath at 25 digits).
+//! Tables are transcribed from `docs/references.md`, which names the publication and the public
+//! transcription of every table. The closed forms are evaluated here; the tests check the elastica
+//! against the independently computed table of that file (direct integration at 25 digits).
 
 use std::f64::consts::PI;
 
@@ -134,7 +134,7 @@ fn elliptic_fe(phi: f64, m: f64) -> (f64, f64) {
 /// With `k² = (1 + sin θ)/2` and `φ₁ = asin(1/(√2 k))`, the tip rotation solves
 /// `K(k) − F(φ₁, k) = √α`; then `u/L = 1 − √(2 sin θ/α)` and
 /// `w/L = 1 − 2 (E(k) − E(φ₁, k))/√α` (Mattiasson 1981; the residual form of
-/// `shared/refdata/sze2004-cantilevers.md` §3.2). Returns zeros for `α ≤ 0`.
+/// docs/references.md). Returns zeros for `α ≤ 0`.
 pub fn elastica_tip(alpha: f64) -> (f64, f64, f64) {
     if alpha <= 0.0 {
         return (0.0, 0.0, 0.0);
@@ -199,7 +199,7 @@ mod tests {
 
     #[test]
     fn elastica_reproduces_the_independently_computed_table() {
-        // (α, w/L, u/L, θ) computed with mpmath by direct integration (refdata §3.2), 5 digits.
+        // (α, w/L, u/L, θ) computed with mpmath by direct integration (the elastica table of docs/references.md), 5 digits.
         let table = [
             (0.2, 0.06636, 0.00265, 0.09964),
             (1.0, 0.30172, 0.05643, 0.46135),
@@ -227,7 +227,7 @@ mod tests {
 
     #[test]
     fn rollup_reproduces_the_exact_columns_of_sze_3_2() {
-        // "exact" columns of refdata §1.2 at λ = 0.25, 0.5, 0.75 (3 decimals).
+        // "exact" columns of Sze 3.2 in docs/references.md at λ = 0.25, 0.5, 0.75 (3 decimals).
         for (lambda, u, w) in [(0.25, 4.361, 7.639), (0.5, 12.0, 7.639), (0.75, 14.546, 2.546)] {
             let (u_c, w_c) = rollup_tip(lambda, 12.0);
             assert!(

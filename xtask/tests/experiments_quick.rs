@@ -11,7 +11,7 @@ fn every_experiment_runs_a_few_steps() {
         quick: true,
         large: false,
         only: None,
-        models: root.join("../shared/models"),
+        meshes: root.join("assets/meshes"),
         out: PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("experiments_quick"),
         render_dir: None,
     };

@@ -1,5 +1,5 @@
-//! The experiments with contact: Bunny, Dumpling and Papyrus scroll. Runs (mesh paths from the shared
-//! models directory, with generated stand-ins when it is absent) and checks read from the outputs: the
+//! The experiments with contact: Bunny, Dumpling and Papyrus scroll. Runs (meshes from
+//! `assets/meshes/`) and checks read from the outputs: the
 //! contact statistics of `summary.json`, an exact intersection test over the last frame, and what each
 //! experiment should show (the bunny's drop, the dumpling's pole rotation and folds, the scroll's rolls).
 
@@ -7,43 +7,9 @@ use super::{Options, RunResult, RunSpec, quick_end, run};
 use crate::postprocess::{fit_circle, hausdorff, rest_positions};
 use cosserat::contact::intersecting_pairs;
 use cosserat::scene::output::{RunStatus, VtuFrame, read_pvd, read_pvd_frame};
-use cosserat::scene::spec::ObstacleSpec;
 use nalgebra::Vector3;
 use std::f64::consts::PI;
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
-
-/// Writes a triangle mesh as an OBJ file (1-based faces).
-fn write_obj(path: &Path, positions: &[Vector3<f64>], triangles: &[[usize; 3]]) -> std::io::Result<()> {
-    let mut text = String::new();
-    for p in positions {
-        let _ = writeln!(text, "v {} {} {}", p.x, p.y, p.z);
-    }
-    for t in triangles {
-        let _ = writeln!(text, "f {} {} {}", t[0] + 1, t[1] + 1, t[2] + 1);
-    }
-    if let Some(dir) = path.parent() {
-        std::fs::create_dir_all(dir)?;
-    }
-    std::fs::write(path, text)
-}
-
-/// A shared model by name, or a generated stand-in written below the output root: an icosphere for the
-/// bunny, a box for the scroll's rounded box. `None` if neither is available.
-fn model_or_stand_in(o: &Options, name: &str) -> Option<PathBuf> {
-    if let Ok(p) = o.models.join(name).canonicalize() {
-        return Some(p);
-    }
-    let path = o.out.join("stand_in_meshes").join(name);
-    let (positions, triangles) = if name.starts_with("bunny") {
-        let sphere = cosserat::fem::mesh::procedural::icosphere(0.1, 3).ok()?;
-        (sphere.mesh.nodes, sphere.mesh.elements)
-    } else {
-        ObstacleSpec::box_mesh(Vector3::zeros(), Vector3::repeat(1.0))
-    };
-    write_obj(&path, &positions, &triangles).ok()?;
-    path.canonicalize().ok()
-}
+use std::path::Path;
 
 /// The points of a frame that belong to shells (the `obstacle` point array is 0 there), with their
 /// indices.
@@ -155,22 +121,14 @@ fn contact_lines(res: &RunResult) -> Vec<String> {
 /// and 1.5 mm (Δt = 1 ms) over their first 0.5 and 0.25 s only (500 and 250 of the paper's 5000 steps,
 /// about 15 and 28 minutes on two shared cores instead of 2.5 and 9 hours), covering the collapse and,
 /// for the thinnest, the first self-contact: their rows compare the time per step and the Newton
-/// iterations of that phase, not totals. Quick runs take the small shared bunny (or an icosphere)
-/// for a few steps.
+/// iterations of that phase, not totals. Quick runs take the small bunny for a few steps.
 pub(super) fn bunny_runs(o: &Options) -> Vec<RunSpec> {
     let (mesh, label) = if o.quick {
         ("bunny_lvl5_verts828.obj", " (lvl5 mesh)")
     } else {
         ("bunny_lvl3_verts3308.obj", "")
     };
-    let Some(path) = model_or_stand_in(o, mesh) else {
-        return Vec::new();
-    };
-    let label = if path.ends_with(mesh) {
-        label
-    } else {
-        " (icosphere stand-in)"
-    };
+    let path = o.mesh(mesh);
     let mut variants = vec![("h = 10 mm", 0.01, 0.01, None)];
     if o.large && !o.quick {
         variants.extend([
@@ -201,9 +159,6 @@ pub(super) fn bunny_runs(o: &Options) -> Vec<RunSpec> {
 }
 
 pub(super) fn bunny_check(r: &[RunResult]) -> Vec<String> {
-    if r.is_empty() {
-        return vec!["Skipped: no bunny mesh (and no stand-in could be written).".into()];
-    }
     let mut lines = Vec::new();
     for res in r {
         lines.extend(contact_lines(res));
@@ -344,16 +299,10 @@ pub(super) fn dumpling_check(r: &[RunResult]) -> Vec<String> {
     lines
 }
 
-/// Papyrus scroll run; the box mesh comes from the shared models (or a generated box).
+/// Papyrus scroll run (the scene's rounded boxes).
 pub(super) fn scroll_runs(o: &Options) -> Vec<RunSpec> {
-    let Some(path) = model_or_stand_in(o, "rounded_box.obj") else {
-        return Vec::new();
-    };
-    let label = if path.ends_with("rounded_box.obj") {
-        "-"
-    } else {
-        "- (box stand-in)"
-    };
+    let path = o.mesh("rounded_box.obj");
+    let label = "-";
     let mut ov: Vec<String> = (1..=3)
         .map(|k| format!("contact.obstacle.{k}.mesh.path={}", path.display()))
         .collect();

@@ -5,7 +5,7 @@ use cosserat_kl::{HyperelasticModel, KlMaterial, KlShell};
 use cosserat_solver::solve_quasi_static;
 use nalgebra::Vector3;
 
-/// `(P/Pmax, −U_tip, W_tip)` from /work/shared/refdata/sze2004-cantilevers.md, table 1.1.
+/// `(P/Pmax, −U_tip, W_tip)` of Sze, Liu and Lo (2004), problem 3.1 (docs/references.md).
 const REFERENCE: [(f64, f64, f64); 20] = [
     (0.05, 0.026, 0.663),
     (0.10, 0.103, 1.309),
@@ -107,7 +107,7 @@ fn the_end_shear_cantilever_matches_sze_within_one_percent_at_every_load_level()
 
 #[test]
 fn the_fine_mesh_matches_the_inextensible_elastica_at_full_load() {
-    // Euler elastica at P L² / (E I) = 4 (refdata table 3.2, computed by integration): w/L = 0.66996,
+    // Euler elastica at P L² / (E I) = 4 (the elastica table of docs/references.md): w/L = 0.66996,
     // u/L = 0.32894. Sze's shear-deformable 16x1 reference differs from it by 0.02 % and 0.1 %.
     let (w_ref, u_ref) = (6.6996, 3.2894);
     let (u, w) = sze_31(HyperelasticModel::StVenantKirchhoff, 64, 1)[19];

@@ -335,14 +335,9 @@ fn contact_errors_name_the_field() {
     );
 }
 
-/// The workspace's `scenes/` directory and the shared models next to the workspace.
+/// A scene of the workspace's `scenes/` directory.
 fn scene(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes").join(name)
-}
-
-fn shared_model(name: &str) -> Option<PathBuf> {
-    let p = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/models").join(name);
-    p.exists().then_some(p)
 }
 
 #[test]
@@ -376,18 +371,7 @@ fn the_dumpling_scenes_have_the_papers_counts() {
 
 #[test]
 fn the_papyrus_scroll_scene_has_the_wavy_sheet_boxes_and_floor() {
-    let overrides: Vec<String> = match shared_model("rounded_box.obj") {
-        Some(_) => Vec::new(),
-        None => (1..=3)
-            .map(|k| {
-                format!(
-                    "contact.obstacle.{k}.mesh.path={}",
-                    data_dir().join("octahedron.obj").display()
-                )
-            })
-            .collect(),
-    };
-    let spec = SceneSpec::from_file(scene("papyrus_scroll.toml"), &overrides).unwrap_or_else(|e| panic!("{e}"));
+    let spec = SceneSpec::from_file(scene("papyrus_scroll.toml"), &[]).unwrap_or_else(|e| panic!("{e}"));
     let mesh = &spec.shells[0].mesh;
     let tri6 = mesh.tri6.as_ref().unwrap();
     // [S]: 400 cells, 2583 displacement and 693 rotation DOFs.
@@ -439,12 +423,9 @@ fn the_papyrus_scroll_scene_has_the_wavy_sheet_boxes_and_floor() {
 
 #[test]
 fn the_bunny_scene_reads_its_mesh_and_takes_thickness_overrides() {
-    let mesh = shared_model("bunny_lvl3_verts3308.obj").unwrap_or_else(|| data_dir().join("octahedron.obj"));
-    let path = format!("mesh.path={}", mesh.display());
     let spec = SceneSpec::from_file(
         scene("bunny.toml"),
         &[
-            path,
             "material.thickness=0.0015".into(),
             "material.length_scale=0.00075".into(),
         ],
@@ -454,10 +435,8 @@ fn the_bunny_scene_reads_its_mesh_and_takes_thickness_overrides() {
     let x = &spec.shells[0].mesh.tri6.as_ref().unwrap().nodes;
     let (lo, hi) = x.iter().fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p.z), b.max(p.z)));
     assert!((lo + 0.1).abs() < 1e-12 && (hi - 0.1).abs() < 1e-12);
-    if mesh.ends_with("bunny_lvl3_verts3308.obj") {
-        // [S]: 6612 cells, 39678 displacement and 9924 rotation DOFs.
-        assert_eq!((x.len(), spec.shells[0].mesh.corners.n_nodes()), (13226, 3308));
-    }
+    // [S]: 6612 cells, 39678 displacement and 9924 rotation DOFs.
+    assert_eq!((x.len(), spec.shells[0].mesh.corners.n_nodes()), (13226, 3308));
     let c = spec.contact.as_ref().unwrap();
     let floor = &c.obstacles[0];
     let top = floor.positions.iter().map(|p| p.z).fold(f64::MIN, f64::max);
