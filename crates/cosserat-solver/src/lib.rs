@@ -15,7 +15,8 @@
 //!   preconditioned conjugate gradients ([`LinearSolverKind::Cg`]) for large positive definite
 //!   systems, which Newton's method solves inexactly with the reference's forcing sequence
 //!   ([`CgForcing`]).
-//! - [`TimeStepper`] and [`solve_quasi_static`]: time steps and load levels with the same Newton solver.
+//! - [`TimeStepper`], [`QuasiStaticStepper`] and [`solve_quasi_static`]: time steps and load levels with
+//!   the same Newton solver.
 //!
 //! Non-goals: this crate knows nothing about meshes, elements or energies: the assembly layer adapts
 //! its incremental potential to [`NewtonProblem`]. It does not project Hessians to positive
@@ -76,7 +77,8 @@ pub mod statics;
 pub mod time_step;
 
 pub use error::{
-    Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, SettingName,
+    Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, ScriptError,
+    SettingName,
 };
 pub use linear::{
     CgForcing, CgReport, CgSettings, CgStop, DomainSplit, FactorStats, FillOrdering, LinearSolverKind,
@@ -84,5 +86,7 @@ pub use linear::{
 };
 pub use newton::{FactorisationCounts, NewtonReport, NewtonSettings, NewtonSolver};
 pub use problem::NewtonProblem;
-pub use statics::{LoadLevelReport, QuasiStaticSettings, StaticError, solve_quasi_static};
+pub use statics::{
+    LevelFailure, LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, StaticError, solve_quasi_static,
+};
 pub use time_step::{InitialGuess, StepError, StepReport, TimeStepSettings, TimeStepper};

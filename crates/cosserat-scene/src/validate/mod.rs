@@ -34,7 +34,8 @@ use toml::de::DeTable;
 
 impl SceneSpec {
     /// Reads, parses and checks a scene file. Relative mesh paths are resolved against the file's
-    /// directory; `overrides` are `key=value` strings as given to `--set`.
+    /// directory, those set by `overrides` against the working directory; `overrides` are `key=value`
+    /// strings as given to `--set`.
     ///
     /// # Errors
     /// [`SceneError::ReadScene`] if the file cannot be read; otherwise as [`SceneSpec::from_str`],
@@ -158,8 +159,16 @@ pub(crate) struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn scene(&mut self, file: SceneFile) -> Result<SceneSpec, SceneError> {
-        if file.name.trim().is_empty() {
-            return Err(self.invalid("name", "must not be empty"));
+        let safe = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.');
+        if file.name.is_empty() || file.name.len() > 100 || file.name.starts_with('.') || !file.name.chars().all(safe) {
+            return Err(self.invalid(
+                "name",
+                format!(
+                    "`{}` is not a usable name: the name becomes the output folder `out/<name>`, so use 1 to 100 \
+                     letters, digits, `_`, `-` and `.`, not starting with `.`",
+                    file.name
+                ),
+            ));
         }
         if let Some(functions) = &file.functions {
             for (name, f) in functions {
@@ -214,6 +223,18 @@ impl Ctx<'_> {
 
     fn location(&self, field: &str) -> Location {
         self.source.location(field)
+    }
+
+    /// A file path given at `field`: relative paths in the scene file are relative to the file's
+    /// folder; those given by a `--set` override are relative to the working directory, like every
+    /// other path typed on the command line.
+    fn resolve_path(&self, field: &str, path: &str) -> std::path::PathBuf {
+        let path = Path::new(path);
+        if path.is_absolute() || matches!(self.location(field), Location::Override { .. }) {
+            path.to_path_buf()
+        } else {
+            self.base_dir.join(path)
+        }
     }
 
     fn invalid(&self, field: &str, reason: impl Into<String>) -> SceneError {

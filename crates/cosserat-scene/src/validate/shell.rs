@@ -307,12 +307,7 @@ impl Ctx<'_> {
                 if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
                     return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
                 }
-                let path = std::path::Path::new(path);
-                MeshSource::Obj(if path.is_absolute() {
-                    path.to_path_buf()
-                } else {
-                    self.base_dir.join(path)
-                })
+                MeshSource::Obj(self.resolve_path(&format!("{m}.path"), path))
             }
             (Some(generator), None) => MeshSource::Generator(self.generator(m, generator, mesh, &given)?),
         };
