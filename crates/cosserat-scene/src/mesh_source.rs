@@ -46,7 +46,16 @@ pub enum Generator {
         /// Quads along y.
         ny: usize,
     },
-    /// [`procedural::annulus`] (a disk when the inner radius is 0).
+    /// A disk: [`procedural::annulus`] without a hole.
+    Disk {
+        /// Radius.
+        radius: f64,
+        /// Rings of quads.
+        n_radial: usize,
+        /// Vertices per ring.
+        n_angular: usize,
+    },
+    /// [`procedural::annulus`].
     Annulus(AnnulusSettings),
     /// [`procedural::cylinder`] about the z axis.
     Cylinder {
@@ -122,6 +131,9 @@ impl Generator {
     pub fn element_count(&self) -> usize {
         match *self {
             Generator::Rectangle { nx, ny, .. } => 2usize.saturating_mul(nx).saturating_mul(ny),
+            Generator::Disk {
+                n_radial, n_angular, ..
+            } => 2usize.saturating_mul(n_radial).saturating_mul(n_angular),
             Generator::Annulus(s) => 2usize.saturating_mul(s.n_radial).saturating_mul(s.n_angular),
             Generator::Cylinder { n_around, n_along, .. } => 2usize.saturating_mul(n_around).saturating_mul(n_along),
             Generator::Icosphere { level, .. } => 20usize.saturating_mul(4usize.saturating_pow(level as u32)),
@@ -133,6 +145,26 @@ impl Generator {
         }
     }
 
+    /// The resolution parameter that contributes most to the element count (the one to name when the
+    /// mesh is too large).
+    pub fn resolution_key(&self) -> &'static str {
+        let larger = |a: (&'static str, usize), b: (&'static str, usize)| if a.1 >= b.1 { a.0 } else { b.0 };
+        match *self {
+            Generator::Rectangle { nx, ny, .. } => larger(("nx", nx), ("ny", ny)),
+            Generator::Disk {
+                n_radial, n_angular, ..
+            } => larger(("n_radial", n_radial), ("n_angular", n_angular)),
+            Generator::Annulus(s) => larger(("n_radial", s.n_radial), ("n_angular", s.n_angular)),
+            Generator::Cylinder { n_around, n_along, .. } => larger(("n_around", n_around), ("n_along", n_along)),
+            Generator::Icosphere { .. } => "level",
+            Generator::IcosphereCap { .. } => "frequency",
+            Generator::UvSphere { n_lon, n_lat, .. } | Generator::Hemisphere { n_lon, n_lat, .. } => {
+                larger(("n_lon", n_lon), ("n_lat", n_lat))
+            }
+            Generator::Mobius { n_along, n_across, .. } => larger(("n_along", n_along), ("n_across", n_across)),
+        }
+    }
+
     /// The generated mesh with its exact surface.
     ///
     /// # Errors
@@ -141,6 +173,31 @@ impl Generator {
     pub fn generate(&self) -> Result<GeneratedMesh, MeshError> {
         match *self {
             Generator::Rectangle { lx, ly, nx, ny } => procedural::rectangle_grid(lx, ly, nx, ny),
+            Generator::Disk {
+                radius,
+                n_radial,
+                n_angular,
+            } => procedural::annulus(&AnnulusSettings {
+                inner_radius: 0.0,
+                outer_radius: radius,
+                n_radial,
+                n_angular,
+                slit: false,
+            })
+            .map_err(|e| match e {
+                MeshError::InvalidParameter {
+                    parameter,
+                    value,
+                    reason,
+                    ..
+                } => MeshError::InvalidParameter {
+                    generator: "disk",
+                    parameter,
+                    value,
+                    reason,
+                },
+                e => e,
+            }),
             Generator::Annulus(settings) => procedural::annulus(&settings),
             Generator::Cylinder {
                 radius,
@@ -163,7 +220,16 @@ impl Generator {
             } => {
                 let mesh = procedural::uv_hemisphere(radius, n_lon, n_lat)?;
                 match polar_hole {
-                    Some(angle) => mesh.with_polar_hole(angle),
+                    Some(angle) => mesh.with_polar_hole(angle).map_err(|e| match e {
+                        MeshError::EmptyMesh { .. } => MeshError::InvalidParameter {
+                            generator: "hemisphere",
+                            parameter: "polar_hole_degrees",
+                            value: angle.to_degrees(),
+                            reason: "leaves no face: the hole must be smaller than 90° less one latitude band \
+                                     (90°/n_lat)",
+                        },
+                        e => e,
+                    }),
                     None => Ok(mesh),
                 }
             }
@@ -279,7 +345,16 @@ pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
     };
     let mut mesh = match &recipe.source {
         MeshSource::Generator(generator) => {
-            let n = refined_count(generator.element_count());
+            let generated = generator.element_count();
+            if generated > MAX_ELEMENTS {
+                return Err(MeshSourceError::Invalid {
+                    step: generator.resolution_key(),
+                    reason: format!(
+                        "the generator would make {generated} triangles, more than the limit of {MAX_ELEMENTS}"
+                    ),
+                });
+            }
+            let n = refined_count(generated);
             if n > MAX_ELEMENTS {
                 return Err(too_large(n));
             }

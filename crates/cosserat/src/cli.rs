@@ -206,16 +206,11 @@ fn setup_failed(dir: &Path, scene: &str, reason: &str) -> anyhow::Result<i32> {
     Ok(1)
 }
 
-/// Whether `dir` holds outputs of a run (a summary, probes or a frame collection).
+/// Whether `dir` holds outputs of a run that started (probes or a frame collection); a summary alone is
+/// the report of an earlier run that could not start, which a new report may replace.
 fn holds_run_outputs(dir: &Path) -> bool {
-    use cosserat_scene::output::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE, SUMMARY_FILE};
-    [
-        dir.join(SUMMARY_FILE),
-        dir.join(PROBES_FILE),
-        dir.join(FRAMES_DIR).join(PVD_FILE),
-    ]
-    .iter()
-    .any(|p| p.exists())
+    use cosserat_scene::output::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE};
+    dir.join(PROBES_FILE).exists() || dir.join(FRAMES_DIR).join(PVD_FILE).exists()
 }
 
 /// SIGINT and SIGTERM ask the run to stop after its current step; a second one of the same kind ends

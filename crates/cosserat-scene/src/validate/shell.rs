@@ -142,6 +142,17 @@ impl Ctx<'_> {
         }
         let quadrature = match mesh.quadrature_degree {
             None => None,
+            Some(d) if d < pair.min_quadrature_degree() => {
+                return Err(self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!(
+                        "a rule of degree {d} leaves zero-energy modes in {:?} elements (they deform without \
+                         resistance); use at least degree {} or leave the key out for the default",
+                        pair.displacement(),
+                        pair.min_quadrature_degree()
+                    ),
+                ));
+            }
             Some(d) => Some(QuadratureRule::for_degree(d).ok_or_else(|| {
                 self.invalid(
                     &format!("{m}.quadrature_degree"),
@@ -441,13 +452,11 @@ impl Ctx<'_> {
                 nx: n(mesh.nx),
                 ny: n(mesh.ny),
             },
-            GeneratorName::Disk => Generator::Annulus(AnnulusSettings {
-                inner_radius: 0.0,
-                outer_radius: f(mesh.radius),
+            GeneratorName::Disk => Generator::Disk {
+                radius: f(mesh.radius),
                 n_radial: n(mesh.n_radial),
                 n_angular: n(mesh.n_angular),
-                slit: false,
-            }),
+            },
             GeneratorName::Annulus => Generator::Annulus(AnnulusSettings {
                 inner_radius: f(mesh.inner_radius),
                 outer_radius: f(mesh.radius),
@@ -480,11 +489,12 @@ impl Ctx<'_> {
                 n_lon: n(mesh.n_lon),
                 n_lat: n(mesh.n_lat),
                 polar_hole: match mesh.polar_hole_degrees {
-                    Some(d) if d.is_finite() => Some(d.to_radians()),
+                    Some(d) if (0.0..90.0).contains(&d) => Some(d.to_radians()),
                     Some(d) => {
-                        return Err(
-                            self.invalid(&format!("{m}.polar_hole_degrees"), format!("must be finite (got {d})"))
-                        );
+                        return Err(self.invalid(
+                            &format!("{m}.polar_hole_degrees"),
+                            format!("must lie in [0, 90): the polar angle of the hole's rim in degrees (got {d})"),
+                        ));
                     }
                     None => None,
                 },
