@@ -126,6 +126,25 @@ pub enum Generator {
 /// of the paper's experiments; larger requests are reported instead of exhausting memory.
 pub const MAX_ELEMENTS: usize = 10_000_000;
 
+/// The most elements a mesh may have, and why: [`MAX_ELEMENTS`] by default, fewer when the caller
+/// knows that a larger mesh could not be simulated in the memory at hand.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ElementBudget {
+    /// Elements after refinement.
+    pub max: usize,
+    /// Where the limit comes from, for messages.
+    pub source: String,
+}
+
+impl Default for ElementBudget {
+    fn default() -> Self {
+        Self {
+            max: MAX_ELEMENTS,
+            source: "the largest mesh the simulator builds".into(),
+        }
+    }
+}
+
 impl Generator {
     /// The number of triangles the generator makes (saturating; an upper bound for caps and holes).
     pub fn element_count(&self) -> usize {
@@ -338,24 +357,31 @@ pub struct BuiltMesh {
 /// (a node at a projection centre, a flat mesh scaled to a height, a Tri3/Tri6 pair), and
 /// [`MeshSourceError::Result`] if the final mesh has a degenerate or folded element.
 pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
+    build_mesh_within(recipe, &ElementBudget::default())
+}
+
+/// [`build_mesh`] with a given limit on the number of elements, checked before anything is built.
+///
+/// # Errors
+/// As [`build_mesh`].
+pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<BuiltMesh, MeshSourceError> {
     let refined_count = |n_elements: usize| 4usize.saturating_pow(recipe.refine as u32).saturating_mul(n_elements);
+    let limit = || format!("more than the limit of {} ({})", budget.max, budget.source);
     let too_large = |n: usize| MeshSourceError::Invalid {
         step: "refine",
-        reason: format!("the mesh would have {n} elements, more than the limit of {MAX_ELEMENTS}"),
+        reason: format!("the mesh would have {n} elements, {}", limit()),
     };
     let mut mesh = match &recipe.source {
         MeshSource::Generator(generator) => {
             let generated = generator.element_count();
-            if generated > MAX_ELEMENTS {
+            if generated > budget.max {
                 return Err(MeshSourceError::Invalid {
                     step: generator.resolution_key(),
-                    reason: format!(
-                        "the generator would make {generated} triangles, more than the limit of {MAX_ELEMENTS}"
-                    ),
+                    reason: format!("the generator would make {generated} triangles, {}", limit()),
                 });
             }
             let n = refined_count(generated);
-            if n > MAX_ELEMENTS {
+            if n > budget.max {
                 return Err(too_large(n));
             }
             let mut generated = generator.generate().map_err(MeshSourceError::Generator)?;
@@ -367,7 +393,7 @@ pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
         MeshSource::Obj(path) => {
             let mut corners: Tri3Mesh = read_obj(path).map_err(MeshSourceError::Obj)?.mesh;
             let n = refined_count(corners.n_elements());
-            if n > MAX_ELEMENTS {
+            if n > budget.max {
                 return Err(too_large(n));
             }
             for _ in 0..recipe.refine {

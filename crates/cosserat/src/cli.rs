@@ -5,6 +5,7 @@
 //! frames written so far stay and the summary says where the run stopped. A second signal of the same
 //! kind ends the process at once.
 
+use crate::memory::MemoryLimit;
 use crate::simulation::{Simulation, StepInfo, write_setup_failure};
 use crate::stop::{StopReason, StopRequest};
 use anyhow::Context;
@@ -53,6 +54,10 @@ pub struct RunArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Refuse scenes that need more memory than this (e.g. `3G`, `512M`); the machine's available
+    /// memory and the process's limits apply in any case.
+    #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    pub max_memory: Option<u64>,
 }
 
 /// Arguments of `render`.
@@ -112,7 +117,9 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
 pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
     let stop = StopRequest::new();
     install_signal_handlers(&stop).context("installing the signal handlers")?;
-    let spec = match cosserat_scene::load_scene(&args.scene, &args.overrides) {
+    let limit = MemoryLimit::of_machine(args.max_memory);
+    let budget = limit.as_ref().map(MemoryLimit::element_budget).unwrap_or_default();
+    let spec = match cosserat_scene::load_scene_within(&args.scene, &args.overrides, &budget) {
         Ok(spec) => spec,
         Err(e) => {
             let stem = args
@@ -125,7 +132,7 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
     };
     let dir = args.out.clone().unwrap_or_else(|| Path::new("out").join(&spec.name));
     let name = spec.name.clone();
-    let mut sim = match Simulation::new(spec) {
+    let mut sim = match Simulation::with_memory_limit(spec, limit) {
         Ok(sim) => sim,
         Err(e) => return setup_failed(&dir, &name, &e.to_string()),
     };

@@ -36,6 +36,7 @@ pub mod contact_run;
 pub mod error;
 pub mod frames;
 pub mod kl_model;
+pub mod memory;
 pub mod probes;
 pub mod scripts;
 pub mod simulation;

@@ -8,6 +8,7 @@ use crate::contact_run::{ContactMonitor, build_contact_term, contact_parts};
 use crate::error::SimulationError;
 use crate::frames::{OutputMesh, append_obstacles};
 use crate::kl_model::{self, KlModel};
+use crate::memory::{MemoryEstimate, MemoryLimit};
 use crate::probes::Probes;
 use crate::scripts::Scripts;
 use crate::stop::{StopReason, StopRequest};
@@ -138,11 +139,23 @@ fn element_names(pairs: &[ElementPair]) -> (String, String) {
 }
 
 impl Simulation {
-    /// Builds the system, boundary conditions, loads, rest fields and probes of a scene.
+    /// Builds the system, boundary conditions, loads, rest fields and probes of a scene, after checking
+    /// that it fits into the machine's available memory ([`MemoryLimit::of_machine`]).
     ///
     /// # Errors
-    /// Invalid meshes or materials (named by shell), unusable loads.
+    /// Invalid meshes or materials (named by shell), unusable loads, a scene too large for the memory.
     pub fn new(spec: SceneSpec) -> Result<Self, SimulationError> {
+        Self::with_memory_limit(spec, MemoryLimit::of_machine(None))
+    }
+
+    /// [`Simulation::new`] with the memory check against `limit` (`None`: no check).
+    ///
+    /// # Errors
+    /// As [`Simulation::new`].
+    pub fn with_memory_limit(spec: SceneSpec, limit: Option<MemoryLimit>) -> Result<Self, SimulationError> {
+        if let Some(limit) = &limit {
+            MemoryEstimate::of_scene(&spec).check(limit)?;
+        }
         let advice = crate::advice::advise(&spec);
         let inputs: Vec<ShellInput> = spec
             .shells

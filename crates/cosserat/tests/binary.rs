@@ -202,3 +202,44 @@ fn a_scene_that_does_not_parse_leaves_the_earlier_run_alone() {
         );
     }
 }
+
+#[test]
+fn a_scene_too_large_for_the_memory_is_refused_before_it_is_built() {
+    let d = folder("max_memory");
+    let quick = "[time]\nmode = \"quasi_static\"\nn_levels = 1\n";
+    std::fs::write(d.join("scene.toml"), format!("{STRIP}{quick}")).unwrap();
+    // 200 × 200 quads: far beyond 64 MiB, refused before the mesh is built.
+    let output = start(
+        &d,
+        &[
+            "run",
+            "scene.toml",
+            "--out",
+            "out",
+            "--max-memory",
+            "64M",
+            "--set",
+            "mesh.nx=200",
+            "--set",
+            "mesh.ny=200",
+        ],
+    )
+    .wait_with_output()
+    .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.contains("mesh.nx: the generator would make 80000 triangles, more than the limit of")
+            && stderr.contains("allowed by --max-memory"),
+        "{stderr}"
+    );
+    let summary = read_summary(&d.join("out/summary.json")).unwrap();
+    assert_eq!(summary.status, RunStatus::Error);
+    // The 10 × 2 strip fits the mesh budget of 17 MiB, but not the estimate of its 414 unknowns.
+    let output = start(&d, &["run", "scene.toml", "--out", "out", "--max-memory", "17M"])
+        .wait_with_output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("unknowns and needs at least"), "{stderr}");
+}

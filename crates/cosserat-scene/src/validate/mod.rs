@@ -23,6 +23,7 @@ mod time;
 
 use crate::error::{ExprError, Location, SceneError};
 use crate::expr::ExprContext;
+use crate::mesh_source::ElementBudget;
 use crate::overrides::{self, Override};
 use crate::schema::{AxisValue, ExprValue, RotationStep, SceneFile};
 use crate::spec::{FieldFunction, SceneSpec, TimeFunction};
@@ -41,13 +42,26 @@ impl SceneSpec {
     /// [`SceneError::ReadScene`] if the file cannot be read; otherwise as [`SceneSpec::from_str`],
     /// with the file's path in every location.
     pub fn from_file(path: impl AsRef<Path>, overrides: &[String]) -> Result<SceneSpec, SceneError> {
+        Self::from_file_within(path, overrides, &ElementBudget::default())
+    }
+
+    /// [`SceneSpec::from_file`] with a limit on the size of every mesh, checked before it is built
+    /// (a caller that knows the memory at hand passes what fits into it).
+    ///
+    /// # Errors
+    /// As [`SceneSpec::from_file`].
+    pub fn from_file_within(
+        path: impl AsRef<Path>,
+        overrides: &[String],
+        budget: &ElementBudget,
+    ) -> Result<SceneSpec, SceneError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::ReadScene {
             path: path.to_path_buf(),
             source,
         })?;
         let base_dir = path.parent().unwrap_or_else(|| Path::new("."));
-        let mut spec = Self::from_str(&text, &path.display().to_string(), base_dir, overrides)?;
+        let mut spec = Self::parse(&text, &path.display().to_string(), base_dir, overrides, budget)?;
         spec.source = Some(path.to_path_buf());
         Ok(spec)
     }
@@ -103,6 +117,16 @@ impl SceneSpec {
         base_dir: &Path,
         overrides: &[String],
     ) -> Result<SceneSpec, SceneError> {
+        Self::parse(text, source_name, base_dir, overrides, &ElementBudget::default())
+    }
+
+    fn parse(
+        text: &str,
+        source_name: &str,
+        base_dir: &Path,
+        overrides: &[String],
+        budget: &ElementBudget,
+    ) -> Result<SceneSpec, SceneError> {
         let overrides: Vec<Override> = overrides.iter().map(|o| Override::parse(o)).collect::<Result<_, _>>()?;
         let document = DeTable::parse(text).map_err(|e| {
             let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
@@ -141,6 +165,7 @@ impl SceneSpec {
         let mut ctx = Ctx {
             source,
             base_dir,
+            budget,
             exprs: ExprContext::new(),
             sample_times: Vec::new(),
         };
@@ -152,6 +177,8 @@ impl SceneSpec {
 pub(crate) struct Ctx<'a> {
     source: Source<'a>,
     base_dir: &'a Path,
+    /// The largest mesh to build.
+    budget: &'a ElementBudget,
     exprs: ExprContext,
     /// Times at which scripted functions are checked for finite values.
     sample_times: Vec<f64>,

@@ -5,7 +5,7 @@ use super::Ctx;
 use crate::error::{MeshSourceError, SceneError};
 use crate::grid::PlanarGrid;
 use crate::mesh_source::{
-    Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh,
+    Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh_within,
 };
 use crate::region::ShellNodes;
 use crate::schema::{
@@ -129,7 +129,7 @@ impl Ctx<'_> {
             }
         };
         let recipe = self.recipe(&m, mesh, pair)?;
-        let mut built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(&m, e))?;
+        let mut built = build_mesh_within(&recipe, self.budget).map_err(|e| self.mesh_source_error(&m, e))?;
         if let Some(d) = &mesh.displace {
             self.displace(&m, d, &mut built.mesh)?;
             built.initial_positions = recipe.initial.map(|motion| {
@@ -257,7 +257,7 @@ impl Ctx<'_> {
             ));
         }
         let recipe = self.recipe(m, mesh, ElementPair::Tri3Tri3)?;
-        let mut built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(m, e))?;
+        let mut built = build_mesh_within(&recipe, self.budget).map_err(|e| self.mesh_source_error(m, e))?;
         if let Some(d) = &mesh.displace {
             self.displace(m, d, &mut built.mesh)?;
         }

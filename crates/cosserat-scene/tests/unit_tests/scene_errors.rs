@@ -361,17 +361,18 @@ fn sizes_that_exhaust_memory_are_refused_against_the_field_that_sets_them() {
     assert_eq!(
         message(&[], &["mesh.nx=100000000"]),
         "override `mesh.nx=100000000`: mesh.nx: the generator would make 400000000 triangles, more than the \
-         limit of 10000000"
+         limit of 10000000 (the largest mesh the simulator builds)"
     );
     let sphere = [(MESH, "generator = \"icosphere\"\nradius = 1.0\nlevel = 12\n\n\n")];
     assert_eq!(
         message(&sphere, &[]),
-        "scene.toml:10: mesh.level: the generator would make 335544320 triangles, more than the limit of 10000000"
+        "scene.toml:10: mesh.level: the generator would make 335544320 triangles, more than the limit of \
+         10000000 (the largest mesh the simulator builds)"
     );
     assert_eq!(
         message(&[], &["mesh.refine=8", "mesh.nx=100"]),
         "override `mesh.refine=8`: mesh.refine: the mesh would have 26214400 elements, more than the limit of \
-         10000000"
+         10000000 (the largest mesh the simulator builds)"
     );
     let quasi_static = [(
         "dt = 0.01\nend = 1.0",

@@ -73,6 +73,7 @@ fn args(scene: PathBuf, out: PathBuf, overrides: &[&str]) -> RunArgs {
         overrides: overrides.iter().map(|s| s.to_string()).collect(),
         threads: Some(1),
         quiet: true,
+        max_memory: None,
     }
 }
 
