@@ -330,6 +330,8 @@ pub struct MeshRecipe {
     pub pair: ElementPair,
     /// Number of uniform refinements (each splits every triangle into four).
     pub refine: usize,
+    /// OBJ input: merge vertices closer than this distance \[m\] before anything else.
+    pub weld: Option<f64>,
     /// Radial projection of every node onto a sphere.
     pub project_to_sphere: Option<SphereProjection>,
     /// Flatten a spherical cap into a disk of this radius \[m\] (see the module docs).
@@ -347,6 +349,9 @@ pub struct BuiltMesh {
     pub mesh: ShellMesh,
     /// Initial displacement-node positions, if they differ from the rest positions.
     pub initial_positions: Option<Vec<Vector3<f64>>>,
+    /// What the input does that is allowed but probably not meant (see
+    /// [`ObjMesh::warnings`](crate::obj::ObjMesh::warnings)).
+    pub warnings: Vec<String>,
 }
 
 /// Runs the pipeline of the module docs.
@@ -371,6 +376,7 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
         step: "refine",
         reason: format!("the mesh would have {n} elements, {}", limit()),
     };
+    let mut warnings = Vec::new();
     let mut mesh = match &recipe.source {
         MeshSource::Generator(generator) => {
             let generated = generator.element_count();
@@ -391,7 +397,12 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
             ShellMesh::from_tri3(generated.mesh.clone(), recipe.pair, |node| generated.place(node))
         }
         MeshSource::Obj(path) => {
-            let mut corners: Tri3Mesh = read_obj(path).map_err(MeshSourceError::Obj)?.mesh;
+            let mut obj = read_obj(path).map_err(MeshSourceError::Obj)?;
+            if let Some(tolerance) = recipe.weld {
+                obj = obj.welded(tolerance, path).map_err(MeshSourceError::Obj)?.0;
+            }
+            warnings = obj.warnings(path);
+            let mut corners: Tri3Mesh = obj.mesh;
             let n = refined_count(corners.n_elements());
             if n > budget.max {
                 return Err(too_large(n));
@@ -459,6 +470,7 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
     Ok(BuiltMesh {
         mesh,
         initial_positions,
+        warnings,
     })
 }
 

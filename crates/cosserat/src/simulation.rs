@@ -156,7 +156,8 @@ impl Simulation {
         if let Some(limit) = &limit {
             MemoryEstimate::of_scene(&spec).check(limit)?;
         }
-        let advice = crate::advice::advise(&spec);
+        let mut advice = crate::advice::advise(&spec);
+        advice.extend(spec.warnings.iter().cloned());
         let inputs: Vec<ShellInput> = spec
             .shells
             .iter()

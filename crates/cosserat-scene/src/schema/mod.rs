@@ -268,6 +268,9 @@ pub struct MeshSection {
     pub generator: Option<GeneratorName>,
     /// An OBJ file, relative to the scene file's directory or absolute (exclusive with `generator`).
     pub path: Option<String>,
+    /// OBJ input: merge vertices closer than this distance \[m\] (files split along seams; default: no
+    /// merging, and a warning when vertices coincide).
+    pub weld: Option<f64>,
     /// Displacement element (default `"tri6"`, the paper's).
     pub element: Option<ElementName>,
     /// Rotation element (default `"tri3"`, the paper's).

@@ -232,9 +232,11 @@ impl Ctx<'_> {
                 contact: contact.as_ref(),
             },
         )?;
+        let warnings = shells.iter().flat_map(|s| s.warnings.iter().cloned()).collect();
         Ok(SceneSpec {
             name: file.name,
             source: None,
+            warnings,
             shells: shells.into_iter().map(|s| s.spec).collect(),
             time,
             solver,

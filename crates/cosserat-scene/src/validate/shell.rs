@@ -34,6 +34,8 @@ pub(crate) struct ValidShell {
     pub nodes: ShellNodes,
     /// Points at which rest fields are checked: displacement nodes and element centroids.
     pub sample_points: Vec<Vector3<f64>>,
+    /// What the mesh input does that is allowed but probably not meant.
+    pub warnings: Vec<String>,
 }
 
 impl Ctx<'_> {
@@ -195,6 +197,7 @@ impl Ctx<'_> {
             },
             nodes,
             sample_points,
+            warnings: built.warnings,
         })
     }
 
@@ -389,10 +392,16 @@ impl Ctx<'_> {
                 })
             }
         };
+        let weld = match (mesh.weld, &mesh.path) {
+            (None, _) => None,
+            (Some(_), None) => return Err(self.invalid(&format!("{m}.weld"), "only used with an OBJ `path`")),
+            (Some(d), Some(_)) => Some(self.positive(&format!("{m}.weld"), d)?),
+        };
         Ok(MeshRecipe {
             source,
             pair,
             refine,
+            weld,
             project_to_sphere,
             flatten_cap,
             transform,

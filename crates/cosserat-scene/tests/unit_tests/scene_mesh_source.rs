@@ -14,6 +14,7 @@ fn recipe(source: MeshSource, pair: ElementPair) -> MeshRecipe {
         source,
         pair,
         refine: 0,
+        weld: None,
         project_to_sphere: None,
         flatten_cap: None,
         transform: None,
