@@ -243,3 +243,42 @@ fn a_scene_too_large_for_the_memory_is_refused_before_it_is_built() {
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.contains("unknowns and needs at least"), "{stderr}");
 }
+
+#[test]
+fn a_run_that_fails_at_a_known_step_keeps_the_steps_before() {
+    let d = folder("known_failure");
+    // From t = 0.05 on the load jumps beyond what eight Newton iterations can follow, and no step
+    // reduction is allowed: the steps to t = 0.05 converge, the next one fails.
+    let dynamic = "[time]\nmode = \"dynamic\"\ndt = 0.01\nend = 0.1\nadaptive = false\noutput_fps = 50.0\n\
+                   [solver]\nmax_newton_iterations = 8\nmax_step_reductions = 0\n";
+    let scene = STRIP.replace(
+        "force = [0.0, 0.0, -0.001]",
+        "force = [0.0, 0.0, -0.001]\nscale = \"1 + 1e10*(t > 0.045)\"",
+    );
+    std::fs::write(d.join("scene.toml"), format!("{scene}{dynamic}")).unwrap();
+    let output = start(&d, &["run", "scene.toml", "--out", "out", "--quiet"])
+        .wait_with_output()
+        .unwrap();
+    assert_eq!(
+        output.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&output.stderr)
+    );
+    let summary = read_summary(&d.join("out/summary.json")).unwrap();
+    assert_eq!(summary.status, RunStatus::Error);
+    assert_eq!(summary.n_steps, 5);
+    assert!((summary.stopped_at.unwrap() - 0.05).abs() < 1e-12);
+    let failed = summary.failed_step.unwrap();
+    assert_eq!(failed.attempts.len(), 1);
+    assert_eq!(
+        failed.attempts[0].residuals.len(),
+        9,
+        "the initial residual and eight iterations"
+    );
+    let frames = read_pvd(&d.join("out/frames/run.pvd")).unwrap();
+    assert_eq!(frames.iter().map(|f| f.time).collect::<Vec<_>>(), [0.0, 0.02, 0.04]);
+    for f in &frames {
+        read_vtu(&d.join("out/frames").join(&f.file)).unwrap();
+    }
+}
