@@ -186,7 +186,6 @@ fn run_case(bin: &Path, case: &Case, out: &Path) -> Result<Row> {
     if !status.success() || s.status != RunStatus::Ok {
         bail!("{}: {:?} {}", case.name, s.status, s.reason.unwrap_or_default());
     }
-    let extra = |k: &str| s.extra.get(k).and_then(|v| v.as_f64());
     Ok(Row {
         case: case.name.into(),
         dofs: s.n_displacement_dofs + s.n_rotation_dofs,
@@ -201,8 +200,8 @@ fn run_case(bin: &Path, case: &Case, out: &Path) -> Result<Row> {
         paper_ms_per_step: case.paper_ms,
         assembly_share: s.assembly_share,
         linear_solve_share: s.linear_solve_share,
-        factor_gflops_per_s: extra("factor_gflops_per_s"),
-        peak_memory_mb: extra("peak_memory_mb"),
+        factor_gflops_per_s: s.linear_solver.factor.as_ref().and_then(|f| f.gflops_per_s),
+        peak_memory_mb: s.peak_memory_mb,
         note: case.note.into(),
     })
 }

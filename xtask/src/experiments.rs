@@ -219,10 +219,7 @@ fn twisting_check(r: &[RunResult]) -> Vec<String> {
         let s = &res.summary;
         lines.push(format!(
             "- {} steps completed ({:?}), {:.2} Newton iterations per step (at most {}).",
-            s.n_steps,
-            s.status,
-            s.avg_newton_iterations,
-            s.extra.get("max_newton_iterations").map_or("?".into(), |v| v.to_string())
+            s.n_steps, s.status, s.avg_newton_iterations, s.max_newton_iterations
         ));
         if let Some(p) = &res.probes
             && let (Ok(d3), Ok(t)) = (p.last_vec("right_director", ["d3x", "d3y", "d3z"]), p.last("t"))
@@ -236,7 +233,7 @@ fn twisting_check(r: &[RunResult]) -> Vec<String> {
                 dot.acos().to_degrees()
             ));
         }
-        if let Some(a) = s.extra.get("min_area_ratio").and_then(|v| v.as_f64()) {
+        if let Some(a) = s.min_area_ratio {
             lines.push(format!(
                 "- Smallest signed area ratio over all quadrature points and frames: {a:.3} ({}).",
                 if a > 0.0 {

@@ -335,22 +335,17 @@ impl CellResult {
 /// Reads what a cell showed from its outputs.
 pub fn assess(settings: &Settings, outcome: RunOutcome) -> CellResult {
     let summary = outcome.summary.as_ref();
-    let newton = summary.map(|s| {
-        let max = s.extra.get("max_newton_iterations").and_then(|v| v.as_u64()).unwrap_or(0);
-        (s.avg_newton_iterations, max)
-    });
+    let newton = summary.map(|s| (s.avg_newton_iterations, s.max_newton_iterations as u64));
     let reductions = summary.map(|s| s.n_step_reductions);
-    let min_area_ratio = summary.and_then(|s| s.extra.get("min_area_ratio").and_then(|v| v.as_f64()));
+    let min_area_ratio = summary.and_then(|s| s.min_area_ratio);
     let mut non_finite = outcome
         .probes
         .as_ref()
         .is_some_and(|p| p.rows.iter().any(|r| r.iter().any(|v| !v.is_finite())));
     let energy_growth = summary.and_then(|s| {
-        let e = s.extra.get("energy")?;
-        let get =
-            |k: &str| -> Option<Vec<f64>> { Some(e.get(k)?.as_array()?.iter().filter_map(|v| v.as_f64()).collect()) };
-        let (t, kin, el) = (get("t")?, get("kinetic")?, get("elastic")?);
-        let total: Vec<(f64, f64)> = t.iter().zip(kin.iter().zip(&el)).map(|(t, (k, e))| (*t, k + e)).collect();
+        let e = &s.energy;
+        let (t, kin, el) = (&e.t, &e.kinetic, &e.elastic);
+        let total: Vec<(f64, f64)> = t.iter().zip(kin.iter().zip(el.iter())).map(|(t, (k, e))| (*t, k + e)).collect();
         let hold_start = settings.turns - 1e-9;
         let (_, e0) = *total.iter().find(|(t, _)| *t >= hold_start)?;
         let growth = total

@@ -32,11 +32,9 @@ fn system(pair: ElementPair, model: ShellModel, nx: usize, ny: usize) -> System 
     };
     let mut sys = build_system(
         &[input],
-        Vec::new(),
         &SystemOptions {
             gravity: Vector3::zeros(),
             dynamic: true,
-            dt: 0.01,
         },
     )
     .unwrap();

@@ -3,7 +3,10 @@
 //!
 //! Entry points:
 //! - [`IncrementalPotential`] built from [`PotentialParts`]: shells ([`shell::ShellTerm`]), inertia and
-//!   loads ([`inertia`]), boundary conditions ([`boundary`]) and further [`PotentialTerm`]s;
+//!   loads ([`inertia`]) from a model's [`NodalMasses`], boundary conditions ([`boundary`]); further
+//!   [`PotentialTerm`]s (another model's elastic energy, contact) are inserted by their owners, who keep
+//!   a typed [`TermHandle`] to them;
+//! - [`build_system`]: the Cosserat shells of a scene as such a potential, with their [`ShellLayout`]s;
 //! - [`SparsityPattern`]: the upper-triangular 3×3-block CSC pattern, built once per topology;
 //! - [`parallel::ordered_map`]: element kernels in parallel, scattered in element order, so results are
 //!   bit-identical for any number of threads.
@@ -39,7 +42,7 @@ pub use dofs::DofLayout;
 pub use error::AssemblyError;
 pub use parallel::Parallelism;
 pub use pattern::SparsityPattern;
-pub use potential::{IncrementalPotential, PotentialParts, ShellEnergy};
+pub use potential::{IncrementalPotential, NodalMasses, PSEUDO_TIME_STEP, PotentialParts, ShellEnergy, TermHandle};
 pub use state::SystemState;
 pub use system::{BuildError, ElementPair, ShellInput, ShellLayout, ShellMesh, System, SystemOptions, build_system};
 pub use term::PotentialTerm;

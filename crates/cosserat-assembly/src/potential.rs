@@ -2,9 +2,14 @@
 //! and the per-evaluation nodal rotation data.
 //!
 //! This is the object the Newton solver minimises. It is composed of independently built parts (shell
-//! energies, inertia, loads, boundary penalties, exact position constraints, further terms such as
-//! contact) and holds no physics itself: it evaluates the terms, owns the buffers they share, and
-//! advances the state after an accepted step.
+//! energies, inertia, loads, boundary penalties, exact position constraints) and of further terms
+//! inserted by their owners (another model's elastic energy, contact), who keep a typed
+//! [`TermHandle`] to reach them. It holds no physics itself: it evaluates the terms, owns the buffers
+//! they share, and advances the state after an accepted step.
+//!
+//! The time step of the next evaluation belongs to whoever advances the potential (the time stepper,
+//! the quasi-static stepper), which sets it with [`IncrementalPotential::set_time_step`] before each
+//! solve; until then it is [`PSEUDO_TIME_STEP`].
 
 use crate::boundary::{AngularVelocityPenalty, PositionConstraint, PositionPenalty, RotationPenalty};
 use crate::dofs::DofLayout;
@@ -17,6 +22,33 @@ use crate::term::{Evaluation, NodeRotations, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
 use nalgebra::Matrix3;
 use rayon::prelude::*;
+use std::marker::PhantomData;
+
+/// The time step of quasi-static loading, where the unknowns are displacement increments and the
+/// residual a force: the pseudo time advances by one per load level.
+pub const PSEUDO_TIME_STEP: f64 = 1.0;
+
+/// A term inserted into a potential, by its type: [`IncrementalPotential::term`] and
+/// [`IncrementalPotential::term_mut`] return it as a `T`. Handles are cheap to copy; a handle belongs
+/// to the potential that issued it.
+pub struct TermHandle<T> {
+    index: usize,
+    _term: PhantomData<fn() -> T>,
+}
+
+impl<T> Clone for TermHandle<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for TermHandle<T> {}
+
+impl<T> std::fmt::Debug for TermHandle<T> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "TermHandle({})", self.index)
+    }
+}
 
 /// A shell's elastic energy, with the controls scripts need (rest fields).
 pub trait ShellEnergy: PotentialTerm {
@@ -78,18 +110,65 @@ pub struct PotentialParts {
     pub omega_penalties: Vec<AngularVelocityPenalty>,
     /// Exactly eliminated positions.
     pub position_constraints: Vec<PositionConstraint>,
-    /// Further terms (e.g. contact).
-    pub extra: Vec<Box<dyn PotentialTerm>>,
+}
+
+/// The lumped masses of a model's nodes, from which every model's inertia and gravity are built.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct NodalMasses {
+    /// Mass per displacement node \[kg\].
+    pub masses: Vec<f64>,
+    /// Rotational inertia per rotation node \[kg·m²\].
+    pub rotational_inertia: Vec<f64>,
+    /// Mass-proportional damping per displacement node \[1/s\].
+    pub damping: Vec<f64>,
+}
+
+impl PotentialParts {
+    /// The parts every model shares: the state, the model's shell energies (if any), inertia from the
+    /// lumped masses (dynamic runs only), gravity on those masses, zero nodal forces and torques, and
+    /// no boundary terms yet (scripts add them).
+    pub fn with_inertia_and_loads(
+        layout: DofLayout,
+        state: SystemState,
+        shells: Vec<Box<dyn ShellEnergy>>,
+        nodal: NodalMasses,
+        options: &crate::system::SystemOptions,
+    ) -> Self {
+        let loads = LoadTerm {
+            masses: nodal.masses.clone(),
+            gravity: options.gravity,
+            forces: vec![nalgebra::Vector3::zeros(); layout.n_disp_nodes],
+            torques: vec![nalgebra::Vector3::zeros(); layout.n_rot_nodes],
+        };
+        let inertia = options.dynamic.then_some(InertiaTerm {
+            masses: nodal.masses,
+            rotational_inertia: nodal.rotational_inertia,
+            damping: nodal.damping,
+        });
+        Self {
+            layout,
+            state,
+            shells,
+            inertia,
+            loads,
+            position_penalties: Vec::new(),
+            rotation_penalties: Vec::new(),
+            omega_penalties: Vec::new(),
+            position_constraints: Vec::new(),
+        }
+    }
 }
 
 /// The incremental potential `Π(v, ω)` of a time step.
 pub struct IncrementalPotential {
     /// The parts; scripts change targets, forces and rest fields through them between steps.
     pub parts: PotentialParts,
-    /// Time step of the next evaluation \[s\].
-    pub dt: f64,
     /// Whether element kernels run in parallel.
     pub parallelism: Parallelism,
+    /// Terms inserted by their owners ([`IncrementalPotential::insert`]).
+    terms: Vec<Box<dyn PotentialTerm>>,
+    /// Time step of the next evaluation \[s\].
+    dt: f64,
     pattern: SparsityPattern,
     rotations: NodeRotations,
     /// The buffer of the other kind (matrices or jets), kept so that switching between energy and
@@ -141,52 +220,121 @@ impl DynamicPattern {
 }
 
 impl IncrementalPotential {
-    /// Builds the pattern of all terms and binds them to it.
-    pub fn new(mut parts: PotentialParts, dt: f64) -> Self {
-        let n_blocks = parts.layout.n_blocks();
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for s in &parts.shells {
-            groups.extend(s.coupling_groups());
-        }
-        for t in parts.extra.iter().filter(|t| !t.is_dynamic()) {
-            groups.extend(t.coupling_groups());
-        }
-        let pattern = SparsityPattern::from_groups(n_blocks, groups.iter().map(|g| g.as_slice()));
-        for s in &mut parts.shells {
-            s.bind(&pattern);
-        }
-        for t in parts.extra.iter_mut().filter(|t| !t.is_dynamic()) {
-            t.bind(&pattern);
-        }
+    /// Builds the pattern of all parts and binds them to it; the time step is [`PSEUDO_TIME_STEP`]
+    /// until a stepper sets it.
+    pub fn new(parts: PotentialParts) -> Self {
         let n_rot = parts.layout.n_rot_nodes;
         let mut potential = Self {
             parts,
-            dt,
             parallelism: Parallelism::Rayon,
-            pattern,
+            terms: Vec::new(),
+            dt: PSEUDO_TIME_STEP,
+            pattern: SparsityPattern::from_groups(0, std::iter::empty::<&[usize]>()),
             rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]),
             spare_rotations: NodeRotations::Jets(Vec::new()),
             dynamic: None,
         };
-        potential.rebuild_dynamic();
+        potential.rebuild_fixed();
         potential
+    }
+
+    /// Adds a term and returns its handle. A term whose couplings are fixed extends the Hessian's
+    /// pattern (every term is bound again); a dynamic one (contact) gets its own pattern, merged with
+    /// the fixed one.
+    pub fn insert<T: PotentialTerm + 'static>(&mut self, term: T) -> TermHandle<T> {
+        let dynamic = term.is_dynamic();
+        self.terms.push(Box::new(term));
+        if dynamic {
+            self.rebuild_dynamic();
+        } else {
+            self.rebuild_fixed();
+        }
+        TermHandle {
+            index: self.terms.len() - 1,
+            _term: PhantomData,
+        }
+    }
+
+    /// The term of a handle.
+    ///
+    /// # Panics
+    /// If the handle was issued by another potential.
+    pub fn term<T: PotentialTerm + 'static>(&self, handle: TermHandle<T>) -> &T {
+        self.terms
+            .get(handle.index)
+            .and_then(|t| t.as_any().downcast_ref())
+            .expect("a handle names a term of its own type in the potential that issued it")
+    }
+
+    /// The term of a handle, mutably.
+    ///
+    /// # Panics
+    /// If the handle was issued by another potential.
+    pub fn term_mut<T: PotentialTerm + 'static>(&mut self, handle: TermHandle<T>) -> &mut T {
+        self.term_and_state_mut(handle).0
+    }
+
+    /// The term of a handle, mutably, beside the start-of-step state and the layout (for owners that
+    /// update a term from the state, e.g. moving contact obstacles).
+    ///
+    /// # Panics
+    /// If the handle was issued by another potential.
+    pub fn term_and_state_mut<T: PotentialTerm + 'static>(
+        &mut self,
+        handle: TermHandle<T>,
+    ) -> (&mut T, &SystemState, &DofLayout) {
+        let term = self
+            .terms
+            .get_mut(handle.index)
+            .and_then(|t| t.as_any_mut().downcast_mut())
+            .expect("a handle names a term of its own type in the potential that issued it");
+        (term, &self.parts.state, &self.parts.layout)
+    }
+
+    /// The time step of the next evaluation \[s\].
+    pub fn dt(&self) -> f64 {
+        self.dt
+    }
+
+    /// Sets the time step of the next evaluations \[s\]: the steppers call this before every attempt.
+    pub fn set_time_step(&mut self, dt: f64) {
+        self.dt = dt;
+    }
+
+    /// Rebuilds the fixed pattern from the shells and the fixed inserted terms and binds them to it.
+    fn rebuild_fixed(&mut self) {
+        let n_blocks = self.parts.layout.n_blocks();
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for s in &self.parts.shells {
+            groups.extend(s.coupling_groups());
+        }
+        for t in self.terms.iter().filter(|t| !t.is_dynamic()) {
+            groups.extend(t.coupling_groups());
+        }
+        self.pattern = SparsityPattern::from_groups(n_blocks, groups.iter().map(|g| g.as_slice()));
+        for s in &mut self.parts.shells {
+            s.bind(&self.pattern);
+        }
+        for t in self.terms.iter_mut().filter(|t| !t.is_dynamic()) {
+            t.bind(&self.pattern);
+        }
+        self.rebuild_dynamic();
     }
 
     /// Rebuilds the dynamic terms' pattern and its merge map (only if dynamic terms exist).
     fn rebuild_dynamic(&mut self) {
-        if !self.parts.extra.iter().any(|t| t.is_dynamic()) {
+        if !self.has_dynamic_terms() {
             self.dynamic = None;
             return;
         }
         let groups: Vec<Vec<usize>> = self
-            .parts
-            .extra
+            .terms
             .iter()
             .filter(|t| t.is_dynamic())
             .flat_map(|t| t.coupling_groups())
             .collect();
         let dynamic = DynamicPattern::build(self.parts.layout.n_blocks(), &self.pattern, &groups);
-        for t in self.parts.extra.iter_mut().filter(|t| t.is_dynamic()) {
+        for t in self.terms.iter_mut().filter(|t| t.is_dynamic()) {
             t.bind(&dynamic.own);
         }
         self.dynamic = Some(dynamic);
@@ -194,7 +342,7 @@ impl IncrementalPotential {
 
     /// Whether any dynamic term exists (contact).
     pub fn has_dynamic_terms(&self) -> bool {
-        self.parts.extra.iter().any(|t| t.is_dynamic())
+        self.terms.iter().any(|t| t.is_dynamic())
     }
 
     /// Prepares the dynamic terms for a step from the current state with Newton's initial guess `u`.
@@ -205,7 +353,7 @@ impl IncrementalPotential {
     pub fn begin_step(&mut self, u: &[f64]) -> Result<bool, AssemblyError> {
         let (state, layout, dt) = (&self.parts.state, &self.parts.layout, self.dt);
         let mut changed = false;
-        for t in self.parts.extra.iter_mut().filter(|t| t.is_dynamic()) {
+        for t in self.terms.iter_mut().filter(|t| t.is_dynamic()) {
             changed |= t.begin_step(state, layout, dt, u)?;
         }
         if changed {
@@ -221,21 +369,17 @@ impl IncrementalPotential {
         }
         self.update_rotations(u, false);
         let eval = self.evaluation(u);
-        self.parts.extra.iter().any(|t| t.needs_resolve(&eval))
+        self.terms.iter().any(|t| t.needs_resolve(&eval))
     }
 
     /// The largest fraction of the step `du` from `u` that keeps every term's state valid.
     pub fn max_step_fraction(&mut self, u: &[f64], du: &[f64]) -> f64 {
-        if !self.parts.extra.iter().any(|t| t.is_dynamic()) {
+        if !self.has_dynamic_terms() {
             return 1.0;
         }
         self.update_rotations(u, false);
         let eval = self.evaluation(u);
-        self.parts
-            .extra
-            .iter()
-            .map(|t| t.max_step_fraction(&eval, du))
-            .fold(1.0, f64::min)
+        self.terms.iter().map(|t| t.max_step_fraction(&eval, du)).fold(1.0, f64::min)
     }
 
     /// The Hessian's sparsity pattern (upper triangle): the fixed pattern, merged with the dynamic terms'
@@ -259,7 +403,7 @@ impl IncrementalPotential {
             .chain(p.position_penalties.iter().map(|t| t as &dyn PotentialTerm))
             .chain(p.rotation_penalties.iter().map(|t| t as &dyn PotentialTerm))
             .chain(p.omega_penalties.iter().map(|t| t as &dyn PotentialTerm))
-            .chain(p.extra.iter().map(|t| t.as_ref()))
+            .chain(self.terms.iter().map(|t| t.as_ref()))
     }
 
     /// Names of the active energy terms, for the run summary.
@@ -398,7 +542,8 @@ impl IncrementalPotential {
         }
     }
 
-    /// The elastic energy of the shells in the start-of-step state (no motion over the step), in J.
+    /// The elastic energy of the start-of-step state (no motion over the step), in J: the sum of the
+    /// terms that are [`PotentialTerm::is_elastic`].
     ///
     /// # Errors
     /// A non-finite contribution.
@@ -406,7 +551,9 @@ impl IncrementalPotential {
         let u = vec![0.0; self.n_dofs()];
         self.update_rotations(&u, false);
         let eval = self.evaluation(&u);
-        self.parts.shells.iter().try_fold(0.0, |acc, s| Ok(acc + s.value(&eval)?))
+        self.terms()
+            .filter(|t| t.is_elastic())
+            .try_fold(0.0, |acc, t| Ok(acc + t.value(&eval)?))
     }
 
     /// The kinetic energy `½ Σ m |v|² + ½ Σ I |ω|²` of the start-of-step state, in J (zero without inertia).
@@ -450,7 +597,7 @@ impl IncrementalPotential {
         for s in &mut self.parts.shells {
             s.commit(&mut self.parts.state, &layout, u, dt);
         }
-        for t in &mut self.parts.extra {
+        for t in &mut self.terms {
             t.commit(&mut self.parts.state, &layout, u, dt);
         }
         let st = &mut self.parts.state;

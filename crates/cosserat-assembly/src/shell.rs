@@ -373,6 +373,10 @@ pub fn project_positive_semidefinite<const N: usize>(h: &SMatrix<f64, N, N>) -> 
 impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> PotentialTerm
     for ShellTerm<NU, NR, NL, NE, NB>
 {
+    fn is_elastic(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> String {
         format!("shell_tri{NU}_tri{NR}")
     }

@@ -6,11 +6,9 @@
 //! potential's parts afterwards (they act on diagonal blocks and never change the pattern).
 
 use crate::dofs::DofLayout;
-use crate::inertia::{InertiaTerm, LoadTerm};
-use crate::potential::{IncrementalPotential, PotentialParts, ShellEnergy};
+use crate::potential::{IncrementalPotential, NodalMasses, PotentialParts, ShellEnergy};
 use crate::shell::{ShellDiscretization, ShellTerm};
 use crate::state::SystemState;
-use crate::term::PotentialTerm;
 use cosserat_fem::mesh::{MeshElement, NewNode, Tri3Mesh, Tri6Mesh};
 use cosserat_fem::{ElementKind, MeshError, QuadratureRule, TriMesh};
 use cosserat_material::rest::{RestOptions, shell_rest};
@@ -164,8 +162,6 @@ pub struct SystemOptions {
     pub gravity: Vector3<f64>,
     /// Include inertia (dynamics); `false` for quasi-static runs.
     pub dynamic: bool,
-    /// Initial time step \[s\].
-    pub dt: f64,
 }
 
 /// A failure to build a system.
@@ -313,15 +309,12 @@ fn node_counts(input: &ShellInput) -> Result<(usize, usize), BuildError> {
     }
 }
 
-/// Builds the system of the given shells, with further coupling terms (e.g. contact) in `extra`.
+/// Builds the system of the given shells; further terms (e.g. contact) are inserted into its potential
+/// afterwards ([`IncrementalPotential::insert`]).
 ///
 /// # Errors
 /// Invalid meshes (degenerate or malformed elements, named by shell and index) and invalid materials.
-pub fn build_system(
-    inputs: &[ShellInput],
-    extra: Vec<Box<dyn PotentialTerm>>,
-    options: &SystemOptions,
-) -> Result<System, BuildError> {
+pub fn build_system(inputs: &[ShellInput], options: &SystemOptions) -> Result<System, BuildError> {
     // First pass: global counts, so every term knows the final layout.
     let mut n_disp = 0;
     let mut n_rot = 0;
@@ -378,45 +371,21 @@ pub fn build_system(
         built.push(b);
     }
     let mut x = Vec::with_capacity(n_disp);
-    let mut masses = Vec::with_capacity(n_disp);
-    let mut rotational_inertia = Vec::with_capacity(n_rot);
+    let mut nodal = NodalMasses::default();
     let mut shells = Vec::with_capacity(built.len());
     let mut layouts = Vec::with_capacity(built.len());
-    let mut damping = Vec::with_capacity(n_disp);
     for b in built {
         x.extend_from_slice(&b.layout.rest_disp_positions);
-        masses.extend_from_slice(&b.masses);
-        rotational_inertia.extend_from_slice(&b.rotational_inertia);
-        damping.extend(std::iter::repeat_n(b.damping, b.masses.len()));
+        nodal.masses.extend_from_slice(&b.masses);
+        nodal.rotational_inertia.extend_from_slice(&b.rotational_inertia);
+        nodal.damping.extend(std::iter::repeat_n(b.damping, b.masses.len()));
         shells.push(b.energy);
         layouts.push(b.layout);
     }
     let state = SystemState::at_rest(x, n_rot, counts.points);
-    let inertia = options.dynamic.then(|| InertiaTerm {
-        masses: masses.clone(),
-        rotational_inertia,
-        damping,
-    });
-    let loads = LoadTerm {
-        masses,
-        gravity: options.gravity,
-        forces: vec![Vector3::zeros(); n_disp],
-        torques: vec![Vector3::zeros(); n_rot],
-    };
-    let parts = PotentialParts {
-        layout,
-        state,
-        shells,
-        inertia,
-        loads,
-        position_penalties: Vec::new(),
-        rotation_penalties: Vec::new(),
-        omega_penalties: Vec::new(),
-        position_constraints: Vec::new(),
-        extra,
-    };
+    let parts = PotentialParts::with_inertia_and_loads(layout, state, shells, nodal, options);
     Ok(System {
-        potential: IncrementalPotential::new(parts, options.dt),
+        potential: IncrementalPotential::new(parts),
         shells: layouts,
     })
 }

@@ -65,8 +65,26 @@ pub struct Evaluation<'a> {
     pub parallelism: Parallelism,
 }
 
+/// Access to a term as [`std::any::Any`], so that a [`crate::potential::TermHandle`] can return the
+/// concrete type it was created with. Implemented for every `'static` type.
+pub trait AsAny: std::any::Any {
+    /// `self` as `Any`.
+    fn as_any(&self) -> &dyn std::any::Any;
+    /// `self` as mutable `Any`.
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any;
+}
+
+impl<T: std::any::Any> AsAny for T {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+}
+
 /// One contribution to the incremental potential.
-pub trait PotentialTerm: Send + Sync {
+pub trait PotentialTerm: Send + Sync + AsAny {
     /// A short name for summaries and error messages.
     fn name(&self) -> String;
 
@@ -113,6 +131,12 @@ pub trait PotentialTerm: Send + Sync {
         vec![self.name()]
     }
 
+    /// Whether the term is (part of) the elastic energy of the body, which
+    /// [`crate::IncrementalPotential::elastic_energy`] reports.
+    fn is_elastic(&self) -> bool {
+        false
+    }
+
     /// Whether the term's coupling groups may change from step to step (contact pairs). Dynamic terms
     /// assemble into a pattern of their own, merged with the fixed one before a solve, so the fixed
     /// pattern and every element scatter stay untouched when contacts come and go.
@@ -140,11 +164,6 @@ pub trait PotentialTerm: Send + Sync {
     /// then prepared again from `eval.u` and re-solved.
     fn needs_resolve(&self, _eval: &Evaluation<'_>) -> bool {
         false
-    }
-
-    /// Access for scripts that drive a concrete term between steps (e.g. moving obstacles).
-    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
-        None
     }
 
     /// The largest fraction `α ∈ (0, 1]` of the Newton step `du` from `eval.u` that keeps the state

@@ -669,10 +669,6 @@ impl PotentialTerm for ContactTerm {
         ContactTerm::max_step_fraction(self, eval.state, eval.layout, eval.u, du, eval.dt)
     }
 
-    fn as_any_mut(&mut self) -> Option<&mut dyn std::any::Any> {
-        Some(self)
-    }
-
     fn coupling_groups(&self) -> Vec<Vec<usize>> {
         self.known_block_pairs.iter().map(|&(a, b)| vec![a, b]).collect()
     }

@@ -76,9 +76,8 @@ fn bench_assembly(c: &mut Criterion) {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: true,
-        dt: 0.01,
     };
-    let mut sys = build_kl_system(&mesh, &shell, Vec::new(), &options).unwrap();
+    let mut sys = build_kl_system(&mesh, &shell, &options).unwrap();
     let n = sys.potential.n_dofs();
     let u: Vec<f64> = (0..n).map(|i| 0.1 * (i as f64 * 0.37).sin()).collect();
     let mut g = vec![0.0; n];

@@ -33,8 +33,8 @@
 //!
 //! let grid = procedural::rectangle_grid(1.0, 0.2, 10, 2).unwrap();
 //! let material = KlMaterial::new(HyperelasticModel::NeoHookean, 1e6, 0.3);
-//! let options = SystemOptions { gravity: Vector3::new(0.0, 0.0, -9.81), dynamic: true, dt: 1e-3 };
-//! let mut system = build_kl_system(&grid.mesh, &KlShell::new(material, 1e-3, 1000.0), Vec::new(), &options).unwrap();
+//! let options = SystemOptions { gravity: Vector3::new(0.0, 0.0, -9.81), dynamic: true };
+//! let mut system = build_kl_system(&grid.mesh, &KlShell::new(material, 1e-3, 1000.0), &options).unwrap();
 //! // The flat rest state is stress-free (up to round-off of E × volume = 200 J).
 //! assert!(system.elastic_energy().unwrap().abs() < 1e-12 * 200.0);
 //! // Masses: ρ h A in total.

@@ -3,16 +3,16 @@
 //!
 //! The result is an ordinary [`IncrementalPotential`], so the Cosserat solvers (time stepping, quasi-static
 //! loading) run it unchanged, and boundary conditions are added to its parts as for a Cosserat shell
-//! (exact position constraints, penalties, nodal forces; moments through [`crate::ForceCouple`] in
-//! `parts.extra`).
+//! (exact position constraints, penalties, nodal forces; moments through a [`crate::ForceCouple`]
+//! inserted into the potential).
 
 use crate::error::{KlError, check_parameter};
 use crate::material::KlMaterial;
 use crate::term::KirchhoffLoveTerm;
 use crate::thickness::ThicknessRule;
-use cosserat_assembly::inertia::{InertiaTerm, LoadTerm};
-use cosserat_assembly::term::{Evaluation, NodeRotations, PotentialTerm};
-use cosserat_assembly::{AssemblyError, DofLayout, IncrementalPotential, PotentialParts, SystemOptions, SystemState};
+use cosserat_assembly::{
+    AssemblyError, DofLayout, IncrementalPotential, NodalMasses, PotentialParts, SystemOptions, SystemState, TermHandle,
+};
 use cosserat_fem::Tri3Mesh;
 use nalgebra::Vector3;
 
@@ -46,8 +46,10 @@ impl KlShell {
 
 /// A built Kirchhoff–Love system.
 pub struct KlSystem {
-    /// The incremental potential; the elastic term is the first entry of `parts.extra`.
+    /// The incremental potential.
     pub potential: IncrementalPotential,
+    /// The elastic term in the potential.
+    pub elastic: TermHandle<KirchhoffLoveTerm>,
     /// Rest positions of the vertices \[m\] (vertex `i` is displacement node `i`).
     pub rest_positions: Vec<Vector3<f64>>,
     /// Lumped vertex masses `ρ h A / 3` summed over the adjacent faces \[kg\].
@@ -58,18 +60,12 @@ pub struct KlSystem {
 
 /// Builds the incremental potential of a Kirchhoff–Love shell on `mesh` (its rest state), with lumped
 /// masses (a third of each face's mass per corner), gravity, zero nodal forces and, if
-/// `options.dynamic`, inertia with the shell's damping. Quasi-static runs use `dynamic = false` and
-/// `dt = 1`. Further terms that couple vertices (a [`crate::ForceCouple`]) go into `extra`, so that the
-/// sparsity pattern includes them; they follow the elastic term in `parts.extra`.
+/// `options.dynamic`, inertia with the shell's damping. Further terms that couple vertices (a
+/// [`crate::ForceCouple`]) are inserted into the potential afterwards.
 ///
 /// # Errors
-/// Invalid shell parameters, time step, mesh or rest state (see [`KlError`]).
-pub fn build_kl_system(
-    mesh: &Tri3Mesh,
-    shell: &KlShell,
-    extra: Vec<Box<dyn PotentialTerm>>,
-    options: &SystemOptions,
-) -> Result<KlSystem, KlError> {
+/// Invalid shell parameters, mesh or rest state (see [`KlError`]).
+pub fn build_kl_system(mesh: &Tri3Mesh, shell: &KlShell, options: &SystemOptions) -> Result<KlSystem, KlError> {
     check_parameter(
         "density",
         shell.density,
@@ -82,7 +78,6 @@ pub fn build_kl_system(
         shell.damping >= 0.0,
         "must be finite and non-negative",
     )?;
-    check_parameter("dt", options.dt, options.dt > 0.0, "must be finite and positive")?;
     for (c, g) in options.gravity.iter().enumerate() {
         check_parameter(["gravity.x", "gravity.y", "gravity.z"][c], *g, true, "must be finite")?;
     }
@@ -99,33 +94,19 @@ pub fn build_kl_system(
             masses[v] += areal_density * r.area() / 3.0;
         }
     }
-    let inertia = options.dynamic.then(|| InertiaTerm {
+    let nodal = NodalMasses {
         masses: masses.clone(),
         rotational_inertia: Vec::new(),
         damping: vec![shell.damping; n],
-    });
-    let loads = LoadTerm {
-        masses: masses.clone(),
-        gravity: options.gravity,
-        forces: vec![Vector3::zeros(); n],
-        torques: Vec::new(),
     };
-    let parts = PotentialParts {
-        layout,
-        state: SystemState::at_rest(mesh.nodes.clone(), 0, 0),
-        shells: Vec::new(),
-        inertia,
-        loads,
-        position_penalties: Vec::new(),
-        rotation_penalties: Vec::new(),
-        omega_penalties: Vec::new(),
-        position_constraints: Vec::new(),
-        extra: std::iter::once(Box::new(term) as Box<dyn PotentialTerm>).chain(extra).collect(),
-    };
-    let potential = IncrementalPotential::new(parts, options.dt);
+    let state = SystemState::at_rest(mesh.nodes.clone(), 0, 0);
+    let parts = PotentialParts::with_inertia_and_loads(layout, state, Vec::new(), nodal, options);
+    let mut potential = IncrementalPotential::new(parts);
+    let elastic = potential.insert(term);
     let active_terms = potential.active_terms();
     Ok(KlSystem {
         potential,
+        elastic,
         rest_positions: mesh.nodes.clone(),
         masses,
         active_terms,
@@ -137,18 +118,7 @@ impl KlSystem {
     ///
     /// # Errors
     /// [`AssemblyError::NonFinite`] naming the first face with a non-finite energy.
-    pub fn elastic_energy(&self) -> Result<f64, AssemblyError> {
-        let parts = &self.potential.parts;
-        let u = vec![0.0; self.potential.n_dofs()];
-        let rotations = NodeRotations::Matrices(Vec::new());
-        let eval = Evaluation {
-            state: &parts.state,
-            layout: &parts.layout,
-            u: &u,
-            dt: self.potential.dt,
-            rotations: &rotations,
-            parallelism: self.potential.parallelism,
-        };
-        parts.extra[0].value(&eval)
+    pub fn elastic_energy(&mut self) -> Result<f64, AssemblyError> {
+        self.potential.elastic_energy()
     }
 }

@@ -200,6 +200,10 @@ impl KirchhoffLoveTerm {
 }
 
 impl PotentialTerm for KirchhoffLoveTerm {
+    fn is_elastic(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> String {
         format!("kirchhoff_love_{}", self.material.model().name())
     }

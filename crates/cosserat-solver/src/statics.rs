@@ -1,7 +1,8 @@
 //! Quasi-static solves: a sequence of equilibria under increasing load, with the same Newton solver.
 //!
-//! The potential must be built without inertia and with `Δt = 1` (a pseudo time), so the velocity
-//! unknowns are displacement increments and the residual is a force in N (torque in N·m). Each load
+//! The potential must be built without inertia; the stepper sets its time step to
+//! [`cosserat_assembly::PSEUDO_TIME_STEP`], so the velocity unknowns are displacement increments and
+//! the residual is a force in N (torque in N·m). Each load
 //! level starts from the previous equilibrium; a level whose Newton solve fails is approached through
 //! bisected intermediate levels, up to a bounded number of times.
 
@@ -95,7 +96,7 @@ impl QuasiStaticStepper {
         let mut newton = settings.newton;
         newton.residual_scale = 1.0;
         let solver = NewtonSolver::try_new(potential.pattern().symbolic(), newton)?;
-        potential.dt = 1.0;
+        potential.set_time_step(cosserat_assembly::PSEUDO_TIME_STEP);
         Ok(Self {
             solver,
             settings: *settings,

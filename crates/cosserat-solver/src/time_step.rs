@@ -214,7 +214,7 @@ impl TimeStepper {
         let mut wasted = 0;
         let mut dt = self.dt;
         loop {
-            potential.dt = dt;
+            potential.set_time_step(dt);
             if let Err(source) = scripts(potential, self.t, dt) {
                 return Err(StepError::Scripts {
                     t: self.t,

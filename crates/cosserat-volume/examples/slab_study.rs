@@ -85,7 +85,6 @@ fn volume_coil(h: f64, cells: [usize; 3], lc: f64, cg: bool) -> (SlabGrid, Outco
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: false,
-        dt: 1.0,
     };
     let mut sys = build_volume_system(&input, &options).unwrap();
     let face: Vec<usize> = (0..sys.rest_positions.len())
@@ -143,9 +142,8 @@ fn shell_coil(h: f64, nx: usize, ny: usize, lc: f64) -> Outcome {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: false,
-        dt: 1.0,
     };
-    let mut sys = build_system(&[input], Vec::new(), &options).unwrap();
+    let mut sys = build_system(&[input], &options).unwrap();
     let s = &sys.shells[0];
     let disp: Vec<usize> = (0..s.rest_disp_positions.len())
         .filter(|&i| s.rest_disp_positions[i].x < -0.5 * LENGTH + 1e-9)
@@ -240,7 +238,6 @@ fn lotus(n: usize, t_end: f64) {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: true,
-        dt,
     };
     let mut vol = build_volume_system(&input, &options).unwrap();
     pin_centre(&mut vol.potential, &vol.rest_positions, 1e-9);
@@ -282,7 +279,7 @@ fn lotus(n: usize, t_end: f64) {
         damping: 0.0,
         angular_inertia_density: 0.0,
     };
-    let mut shell = build_system(&[shell_input], Vec::new(), &options).unwrap();
+    let mut shell = build_system(&[shell_input], &options).unwrap();
     let rest = shell.shells[0].rest_disp_positions.clone();
     let shell_points = shell.shells[0].rest_point_positions.clone();
     pin_centre(&mut shell.potential, &rest, 1e-9);

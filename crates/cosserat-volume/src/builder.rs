@@ -2,8 +2,8 @@
 //! lumped masses, inertia and loads, and the rest-curvature handle for scripts.
 //!
 //! Displacement node `i` and rotation node `i` are the same mesh node. The potential holds no shells:
-//! the volumetric term sits in [`PotentialParts::extra`], so boundary conditions, loads and the Newton
-//! solvers of the shell system apply unchanged.
+//! the volumetric term is inserted into it ([`VolumeSystem::volume_term`]), so boundary conditions,
+//! loads and the Newton solvers of the shell system apply unchanged.
 
 use crate::density::strain_hessian;
 use crate::error::{BuildError, MeshError};
@@ -11,8 +11,9 @@ use crate::material::MicropolarMaterial;
 use crate::mesh::TetMesh;
 use crate::term::{RestCurvature, Tet4Volume, VolumeDiscretization};
 use crate::tet4::tet4_point;
-use cosserat_assembly::inertia::{InertiaTerm, LoadTerm};
-use cosserat_assembly::{DofLayout, IncrementalPotential, PotentialParts, SystemOptions, SystemState};
+use cosserat_assembly::{
+    DofLayout, IncrementalPotential, NodalMasses, PotentialParts, SystemOptions, SystemState, TermHandle,
+};
 use nalgebra::Vector3;
 
 /// A micropolar solid to build.
@@ -32,8 +33,10 @@ pub struct VolumeInput {
 
 /// A built volumetric system: the potential and what scripts and post-processing need.
 pub struct VolumeSystem {
-    /// The incremental potential (no shells; the volume term is `parts.extra[0]`).
+    /// The incremental potential (no shells).
     pub potential: IncrementalPotential,
+    /// The volume term in the potential.
+    pub volume_term: TermHandle<Tet4Volume>,
     /// Rest node positions \[m\] (displacement node `i` = rotation node `i`).
     pub rest_positions: Vec<Vector3<f64>>,
     /// Rest positions of the quadrature points (element centroids) \[m\], in element order.
@@ -56,8 +59,7 @@ impl VolumeSystem {
 /// # Errors
 /// - [`BuildError::Material`] for an invalid material;
 /// - [`BuildError::Mesh`] for an invalid mesh (naming the element or node);
-/// - [`BuildError::InvalidInput`] for a negative or non-finite damping or inertia density, or a
-///   non-positive time step;
+/// - [`BuildError::InvalidInput`] for a negative or non-finite damping or inertia density;
 /// - [`BuildError::IllPosedRotations`] when no rotational inertia is present (a quasi-static system or
 ///   `angular_inertia_density = 0`) and the energy alone does not determine the rotations: this needs
 ///   `μ_c > 0` (otherwise a uniform rotation of all nodes changes the stretch only at fourth order, and
@@ -78,13 +80,6 @@ pub fn build_volume_system(input: &VolumeInput, options: &SystemOptions) -> Resu
     };
     nonnegative("damping", input.damping)?;
     nonnegative("angular_inertia_density", input.angular_inertia_density)?;
-    if !(options.dt.is_finite() && options.dt > 0.0) {
-        return Err(BuildError::InvalidInput {
-            name: "dt",
-            value: options.dt,
-            reason: "must be finite and positive",
-        });
-    }
     let rotational_inertia_present = options.dynamic && input.angular_inertia_density > 0.0;
     if !rotational_inertia_present {
         let [b1, b2, _] = moduli.curvature_coefficients;
@@ -138,31 +133,17 @@ pub fn build_volume_system(input: &VolumeInput, options: &SystemOptions) -> Resu
     };
     let term = Tet4Volume::new(disc, layout, rest_curvature.clone());
     let state = SystemState::at_rest(mesh.nodes.clone(), n, mesh.n_elements());
-    let inertia = options.dynamic.then(|| InertiaTerm {
-        masses: masses.clone(),
+    let nodal = NodalMasses {
+        masses,
         rotational_inertia,
         damping: vec![input.damping; n],
-    });
-    let loads = LoadTerm {
-        masses,
-        gravity: options.gravity,
-        forces: vec![Vector3::zeros(); n],
-        torques: vec![Vector3::zeros(); n],
     };
-    let parts = PotentialParts {
-        layout,
-        state,
-        shells: Vec::new(),
-        inertia,
-        loads,
-        position_penalties: Vec::new(),
-        rotation_penalties: Vec::new(),
-        omega_penalties: Vec::new(),
-        position_constraints: Vec::new(),
-        extra: vec![Box::new(term)],
-    };
+    let parts = PotentialParts::with_inertia_and_loads(layout, state, Vec::new(), nodal, options);
+    let mut potential = IncrementalPotential::new(parts);
+    let volume_term = potential.insert(term);
     Ok(VolumeSystem {
-        potential: IncrementalPotential::new(parts, options.dt),
+        potential,
+        volume_term,
         rest_positions: mesh.nodes.clone(),
         point_positions,
         element_volumes,

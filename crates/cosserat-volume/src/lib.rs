@@ -40,7 +40,7 @@
 //!     damping: 0.0,
 //!     angular_inertia_density: 0.0,
 //! };
-//! let options = SystemOptions { gravity: Vector3::zeros(), dynamic: true, dt: 0.01 };
+//! let options = SystemOptions { gravity: Vector3::zeros(), dynamic: true };
 //! let mut system = build_volume_system(&input, &options).unwrap();
 //! let n = system.potential.n_dofs();
 //! let mut grad = vec![0.0; n];

@@ -270,6 +270,10 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
 }
 
 impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> PotentialTerm for VolumeTerm<N, NL, NE, NB> {
+    fn is_elastic(&self) -> bool {
+        true
+    }
+
     fn name(&self) -> String {
         format!("micropolar_tet{N}")
     }

@@ -156,11 +156,8 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
         sim.run(&dir, &mut |info| reporter.step(info), &stop)
     })?;
     // Warnings found during the run (those about the scene were printed before it).
-    let found = summary.extra.get("warnings").and_then(|w| w.as_array()).into_iter().flatten();
-    for warning in found.filter_map(|w| w.as_str()) {
-        if !sim.advice().iter().any(|a| a == warning) {
-            eprintln!("warning: {warning}");
-        }
+    for warning in &summary.warnings[sim.advice().len()..] {
+        eprintln!("warning: {warning}");
     }
     let stopped_at = summary.stopped_at.unwrap_or(0.0);
     match summary.status {

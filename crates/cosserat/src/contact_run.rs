@@ -1,35 +1,28 @@
-//! Contact in a simulation: the contact term built from a scene's [`ContactSpec`] and the shells'
-//! layouts, and the statistics a run collects about it (active pairs, the smallest gap reached, the
-//! time spent in contact energies, broad phases and CCD) for `summary.json`.
+//! Contact in a simulation: the contact term built from a scene's [`ContactSpec`] and the model's
+//! contact triangles, the kinematic obstacles it moves before every step, the statistics a run
+//! collects about it (active pairs, the smallest gap reached, the time spent in contact energies,
+//! broad phases and CCD), and the queries of the contact state that tests and studies ask.
 //!
-//! Shells contribute their displacement elements as flat triangles: a Tri3 element as it is, a Tri6
-//! element split into four through its mid-edge nodes (node order: corners 0, 1, 2, then mid-edges
-//! 3 = (0, 1), 4 = (1, 2), 5 = (2, 0)). Surface ids are the shell indices, obstacle ids follow them,
-//! so friction coefficients between named bodies map onto the term's friction table.
+//! A scene without a `[contact]` section builds none of this. Shells contribute their displacement
+//! elements as flat triangles: a Tri3 element as it is, a Tri6 element split into four through its
+//! mid-edge nodes (node order: corners 0, 1, 2, then mid-edges 3 = (0, 1), 4 = (1, 2), 5 = (2, 0)).
+//! Surface ids are the shell indices, obstacle ids follow them, so friction coefficients between named
+//! bodies map onto the term's friction table.
 
 use crate::error::SimulationError;
-use cosserat_assembly::{DofLayout, IncrementalPotential, ShellLayout, SystemState};
-use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm, Obstacle};
-use cosserat_scene::spec::{ContactBody, ContactSpec};
+use crate::model::Model;
+use cosserat_assembly::term::{Evaluation, NodeRotations};
+use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHandle};
+use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm, Coverage, Obstacle};
+use cosserat_scene::output::{ContactRecord, DataArray, VtuFrame};
+use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
 use nalgebra::Vector3;
-use serde_json::json;
 
-/// The contact term at `index` of the potential's extra terms, with the start-of-step state and the
-/// layout beside it (disjoint borrows of the potential's parts), or `None` if that term is not one.
-pub(crate) fn contact_parts(
-    potential: &mut IncrementalPotential,
-    index: usize,
-) -> Option<(&mut ContactTerm, &SystemState, &DofLayout)> {
-    let parts = &mut potential.parts;
-    let term = parts.extra.get_mut(index)?.as_any_mut()?.downcast_mut::<ContactTerm>()?;
-    Some((term, &parts.state, &parts.layout))
-}
-
-/// The flat contact triangles of a shell in global displacement-node indices: Tri3 elements as they
-/// are, Tri6 elements split into four through their mid-edge nodes.
-pub fn surface_triangles(layout: &ShellLayout) -> Vec<[usize; 3]> {
-    let mut out = Vec::with_capacity(4 * layout.disp_elements.len());
-    for el in &layout.disp_elements {
+/// The flat contact triangles of displacement elements (3 or 6 nodes each, corners first): Tri3
+/// elements as they are, Tri6 elements split into four through their mid-edge nodes.
+pub fn surface_triangles(elements: &[Vec<usize>]) -> Vec<[usize; 3]> {
+    let mut out = Vec::with_capacity(4 * elements.len());
+    for el in elements {
         if el.len() == 6 {
             out.extend([
                 [el[0], el[3], el[5]],
@@ -44,49 +37,16 @@ pub fn surface_triangles(layout: &ShellLayout) -> Vec<[usize; 3]> {
     out
 }
 
-/// The contact term of a scene: surfaces of the listed shells (over the nodes of `layouts`, at rest
-/// positions `rest`), the obstacles at their rest positions, and the friction table.
-///
-/// # Errors
-/// Invalid parameters or meshes, named by [`cosserat_contact::ContactError`].
-pub fn build_contact_term(
-    spec: &ContactSpec,
-    layouts: &[ShellLayout],
-    rest: &[Vector3<f64>],
-) -> Result<ContactTerm, SimulationError> {
-    let n_shells = layouts.len();
-    let surfaces: Vec<ContactSurface> = spec
-        .surfaces
-        .iter()
-        .map(|s| ContactSurface {
-            id: s.shell,
-            triangles: surface_triangles(&layouts[s.shell]),
-            thickness: s.thickness,
-        })
-        .collect();
-    let obstacles: Vec<Obstacle> = spec
-        .obstacles
-        .iter()
-        .enumerate()
-        .map(|(o, ob)| Obstacle {
-            id: n_shells + o,
-            positions: ob.positions_at(0.0),
-            triangles: ob.triangles.clone(),
-            thickness: ob.thickness,
-        })
-        .collect();
-    let mut params = ContactParameters::new(spec.stiffness, spec.barrier_width);
-    params.stick_velocity = spec.stick_velocity;
-    params.project_pd = spec.project_pd;
-    params.ccd.min_gap_fraction = spec.min_gap_fraction;
-    let id = |b: ContactBody| match b {
-        ContactBody::Shell(s) => s,
-        ContactBody::Obstacle(o) => n_shells + o,
-    };
-    for f in &spec.friction {
-        params.friction.set(id(f.bodies[0]), id(f.bodies[1]), f.coefficient)?;
-    }
-    Ok(ContactTerm::try_new(surfaces, obstacles, params, rest)?)
+/// A contact obstacle: where it is, and its scripted motion if it moves.
+#[derive(Debug)]
+struct ObstacleScript {
+    /// Rest positions (the motion maps these).
+    rest: Vec<Vector3<f64>>,
+    /// Triangles (for output frames).
+    triangles: Vec<[usize; 3]>,
+    motion: Option<MotionSpec>,
+    /// The end-of-step positions last given to the contact term.
+    current: Vec<Vector3<f64>>,
 }
 
 /// Contact statistics over the committed states of a run, from the term's counters after each step.
@@ -136,32 +96,273 @@ impl ContactMonitor {
     pub fn max_active_pairs(&self) -> usize {
         self.active_max
     }
+}
 
-    /// The summary entry: counters of the term and of the monitor; `step_seconds` is the time of all
-    /// steps, for the contact share.
-    pub fn summary(&self, term: &ContactTerm, step_seconds: f64) -> serde_json::Value {
+/// The contact of a run: its term in the potential, the kinematic obstacles and the statistics.
+pub struct ContactRun {
+    term: TermHandle<ContactTerm>,
+    obstacles: Vec<ObstacleScript>,
+    monitor: ContactMonitor,
+    /// The largest distance of an obstacle vertex from its scripted target at the end of a step \[m\].
+    max_lag: f64,
+    /// The same at the end of the last step \[m\].
+    last_lag: f64,
+}
+
+impl ContactRun {
+    /// Builds the contact term of a scene and inserts it into the potential, then checks that no pair
+    /// starts closer than its thickness.
+    ///
+    /// # Errors
+    /// Invalid parameters or meshes, a shell whose model has no contact surface, or an initial state
+    /// with a pair closer than its thickness.
+    pub fn build(
+        spec: &ContactSpec,
+        model: &dyn Model,
+        potential: &mut IncrementalPotential,
+    ) -> Result<Self, SimulationError> {
+        let n_shells = model.placements().len();
+        let surfaces = spec
+            .surfaces
+            .iter()
+            .map(|s| {
+                let triangles = model.contact_triangles(s.shell).ok_or_else(|| {
+                    SimulationError::Setup(format!(
+                        "contact: shell `{}`: this model does not take part in contact",
+                        model.placements()[s.shell].name
+                    ))
+                })?;
+                Ok(ContactSurface {
+                    id: s.shell,
+                    triangles,
+                    thickness: s.thickness,
+                })
+            })
+            .collect::<Result<Vec<_>, SimulationError>>()?;
+        let obstacles: Vec<Obstacle> = spec
+            .obstacles
+            .iter()
+            .enumerate()
+            .map(|(o, ob)| Obstacle {
+                id: n_shells + o,
+                positions: ob.positions_at(0.0),
+                triangles: ob.triangles.clone(),
+                thickness: ob.thickness,
+            })
+            .collect();
+        let mut params = ContactParameters::new(spec.stiffness, spec.barrier_width);
+        params.stick_velocity = spec.stick_velocity;
+        params.project_pd = spec.project_pd;
+        params.ccd.min_gap_fraction = spec.min_gap_fraction;
+        let id = |b: ContactBody| match b {
+            ContactBody::Shell(s) => s,
+            ContactBody::Obstacle(o) => n_shells + o,
+        };
+        for f in &spec.friction {
+            params.friction.set(id(f.bodies[0]), id(f.bodies[1]), f.coefficient)?;
+        }
+        let term = ContactTerm::try_new(surfaces, obstacles, params, model.rest_positions())?;
+        let run = Self {
+            term: potential.insert(term),
+            obstacles: spec
+                .obstacles
+                .iter()
+                .map(|o| ObstacleScript {
+                    rest: o.positions.clone(),
+                    triangles: o.triangles.clone(),
+                    motion: o.motion.clone(),
+                    current: o.positions_at(0.0),
+                })
+                .collect(),
+            monitor: ContactMonitor::default(),
+            max_lag: 0.0,
+            last_lag: 0.0,
+        };
+        let coverage = run.coverage(potential);
+        if coverage.min_gap.is_nan() || coverage.min_gap <= 0.0 {
+            return Err(SimulationError::Setup(format!(
+                "contact: the initial state has a pair of contact primitives closer than their thicknesses \
+                 (smallest gap {:e} m); move the bodies apart or reduce the thicknesses",
+                coverage.min_gap
+            )));
+        }
+        Ok(run)
+    }
+
+    /// Moves the kinematic obstacles to their targets at `t_end`, as far as the shells at the start of
+    /// the step allow: if the full motion would bring an obstacle closer to a shell than CCD's minimum
+    /// gap, all kinematic obstacles go the safe fraction of the way.
+    pub fn before_step(&mut self, potential: &mut IncrementalPotential, t_end: f64) {
+        if self.obstacles.iter().all(|o| o.motion.is_none()) {
+            return;
+        }
+        let (term, state, _) = potential.term_and_state_mut(self.term);
+        let mut targets: Vec<Option<Vec<Vector3<f64>>>> = Vec::with_capacity(self.obstacles.len());
+        for (k, o) in self.obstacles.iter().enumerate() {
+            let target = o.motion.as_ref().map(|m| {
+                let map = m.map_at(t_end);
+                o.rest.iter().map(map).collect::<Vec<_>>()
+            });
+            if let Some(target) = &target
+                && let Err(e) = term.set_obstacle_positions(k, target.clone())
+            {
+                log::warn!("obstacle {k}: its scripted position at t = {t_end} is unusable ({e}); it stays");
+                targets.push(None);
+                continue;
+            }
+            targets.push(target);
+        }
+        let alpha = term.obstacle_motion_fraction(state);
+        self.last_lag = 0.0;
+        for (k, (o, target)) in self.obstacles.iter_mut().zip(&targets).enumerate() {
+            let Some(target) = target else { continue };
+            let start = term.obstacle_positions(k).to_vec();
+            let end: Vec<Vector3<f64>> = if alpha < 1.0 {
+                start.iter().zip(target).map(|(a, b)| a + (b - a) * alpha).collect()
+            } else {
+                target.clone()
+            };
+            let lag = end.iter().zip(target).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max);
+            self.max_lag = self.max_lag.max(lag);
+            self.last_lag = self.last_lag.max(lag);
+            if term.set_obstacle_positions(k, end.clone()).is_ok() {
+                o.current = end;
+            }
+        }
+    }
+
+    /// Records the committed state of a step.
+    pub fn after_step(&mut self, potential: &IncrementalPotential) {
+        self.monitor.record(potential.term(self.term));
+    }
+
+    /// The contact term.
+    pub fn term<'a>(&self, potential: &'a IncrementalPotential) -> &'a ContactTerm {
+        potential.term(self.term)
+    }
+
+    /// The contact term, mutably.
+    pub fn term_mut<'a>(&self, potential: &'a mut IncrementalPotential) -> &'a mut ContactTerm {
+        potential.term_mut(self.term)
+    }
+
+    /// The statistics of the steps so far.
+    pub fn monitor(&self) -> &ContactMonitor {
+        &self.monitor
+    }
+
+    /// The run record's contact section; `step_seconds` is the time of all steps, for the shares.
+    pub fn record(&self, potential: &IncrementalPotential, step_seconds: f64) -> ContactRecord {
+        let term = potential.term(self.term);
         let s = term.stats();
         let energy = s.energy_time.as_secs_f64();
         let ccd = s.ccd_time.as_secs_f64();
         let broad = s.broad_phase_time.as_secs_f64();
         let share = |x: f64| if step_seconds > 0.0 { x / step_seconds } else { 0.0 };
         let mesh = term.mesh();
-        json!({
-            "n_vertices": mesh.n_vertices(),
-            "n_triangles": mesh.triangles().len(),
-            "n_edges": mesh.edges().len(),
-            "energy_seconds": energy,
-            "ccd_seconds": ccd,
-            "broad_phase_seconds": broad,
-            "share_of_step": share(energy + ccd + broad),
-            "energy_share": share(energy),
-            "ccd_share": share(ccd),
-            "broad_phase_share": share(broad),
-            "n_evaluations": s.n_evaluations,
-            "n_ccd_queries": s.n_ccd_queries,
-            "mean_active_pairs": if self.steps > 0 { self.active_sum as f64 / self.steps as f64 } else { 0.0 },
-            "max_active_pairs": self.active_max,
-            "min_gap": if self.min_gap.is_finite() { json!(self.min_gap) } else { json!(null) },
-        })
+        let m = &self.monitor;
+        ContactRecord {
+            n_vertices: mesh.n_vertices(),
+            n_triangles: mesh.triangles().len(),
+            n_edges: mesh.edges().len(),
+            energy_seconds: energy,
+            ccd_seconds: ccd,
+            broad_phase_seconds: broad,
+            share_of_step: share(energy + ccd + broad),
+            energy_share: share(energy),
+            ccd_share: share(ccd),
+            broad_phase_share: share(broad),
+            n_evaluations: s.n_evaluations,
+            n_ccd_queries: s.n_ccd_queries,
+            mean_active_pairs: if m.steps > 0 {
+                m.active_sum as f64 / m.steps as f64
+            } else {
+                0.0
+            },
+            max_active_pairs: m.active_max,
+            min_gap: m.min_gap.is_finite().then_some(m.min_gap),
+            max_obstacle_lag: self.max_lag,
+            final_obstacle_lag: self.last_lag,
+        }
+    }
+
+    /// Appends the obstacles to a frame: their points and triangles, the point array `obstacle` (0 for
+    /// shell points, `k + 1` for obstacle `k`), displacements from their rest positions and zeros in
+    /// every other point array.
+    pub fn decorate_frame(&self, frame: &mut VtuFrame) {
+        if self.obstacles.is_empty() {
+            return;
+        }
+        let mut marker = vec![0.0; frame.points.len()];
+        for (k, o) in self.obstacles.iter().enumerate() {
+            let first = frame.points.len();
+            frame.points.extend(o.current.iter().map(|p| [p.x, p.y, p.z]));
+            frame.triangles.extend(o.triangles.iter().map(|t| t.map(|v| first + v)));
+            marker.extend(std::iter::repeat_n((k + 1) as f64, o.current.len()));
+            for array in &mut frame.point_data {
+                let n = array.n_components;
+                if array.name == "displacement" && n == 3 {
+                    for (p, r) in o.current.iter().zip(&o.rest) {
+                        array.values.extend((p - r).iter());
+                    }
+                } else {
+                    array.values.extend(std::iter::repeat_n(0.0, n * o.current.len()));
+                }
+            }
+        }
+        frame.point_data.push(DataArray::scalars("obstacle", marker));
+    }
+
+    /// Positions of the contact vertices in the current state (shell nodes, then obstacle vertices at
+    /// their start-of-step positions) and the contact triangles over them.
+    pub fn geometry(&self, potential: &IncrementalPotential) -> SurfaceMesh {
+        let term = potential.term(self.term);
+        let state = &potential.parts.state;
+        let mesh = term.mesh();
+        let positions = mesh.positions(|i| state.x[i], |o, v| term.obstacle_positions(o)[v]);
+        let triangles = mesh.triangles().iter().map(|t| t.map(|v| v as usize)).collect();
+        (positions, triangles)
+    }
+
+    /// All contact pairs within reach of the current state: the smallest gap, the number of pairs
+    /// within the barrier (a broad phase over every primitive).
+    pub fn coverage(&self, potential: &IncrementalPotential) -> Coverage {
+        let term = potential.term(self.term);
+        let layout = &potential.parts.layout;
+        let u = vec![0.0; layout.n_dofs()];
+        term.coverage(&potential.parts.state, layout, &u, potential.dt())
+    }
+
+    /// Pairs of contact triangles (shells split into flat triangles, and obstacles) that intersect in
+    /// the current state, by an exact-sign test over the whole mesh.
+    pub fn intersections(&self, potential: &IncrementalPotential) -> Vec<(usize, usize)> {
+        let (positions, triangles) = self.geometry(potential);
+        cosserat_contact::intersecting_pairs(&triangles, &positions)
+    }
+
+    /// The contact force on every displacement node in the current state \[N\] (minus the gradient of
+    /// the barrier energy with respect to the positions; friction acts over a step and is zero for a
+    /// state at rest).
+    ///
+    /// # Errors
+    /// [`SimulationError::Evaluation`] if the current state is infeasible for the barrier.
+    pub fn forces(&self, potential: &IncrementalPotential) -> Result<Vec<Vector3<f64>>, SimulationError> {
+        let term = potential.term(self.term);
+        let layout = &potential.parts.layout;
+        let dt = potential.dt();
+        let u = vec![0.0; layout.n_dofs()];
+        let rotations = NodeRotations::Matrices(vec![nalgebra::Matrix3::identity(); layout.n_rot_nodes]);
+        let eval = Evaluation {
+            state: &potential.parts.state,
+            layout,
+            u: &u,
+            dt,
+            rotations: &rotations,
+            parallelism: Parallelism::Sequential,
+        };
+        let mut grad = vec![0.0; layout.n_dofs()];
+        PotentialTerm::gradient(term, &eval, &mut grad)?;
+        // The term's gradient is with respect to the velocity unknowns: Δt times the positional one.
+        Ok((0..layout.n_disp_nodes).map(|i| -layout.velocity(&grad, i) / dt).collect())
     }
 }

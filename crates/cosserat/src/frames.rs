@@ -5,9 +5,8 @@
 //! Tri6 into 4 triangles through its own nodes (shared between elements), level `s ≥ 2` samples each
 //! element on a grid of `2ˢ` segments per edge. Point data: displacement, velocity, the three directors
 //! (columns of the rotation, interpolated from the rotation nodes by normalised quaternion averaging)
-//! and the angular velocity. Contact obstacles, if any, are appended as further triangles whose points
-//! carry `obstacle` = k + 1 for obstacle k (0 on shells) and zero velocities, directors and angular
-//! velocities.
+//! and the angular velocity. (Contact appends its obstacles to a frame:
+//! [`crate::contact_run::ContactRun::decorate_frame`].)
 
 use cosserat_assembly::{ElementPair, ShellLayout, SystemState};
 use cosserat_fem::{ShapeFunctions, Tri3, Tri6};
@@ -195,32 +194,4 @@ impl PointColumns {
         ];
         frame
     }
-}
-
-/// Appends contact obstacles to a frame: their points and triangles, the point array `obstacle`
-/// (0 for shell points, `k + 1` for obstacle `k`), displacements from their rest positions and zeros
-/// in every other point array.
-pub fn append_obstacles(frame: &mut VtuFrame, obstacles: &[crate::scripts::ObstacleView<'_>]) {
-    if obstacles.is_empty() {
-        return;
-    }
-    let n_shell = frame.points.len();
-    let mut marker = vec![0.0; n_shell];
-    for (k, o) in obstacles.iter().enumerate() {
-        let first = frame.points.len();
-        frame.points.extend(o.positions.iter().map(|p| [p.x, p.y, p.z]));
-        frame.triangles.extend(o.triangles.iter().map(|t| t.map(|v| first + v)));
-        marker.extend(std::iter::repeat_n((k + 1) as f64, o.positions.len()));
-        for array in &mut frame.point_data {
-            let n = array.n_components;
-            if array.name == "displacement" && n == 3 {
-                for (p, r) in o.positions.iter().zip(o.rest) {
-                    array.values.extend((p - r).iter());
-                }
-            } else {
-                array.values.extend(std::iter::repeat_n(0.0, n * o.positions.len()));
-            }
-        }
-    }
-    frame.point_data.push(DataArray::scalars("obstacle", marker));
 }

@@ -1,18 +1,20 @@
 //! Scenes with the Kirchhoff–Love comparison model (`[material] model = "kirchhoff_love"`): the system
-//! of `cosserat-kl` built from a scene's single Tri3 shell, with the layout the scripts, probes and
-//! contact of a Cosserat run use, and the output frames of a shell without rotations.
+//! of `cosserat-kl` built from a scene's single Tri3 shell, placed for the scripts, probes and
+//! contact of a Cosserat run, and the output frames of a shell without rotations.
 //!
-//! The Kirchhoff–Love system has vertex velocities as its only unknowns (`n_rot_nodes = 0`), so the
-//! layout handed to the run has no rotation nodes; its displacement elements are the Tri3 faces, so a
-//! contact term sees the same triangles as for a Tri3 Cosserat shell. Frames carry displacement,
-//! velocity and, as `director3`, the area-weighted vertex normal (the Kirchhoff–Love director).
+//! The Kirchhoff–Love system has vertex velocities as its only unknowns (`n_rot_nodes = 0`), so its
+//! placement has no rotation nodes; its contact triangles are the Tri3 faces, as for a Tri3 Cosserat
+//! shell. Frames carry displacement, velocity and, as `director3`, the area-weighted vertex normal (the
+//! Kirchhoff–Love director).
 
 use crate::error::SimulationError;
-use cosserat_assembly::term::{Evaluation, NodeRotations};
-use cosserat_assembly::{ElementPair, IncrementalPotential, ShellLayout, System, SystemOptions, SystemState};
+use crate::model::{BuiltModel, Model, apply_initial_positions};
+use crate::placement::{NodeMap, ShellPlacement};
+use cosserat_assembly::{IncrementalPotential, SystemOptions, SystemState};
 use cosserat_kl::{HyperelasticModel, KlMaterial, KlShell, RestVolume, build_kl_system};
-use cosserat_scene::output::{DataArray, VtuFrame};
-use cosserat_scene::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ShellSpec};
+use cosserat_scene::output::{DataArray, ModelRecord, VtuFrame};
+use cosserat_scene::spec::{HyperelasticLaw, KlRestVolume, KlSettings, SceneSpec};
+use cosserat_solver::ScriptError;
 use nalgebra::Vector3;
 
 /// The `cosserat-kl` material of a scene's hyperelastic law.
@@ -23,24 +25,22 @@ pub fn hyperelastic_model(law: HyperelasticLaw) -> HyperelasticModel {
     }
 }
 
-/// What a run needs beyond the system to write frames of a Kirchhoff–Love shell.
+/// A Kirchhoff–Love shell in a system.
 #[derive(Debug, Clone)]
 pub struct KlModel {
     triangles: Vec<[usize; 3]>,
     rest: Vec<Vector3<f64>>,
     law: HyperelasticLaw,
+    placements: Vec<ShellPlacement>,
 }
 
-/// Builds the Kirchhoff–Love system of a scene's shell, with a layout for scripts, probes and contact.
+/// Builds the Kirchhoff–Love system of a scene's single shell, at its initial positions.
 ///
 /// # Errors
 /// [`SimulationError::Setup`] naming the shell when `cosserat-kl` rejects the mesh or the material
 /// (e.g. a shell thicker than twice a rest radius of curvature).
-pub fn build(
-    shell: &ShellSpec,
-    settings: KlSettings,
-    options: &SystemOptions,
-) -> Result<(System, KlModel), SimulationError> {
+pub fn build(spec: &SceneSpec, settings: KlSettings, options: &SystemOptions) -> Result<BuiltModel, SimulationError> {
+    let shell = &spec.shells[0];
     let mesh = &shell.mesh.corners;
     let p = &shell.material;
     let law = settings.law;
@@ -54,59 +54,70 @@ pub fn build(
         KlRestVolume::MidSurface => RestVolume::MidSurface,
         _ => RestVolume::Exact,
     });
-    let system = build_kl_system(mesh, &kl, Vec::new(), options)
+    let system = build_kl_system(mesh, &kl, options)
         .map_err(|e| SimulationError::Setup(format!("shell `{}` (Kirchhoff–Love): {e}", shell.name)))?;
-    let n = mesh.n_nodes();
-    let element_areas = mesh
-        .elements
-        .iter()
-        .map(|t| {
-            0.5 * (mesh.nodes[t[1]] - mesh.nodes[t[0]])
-                .cross(&(mesh.nodes[t[2]] - mesh.nodes[t[0]]))
-                .norm()
-        })
-        .collect();
-    let layout = ShellLayout {
+    let placements = vec![ShellPlacement {
         name: shell.name.clone(),
-        pair: ElementPair::Tri3Tri3,
-        disp_nodes: 0..n,
-        rot_nodes: 0..0,
-        points: 0..0,
+        disp: NodeMap::Offset(0),
+        rot: NodeMap::Offset(0),
+        rest_disp: mesh.nodes.clone(),
+        rest_rot: Vec::new(),
         disp_elements: mesh.elements.iter().map(|t| t.to_vec()).collect(),
         rot_elements: Vec::new(),
-        rest_disp_positions: mesh.nodes.clone(),
-        rest_rot_positions: Vec::new(),
-        rest_point_positions: Vec::new(),
-        rot_to_disp: Vec::new(),
-        element_areas,
-        active_terms: system.active_terms.clone(),
-        n_curved_points: 0,
-    };
+    }];
+    let mut potential = system.potential;
+    apply_initial_positions(spec, &placements, &mut potential.parts.state);
     let model = KlModel {
         triangles: mesh.elements.clone(),
         rest: mesh.nodes.clone(),
         law,
+        placements,
     };
-    Ok((
-        System {
-            potential: system.potential,
-            shells: vec![layout],
-        },
-        model,
-    ))
+    Ok(BuiltModel {
+        potential,
+        model: Box::new(model),
+    })
 }
 
-impl KlModel {
-    /// The scene-file name of the law, for the summary.
-    pub fn law_name(&self) -> &'static str {
-        match self.law {
-            HyperelasticLaw::NeoHookean => "neo_hookean",
-            _ => "stvk",
+impl Model for KlModel {
+    fn record(&self) -> ModelRecord {
+        ModelRecord::KirchhoffLove {
+            law: match self.law {
+                HyperelasticLaw::NeoHookean => "neo_hookean",
+                _ => "stvk",
+            }
+            .into(),
         }
     }
 
-    /// The frame of a state: the Tri3 surface with displacement, velocity and the vertex normal.
-    pub fn frame(&self, state: &SystemState, t: f64) -> VtuFrame {
+    fn element_names(&self) -> (String, String) {
+        ("tri3".into(), "-".into())
+    }
+
+    fn placements(&self) -> &[ShellPlacement] {
+        &self.placements
+    }
+
+    fn rest_positions(&self) -> &[Vector3<f64>] {
+        &self.rest
+    }
+
+    fn contact_triangles(&self, _shell: usize) -> Option<Vec<[usize; 3]>> {
+        Some(self.triangles.clone())
+    }
+
+    fn n_cells(&self) -> usize {
+        self.triangles.len()
+    }
+
+    /// A Kirchhoff–Love scene has no rest fields (refused when the scene is read).
+    fn apply_rest_fields(&mut self, _: &mut IncrementalPotential, _: f64, _: f64) -> Result<(), ScriptError> {
+        Ok(())
+    }
+
+    /// The Tri3 surface with displacement, velocity and, as `director3`, the area-weighted vertex
+    /// normal (the Kirchhoff–Love director).
+    fn frame(&self, state: &SystemState, t: f64) -> VtuFrame {
         let n = self.rest.len();
         let mut normals = vec![Vector3::zeros(); n];
         for tri in &self.triangles {
@@ -140,28 +151,4 @@ impl KlModel {
         ];
         frame
     }
-}
-
-/// The elastic energy \[J\] of the start-of-step state held by the first extra term (the model's
-/// elastic term), for models whose energy is not in `parts.shells`.
-///
-/// # Errors
-/// A non-finite energy, named by the term.
-pub fn extra_elastic_energy(potential: &IncrementalPotential) -> Result<f64, SimulationError> {
-    let parts = &potential.parts;
-    let Some(term) = parts.extra.first() else {
-        return Ok(0.0);
-    };
-    let u = vec![0.0; potential.n_dofs()];
-    let rotations =
-        NodeRotations::Matrices(parts.state.q.iter().map(cosserat_geometry::rotation::rotation_matrix).collect());
-    let eval = Evaluation {
-        state: &parts.state,
-        layout: &parts.layout,
-        u: &u,
-        dt: potential.dt,
-        rotations: &rotations,
-        parallelism: potential.parallelism,
-    };
-    Ok(term.value(&eval)?)
 }

@@ -11,12 +11,12 @@
 //!   `cosserat render <out dir>`);
 //! - the layers below are re-exported: [`geometry`], [`fem`], [`material`], [`assembly`], [`solver`],
 //!   [`scene`], [`contact`];
-//! - [`contact_run`]: the contact term of a scene with a `[contact]` section (built only then) and
-//!   the contact statistics of a run.
-//!
-//! - [`kl_model`] and [`volume_model`]: scenes with the comparison models (`[material] model =
-//!   "kirchhoff_love"` on `cosserat-kl`, `"micropolar_volume"` on `cosserat-volume`) run through the same
-//!   [`Simulation`];
+//! - [`model`]: the mechanical model of a scene behind one trait: the Cosserat shells
+//!   ([`cosserat_model`]) or a comparison model ([`kl_model`]: `[material] model = "kirchhoff_love"` on
+//!   `cosserat-kl`; [`volume_model`]: `"micropolar_volume"` on `cosserat-volume`), each placed in the
+//!   system for scripts and probes ([`placement`]);
+//! - [`contact_run`]: the contact of a scene with a `[contact]` section (built only then): its term,
+//!   obstacles, statistics and queries;
 //!
 //! Non-goals: no physics lives here; this crate composes the layers.
 //!
@@ -33,11 +33,16 @@
 pub mod advice;
 pub mod cli;
 pub mod contact_run;
+pub mod cosserat_model;
 pub mod error;
 pub mod frames;
 pub mod kl_model;
 pub mod memory;
+pub mod model;
+mod outcome;
+pub mod placement;
 pub mod probes;
+pub mod record;
 pub mod scripts;
 pub mod simulation;
 pub mod stop;

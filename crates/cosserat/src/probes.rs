@@ -1,6 +1,7 @@
 //! Probes: named point or region quantities written to `probes.csv` at every output time.
 
-use cosserat_assembly::{ShellLayout, SystemState};
+use crate::placement::ShellPlacement;
+use cosserat_assembly::SystemState;
 use cosserat_geometry::rotation::rotation_matrix;
 use cosserat_scene::spec::{ProbeQuantity, ProbeReduction, ProbeSpec};
 use nalgebra::Vector3;
@@ -9,7 +10,7 @@ use nalgebra::Vector3;
 struct Probe {
     columns: [String; 3],
     quantity: ProbeQuantity,
-    /// Global displacement nodes with their rest positions, or global rotation nodes (directors).
+    /// System displacement nodes with their rest positions, or system rotation nodes (directors).
     nodes: Vec<(usize, Vector3<f64>)>,
 }
 
@@ -20,31 +21,27 @@ pub struct Probes {
 }
 
 impl Probes {
-    /// Resolves probe selections to global nodes.
-    pub fn new(specs: &[ProbeSpec], layouts: &[ShellLayout]) -> Self {
+    /// Resolves probe selections to system nodes; `rest` holds the rest positions of all system
+    /// displacement nodes. A probe averages over its nodes: a `nearest` probe has one scene node, which
+    /// may stand for several system nodes (a column of the volumetric slab).
+    pub fn new(specs: &[ProbeSpec], placements: &[ShellPlacement], rest: &[Vector3<f64>]) -> Self {
         let probes = specs
             .iter()
             .map(|p| {
-                let layout = &layouts[p.selection.shell];
-                let nodes: Vec<(usize, Vector3<f64>)> = match p.quantity {
-                    ProbeQuantity::Director => p
-                        .selection
-                        .rot_nodes
-                        .iter()
-                        .map(|&k| (layout.rot_nodes.start + k, layout.rest_rot_positions[k]))
-                        .collect(),
-                    _ => p
-                        .selection
-                        .disp_nodes
-                        .iter()
-                        .map(|&i| (layout.disp_nodes.start + i, layout.rest_disp_positions[i]))
-                        .collect(),
+                let placement = &placements[p.selection.shell];
+                let (local, map) = match p.quantity {
+                    ProbeQuantity::Director => (&p.selection.rot_nodes, &placement.rot),
+                    _ => (&p.selection.disp_nodes, &placement.disp),
                 };
-                // A "nearest" selection holds one node by construction; "mean" averages all.
-                let nodes = match p.reduction {
-                    ProbeReduction::Nearest => nodes.into_iter().take(1).collect(),
-                    ProbeReduction::Mean => nodes,
+                let local = match p.reduction {
+                    ProbeReduction::Nearest => &local[..local.len().min(1)],
+                    ProbeReduction::Mean => &local[..],
                 };
+                let nodes = map
+                    .nodes(local)
+                    .into_iter()
+                    .map(|i| (i, rest.get(i).copied().unwrap_or_else(Vector3::zeros)))
+                    .collect();
                 Probe {
                     columns: p.columns(),
                     quantity: p.quantity,
@@ -61,7 +58,7 @@ impl Probes {
     }
 
     /// The values of all columns in a state.
-    pub fn values(&self, _layouts: &[ShellLayout], state: &SystemState) -> Vec<f64> {
+    pub fn values(&self, state: &SystemState) -> Vec<f64> {
         let mut out = Vec::with_capacity(3 * self.probes.len());
         for p in &self.probes {
             let mut sum = Vector3::zeros();

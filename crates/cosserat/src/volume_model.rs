@@ -3,20 +3,23 @@
 //! `cosserat-volume`, typically with the conjugate-gradient solver (`[solver] linear_solver = "cg"`), as
 //! the paper's Lotus "Tet4" row.
 //!
-//! The scene is written as for a shell: regions, probes and rest fields refer to the mid-surface. Here
-//! each selected vertex becomes the column of slab nodes above it (all layers), so a boundary condition
-//! holds the whole column, a `nearest` probe reports the column's mean (the mid-surface point), and a
-//! rest field is evaluated at the rest centroid of every tetrahedron, between steps, through the
-//! volume term's [`RestCurvature`] handle. Frames show the mid-surface: the grid's triangles over the
-//! column means of positions, velocities and (quaternion-averaged) rotations.
+//! The scene is written as for a shell: regions, probes and rest fields refer to the mid-surface. Its
+//! placement maps each vertex to the column of slab nodes above it (all layers), so a boundary
+//! condition holds the whole column, a load is shared by it, a probe reports the column's mean (the
+//! mid-surface point), and a rest field is evaluated at the rest centroid of every tetrahedron, between
+//! steps, through the volume term's [`RestCurvature`] handle. Frames show the mid-surface: the grid's
+//! triangles over the column means of positions, velocities and (quaternion-averaged) rotations.
 
 use crate::error::SimulationError;
 use crate::frames::PointColumns;
-use cosserat_assembly::{ElementPair, ShellLayout, System, SystemOptions, SystemState};
+use crate::model::{BuiltModel, Model};
+use crate::placement::{NodeMap, ShellPlacement};
+use cosserat_assembly::{IncrementalPotential, SystemOptions, SystemState};
 use cosserat_geometry::rotation::{rotation_matrix, same_hemisphere};
 use cosserat_scene::grid::PlanarGrid;
-use cosserat_scene::output::VtuFrame;
-use cosserat_scene::spec::{FieldFunction, NodeSelection, ProbeReduction, RestFieldSpec, SceneSpec, ShellSpec, Timing};
+use cosserat_scene::output::{ModelRecord, VtuFrame};
+use cosserat_scene::spec::{FieldFunction, SceneSpec, ShellSpec, Timing};
+use cosserat_solver::ScriptError;
 use cosserat_volume::mesh::slab;
 use cosserat_volume::{MicropolarMaterial, RestCurvature, VolumeInput, build_volume_system};
 use nalgebra::{Matrix3, Quaternion, Vector3};
@@ -30,10 +33,11 @@ struct RestFieldScript {
     time_dependent: bool,
 }
 
-/// What a run needs beyond the system for a volumetric slab: the columns of the mid-surface vertices,
-/// the output triangles, and the rest-curvature script.
+/// A volumetric slab in a system: the columns of slab nodes under the mid-surface vertices, the output
+/// triangles, and the rest-curvature script.
 #[derive(Debug)]
 pub struct VolumeModel {
+    placements: Vec<ShellPlacement>,
     /// Slab nodes of each mid-surface vertex, bottom to top.
     columns: Vec<Vec<usize>>,
     triangles: Vec<[usize; 3]>,
@@ -49,17 +53,12 @@ fn setup(shell: &ShellSpec, reason: impl std::fmt::Display) -> SimulationError {
     SimulationError::Setup(format!("shell `{}` (micropolar volume): {reason}", shell.name))
 }
 
-/// Builds the slab of the scene's single shell and rewrites the scene's selections onto its nodes (rest
-/// fields move into the returned model). Returns the system, the model, and the rewritten scene.
+/// Builds the slab of the scene's single shell.
 ///
 /// # Errors
 /// [`SimulationError::Setup`] naming the shell when the mesh is not a flat grid, an initial pose is
 /// given, or `cosserat-volume` rejects the material or the slab.
-pub fn build(
-    mut spec: SceneSpec,
-    layers: usize,
-    options: &SystemOptions,
-) -> Result<(System, VolumeModel, SceneSpec), SimulationError> {
+pub fn build(spec: &SceneSpec, layers: usize, options: &SystemOptions) -> Result<BuiltModel, SimulationError> {
     let shell = &spec.shells[0];
     if shell.initial_positions.is_some() {
         return Err(setup(
@@ -90,55 +89,30 @@ pub fn build(
         .iter()
         .map(|&(i, j)| (0..=layers).map(|k| slab_grid.node(i, j, k)).collect())
         .collect();
-    let n = volume.rest_positions.len();
-    let elements: Vec<Vec<usize>> = slab_grid.mesh.elements.iter().map(|t| t.to_vec()).collect();
-    let layout = ShellLayout {
+    // Scene nodes are the mid-surface's vertices; each stands for its column of slab nodes, whose
+    // displacement and rotation nodes are the same.
+    let surface_elements: Vec<Vec<usize>> = corners.elements.iter().map(|t| t.to_vec()).collect();
+    let placements = vec![ShellPlacement {
         name: shell.name.clone(),
-        pair: ElementPair::Tri3Tri3,
-        disp_nodes: 0..n,
-        rot_nodes: 0..n,
-        points: 0..volume.point_positions.len(),
-        disp_elements: elements.clone(),
-        rot_elements: elements,
-        rest_disp_positions: volume.rest_positions.clone(),
-        rest_rot_positions: volume.rest_positions.clone(),
-        rest_point_positions: volume.point_positions.clone(),
-        rot_to_disp: (0..n).collect(),
-        element_areas: volume.element_volumes.iter().map(|v| v / p.thickness).collect(),
-        active_terms: volume.potential.active_terms(),
-        n_curved_points: 0,
-    };
-    let remap = |sel: &mut NodeSelection, columns: &[Vec<usize>]| {
-        let lift = |nodes: &[usize]| {
-            let mut out: Vec<usize> = nodes.iter().flat_map(|&v| columns[v].iter().copied()).collect();
-            out.sort_unstable();
-            out.dedup();
-            out
-        };
-        sel.disp_nodes = lift(&sel.disp_nodes);
-        sel.rot_nodes = lift(&sel.rot_nodes);
-    };
-    for b in &mut spec.boundaries {
-        remap(&mut b.selection, &columns);
-    }
-    for l in &mut spec.loads {
-        remap(&mut l.selection, &columns);
-    }
-    for probe in &mut spec.probes {
-        remap(&mut probe.selection, &columns);
-        // The column of the nearest vertex: its mean is the mid-surface point.
-        probe.reduction = ProbeReduction::Mean;
-    }
-    let fields = std::mem::take(&mut spec.rest_fields)
-        .into_iter()
-        .map(|r: RestFieldSpec| RestFieldScript {
+        disp: NodeMap::Columns(columns.clone()),
+        rot: NodeMap::Columns(columns.clone()),
+        rest_disp: corners.nodes.clone(),
+        rest_rot: corners.nodes.clone(),
+        disp_elements: surface_elements.clone(),
+        rot_elements: surface_elements,
+    }];
+    let fields = spec
+        .rest_fields
+        .iter()
+        .map(|r| RestFieldScript {
             time_dependent: r.curvature.iter().any(|c| c.2.is_time_dependent()),
-            curvature: r.curvature,
+            curvature: r.curvature.clone(),
             frame: r.curvature_frame,
             timing: r.timing,
         })
         .collect();
     let model = VolumeModel {
+        placements,
         columns,
         triangles: corners.elements.clone(),
         rest: volume.rest_positions.clone(),
@@ -148,52 +122,80 @@ pub fn build(
         applied: false,
         n_elements: slab_grid.mesh.n_elements(),
     };
-    Ok((
-        System {
-            potential: volume.potential,
-            shells: vec![layout],
-        },
-        model,
-        spec,
-    ))
+    Ok(BuiltModel {
+        potential: volume.potential,
+        model: Box::new(model),
+    })
 }
 
-impl VolumeModel {
-    /// Number of tetrahedra.
-    pub fn n_elements(&self) -> usize {
+impl Model for VolumeModel {
+    fn record(&self) -> ModelRecord {
+        ModelRecord::MicropolarVolume {
+            n_tetrahedra: self.n_elements,
+        }
+    }
+
+    fn element_names(&self) -> (String, String) {
+        ("tet4".into(), "tet4".into())
+    }
+
+    fn placements(&self) -> &[ShellPlacement] {
+        &self.placements
+    }
+
+    fn rest_positions(&self) -> &[Vector3<f64>] {
+        &self.rest
+    }
+
+    /// The slab does not take part in contact (a scene that asks for it is refused when it is built).
+    fn contact_triangles(&self, _shell: usize) -> Option<Vec<[usize; 3]>> {
+        None
+    }
+
+    fn n_cells(&self) -> usize {
         self.n_elements
     }
 
     /// Sets the rest curvature of every element for the step from `t` to `t + dt` (once for fields that
     /// do not depend on time). Entries of several rest-field tables add up.
-    pub fn apply(&mut self, t: f64, dt: f64) {
+    fn apply_rest_fields(&mut self, _: &mut IncrementalPotential, t: f64, dt: f64) -> Result<(), ScriptError> {
         if self.fields.is_empty() || (self.applied && !self.fields.iter().any(|f| f.time_dependent)) {
-            return;
+            return Ok(());
         }
-        let fields = &self.fields;
-        let points = &self.points;
-        self.rest_curvature.set(|p| {
-            let x = &points[p];
+        let mut values = Vec::with_capacity(self.points.len());
+        for x in &self.points {
             let mut total = Matrix3::zeros();
-            for f in fields {
+            for f in &self.fields {
                 let tau = match f.timing {
                     Timing::StartOfStep => t,
                     Timing::EndOfStep => t + dt,
                 };
                 let mut m = Matrix3::zeros();
                 for (i, j, value) in &f.curvature {
-                    m[(*i, *j)] += value.eval(x, tau);
+                    let v = value.eval(x, tau);
+                    if !v.is_finite() {
+                        return Err(ScriptError(format!(
+                            "rest curvature ({i}, {j}) `{}` is {v} at t = {tau}, X = ({}, {}, {})",
+                            value.description(),
+                            x.x,
+                            x.y,
+                            x.z
+                        )));
+                    }
+                    m[(*i, *j)] += v;
                 }
                 total += f.frame.map_or(m, |q| q.transpose() * m * q);
             }
-            total
-        });
+            values.push(total);
+        }
+        self.rest_curvature.set(|p| values[p]);
         self.applied = true;
+        Ok(())
     }
 
-    /// The frame of a state: the mid-surface grid with column means of displacement, velocity,
-    /// directors and angular velocity.
-    pub fn frame(&self, state: &SystemState, t: f64) -> VtuFrame {
+    /// The mid-surface grid with column means of displacement, velocity, directors and angular
+    /// velocity.
+    fn frame(&self, state: &SystemState, t: f64) -> VtuFrame {
         let mut out = PointColumns::with_capacity(self.columns.len());
         for column in &self.columns {
             let w = 1.0 / column.len() as f64;

@@ -11,6 +11,7 @@
 //! both ways), so different samplings of the same shape (Tri3 vertices against Tri6 nodes) give zero.
 
 use super::{Options, RunResult, RunSpec, quick_end, run};
+use cosserat::scene::output::ModelRecord;
 use cosserat::scene::output::VtuFrame;
 use std::fmt::Write as _;
 
@@ -48,7 +49,10 @@ pub(super) fn bunny_kl_check(r: &[RunResult]) -> Vec<String> {
         lines.push(format!(
             "- **{}** (Kirchhoff–Love, {}): {} steps ({:?}{}), {:.2} Newton iterations per step, {:.1} ms per step, {} step reductions.",
             res.spec.variant,
-            s.extra.get("law").and_then(|v| v.as_str()).unwrap_or("?"),
+            match &s.model {
+                ModelRecord::KirchhoffLove { law } => law.as_str(),
+                _ => "?",
+            },
             s.n_steps,
             s.status,
             s.reason.as_ref().map_or(String::new(), |r| format!(": {r}")),
@@ -65,7 +69,7 @@ pub(super) fn bunny_kl_check(r: &[RunResult]) -> Vec<String> {
                 p.last("t").unwrap_or(f64::NAN)
             ));
         }
-        if let Some(g) = s.extra.get("contact").and_then(|c| c.get("min_gap")).and_then(|v| v.as_f64()) {
+        if let Some(g) = s.contact.as_ref().and_then(|c| c.min_gap) {
             lines.push(format!("  - smallest contact gap reached: {:.4} mm.", 1e3 * g));
         }
         if let Some(f) = &res.frame {
@@ -117,12 +121,14 @@ pub(super) fn lotus_tet4_check(r: &[RunResult]) -> Vec<String> {
         lines.push(format!(
             "| {} | {} | {} | {:.2} | {} | {:.1} | {} | {} |",
             res.spec.variant,
-            s.extra.get("n_tetrahedra").map_or("?".into(), |v| v.to_string()),
+            match s.model {
+                ModelRecord::MicropolarVolume { n_tetrahedra } => n_tetrahedra.to_string(),
+                _ => "?".into(),
+            },
             s.n_displacement_dofs + s.n_rotation_dofs,
             s.avg_newton_iterations,
-            s.extra
-                .get("cg_iterations_per_newton")
-                .and_then(|v| v.as_f64())
+            s.linear_solver
+                .cg_iterations_per_newton
                 .map_or("–".into(), |v| format!("{v:.0}")),
             s.avg_step_ms,
             z("b035_edge_mid"),

@@ -57,11 +57,6 @@ pub(super) fn without_obstacles(f: &VtuFrame) -> VtuFrame {
     out
 }
 
-/// The contact entry of a summary, as `(key → number)`.
-fn contact_number(res: &RunResult, key: &str) -> Option<f64> {
-    res.summary.extra.get("contact")?.get(key)?.as_f64()
-}
-
 /// Lines every contact experiment reports per run: solver effort, contact statistics, the contact share
 /// of the step, and intersections in the last frame.
 fn contact_lines(res: &RunResult) -> Vec<String> {
@@ -73,28 +68,30 @@ fn contact_lines(res: &RunResult) -> Vec<String> {
         s.status,
         s.reason.as_ref().map_or(String::new(), |r| format!(": {r}")),
         s.avg_newton_iterations,
-        s.extra.get("max_newton_iterations").map_or("?".into(), |v| v.to_string()),
+        s.max_newton_iterations,
         s.n_step_reductions,
         s.avg_step_ms
     )];
-    let pct = |key: &str| contact_number(res, key).map_or("–".into(), |v| format!("{:.0} %", 100.0 * v));
-    let gap = contact_number(res, "min_gap").map_or("– (no pair came within reach)".into(), |g| {
+    let Some(c) = &s.contact else {
+        lines.push("  - no contact record (the run did not start).".into());
+        return lines;
+    };
+    let pct = |v: f64| format!("{:.0} %", 100.0 * v);
+    let gap = c.min_gap.map_or("– (no pair came within reach)".into(), |g| {
         format!("{:.4} mm", 1e3 * g)
     });
     lines.push(format!(
         "  - contact: {} triangles; active pairs {:.0} on average, {} at most; smallest gap reached {gap}; share of the step {} (energies and derivatives {}, CCD {}, broad phases {}).",
-        contact_number(res, "n_triangles").map_or("?".into(), |v| v.to_string()),
-        contact_number(res, "mean_active_pairs").unwrap_or(f64::NAN),
-        contact_number(res, "max_active_pairs").map_or("?".into(), |v| v.to_string()),
-        pct("share_of_step"),
-        pct("energy_share"),
-        pct("ccd_share"),
-        pct("broad_phase_share"),
+        c.n_triangles,
+        c.mean_active_pairs,
+        c.max_active_pairs,
+        pct(c.share_of_step),
+        pct(c.energy_share),
+        pct(c.ccd_share),
+        pct(c.broad_phase_share),
     ));
-    if let Some(lag) = s.extra.get("max_obstacle_lag").and_then(|v| v.as_f64())
-        && lag > 0.0
-    {
-        let last = s.extra.get("final_obstacle_lag").and_then(|v| v.as_f64()).unwrap_or(f64::NAN);
+    if c.max_obstacle_lag > 0.0 {
+        let (lag, last) = (c.max_obstacle_lag, c.final_obstacle_lag);
         lines.push(format!(
             "  - kinematic obstacles held back at most {:.1} mm behind their scripted paths ({:.1} mm at the end).",
             1e3 * lag,

@@ -23,7 +23,8 @@ pub fn strip(pair: ElementPair, nx: usize, ny: usize, model: ShellModel, dynamic
     let options = SystemOptions {
         gravity: Vector3::new(0.0, 0.0, -9.81),
         dynamic,
-        dt: 0.01,
     };
-    build_system(&[input], Vec::new(), &options).unwrap()
+    let mut system = build_system(&[input], &options).unwrap();
+    system.potential.set_time_step(0.01);
+    system
 }

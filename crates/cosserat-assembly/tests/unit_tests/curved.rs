@@ -24,16 +24,16 @@ fn build(generated: &GeneratedMesh, pair: ElementPair, on_surface: bool) -> Syst
         damping: 0.0,
         angular_inertia_density: 0.0,
     };
-    build_system(
+    let mut system = build_system(
         &[input],
-        Vec::new(),
         &SystemOptions {
             gravity: Vector3::zeros(),
             dynamic: true,
-            dt: 0.01,
         },
     )
-    .unwrap()
+    .unwrap();
+    system.potential.set_time_step(0.01);
+    system
 }
 
 #[test]

@@ -99,22 +99,19 @@ fn dense(p: &mut cosserat_assembly::IncrementalPotential, u: &[f64]) -> DMatrix<
 
 #[test]
 fn dynamic_couplings_are_merged_and_the_pattern_grows_only_when_needed() {
-    let sys = strip(ElementPair::Tri3Tri3, 6, 1, ShellModel::Plate, true);
+    let mut sys = strip(ElementPair::Tri3Tri3, 6, 1, ShellModel::Plate, true);
     let n_nodes = sys.potential.parts.layout.n_disp_nodes;
     let (far_a, far_b) = (0, n_nodes - 1);
     let fixed_nnz = sys.potential.pattern().nnz();
-    // Rebuild the potential with the dynamic term; it starts without pairs.
-    assert!(sys.potential.parts.extra.is_empty());
+    // Insert the dynamic term; it starts without pairs.
+    assert!(!sys.potential.has_dynamic_terms());
     let springs = Springs {
         pairs: Vec::new(),
         next: vec![vec![[far_a, far_b]], vec![[far_a, far_b], [1, far_b]]],
         k: 7.0,
     };
-    let mut p = {
-        let mut parts = sys.potential.parts;
-        parts.extra.push(Box::new(springs));
-        cosserat_assembly::IncrementalPotential::new(parts, 0.01)
-    };
+    sys.potential.insert(springs);
+    let mut p = sys.potential;
     assert_eq!(
         p.pattern().nnz(),
         fixed_nnz,

@@ -24,9 +24,8 @@ fn zero_modes(pair: ElementPair, model: ShellModel, degree: usize) -> usize {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: false,
-        dt: 1.0,
     };
-    let mut p = build_system(&[input], Vec::new(), &options).unwrap().potential;
+    let mut p = build_system(&[input], &options).unwrap().potential;
     let n = p.n_dofs();
     let mut g = vec![0.0; n];
     let mut values = vec![0.0; p.pattern().nnz()];

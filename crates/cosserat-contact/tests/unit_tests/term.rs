@@ -7,8 +7,8 @@ use super::broad_phase::{grid_nodes, grid_triangles};
 use super::common::{random_vec, rng};
 use cosserat_assembly::term::{Evaluation, NodeRotations, PotentialTerm};
 use cosserat_assembly::{
-    DofLayout, ElementPair, IncrementalPotential, Parallelism, ShellInput, ShellMesh, SparsityPattern, SystemOptions,
-    SystemState, build_system,
+    DofLayout, ElementPair, Parallelism, ShellInput, ShellMesh, SparsityPattern, SystemOptions, SystemState,
+    build_system,
 };
 use cosserat_contact::{ContactError, ContactParameters, ContactSurface, ContactTerm, Obstacle, intersecting_pairs};
 use cosserat_fem::mesh::{chord_placement, procedural};
@@ -458,11 +458,12 @@ fn through_the_incremental_potential() {
     let options = SystemOptions {
         gravity: Vector3::new(0.0, 0.0, -9.81),
         dynamic: true,
-        dt: DT,
     };
-    let system = build_system(&[shell_input(3, 2.0 * TH + 0.5 * DHAT)], Vec::new(), &options).unwrap();
+    let system = build_system(&[shell_input(3, 2.0 * TH + 0.5 * DHAT)], &options).unwrap();
     let triangles: Vec<[usize; 3]> = system.shells[0].disp_elements.iter().map(|e| [e[0], e[1], e[2]]).collect();
-    let mut parts = system.potential.parts;
+    let mut p = system.potential;
+    p.set_time_step(DT);
+    let parts = &mut p.parts;
     let surfaces = vec![ContactSurface {
         id: 0,
         triangles,
@@ -476,8 +477,7 @@ fn through_the_incremental_potential() {
     let n = parts.layout.n_dofs();
     let u0 = vec![0.0; n];
     assert!(t.begin_step(&parts.state, &parts.layout, DT, &u0).unwrap());
-    parts.extra.push(Box::new(t));
-    let mut p = IncrementalPotential::new(parts, DT);
+    p.insert(t);
     assert!(p.active_terms().iter().any(|s| s == "contact_barrier"));
     assert!(p.active_terms().iter().any(|s| s == "contact_friction"));
     let u: Vec<f64> = (0..n)

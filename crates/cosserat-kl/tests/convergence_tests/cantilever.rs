@@ -13,7 +13,7 @@ fn deflection_ratio(model: HyperelasticModel, nx: usize, ny: usize, clamp: Clamp
     let ei = e * w * h * h * h / 12.0;
     // A tip deflection of 1e-3 L keeps the response linear (relative nonlinearity ~1e-6).
     let f = 1e-3 * 3.0 * ei / (l * l);
-    let mut s = strip(l, w, (nx, ny), &shell, clamp, Vec::new());
+    let mut s = strip(l, w, (nx, ny), &shell, clamp, None);
     let tip = s.column(nx);
     let weights = edge_weights(ny);
     let total: f64 = weights.iter().sum();

@@ -1,10 +1,9 @@
 //! Strips clamped at one end, with the checkerboard grid of `cosserat_fem::mesh::procedural`.
 
 use cosserat_assembly::boundary::PositionConstraint;
-use cosserat_assembly::term::PotentialTerm;
 use cosserat_assembly::{IncrementalPotential, SystemOptions};
 use cosserat_fem::mesh::procedural;
-use cosserat_kl::{KlShell, KlSystem, build_kl_system};
+use cosserat_kl::{ForceCouple, KlShell, KlSystem, build_kl_system};
 use cosserat_solver::{NewtonSettings, QuasiStaticSettings};
 use nalgebra::Vector3;
 
@@ -58,16 +57,16 @@ pub fn spacing(l: f64, nx: usize, clamp: ClampLine) -> f64 {
 }
 
 /// A quasi-static flat strip (no inertia, Δt = 1), clamped by eliminating the positions of the first two
-/// vertex columns, with further terms `extra`.
+/// vertex columns, with a force couple at the free end if given.
 pub fn strip(
     l: f64,
     w: f64,
     n: (usize, usize),
     shell: &KlShell,
     clamp: ClampLine,
-    extra: Vec<Box<dyn PotentialTerm>>,
+    couple: Option<ForceCouple>,
 ) -> Strip {
-    shaped_strip(l, w, n, shell, clamp, extra, |x| x)
+    shaped_strip(l, w, n, shell, clamp, couple, |x| x)
 }
 
 /// As [`strip`], with the rest positions of the flat strip mapped by `shape` (a curved rest state).
@@ -77,7 +76,7 @@ pub fn shaped_strip(
     (nx, ny): (usize, usize),
     shell: &KlShell,
     clamp: ClampLine,
-    extra: Vec<Box<dyn PotentialTerm>>,
+    couple: Option<ForceCouple>,
     shape: impl Fn(Vector3<f64>) -> Vector3<f64>,
 ) -> Strip {
     let dx = spacing(l, nx, clamp);
@@ -94,9 +93,11 @@ pub fn shaped_strip(
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: false,
-        dt: 1.0,
     };
-    let mut system = build_kl_system(&grid.mesh, shell, extra, &options).unwrap();
+    let mut system = build_kl_system(&grid.mesh, shell, &options).unwrap();
+    if let Some(couple) = couple {
+        system.potential.insert(couple);
+    }
     let nodes: Vec<usize> = column(ny, 0).into_iter().chain(column(ny, 1)).collect();
     let targets = nodes.iter().map(|&i| system.rest_positions[i]).collect();
     system.potential.parts.position_constraints.push(PositionConstraint {

@@ -34,15 +34,7 @@ fn an_end_moment_unbends_a_curved_strip_by_its_rest_curvature() {
                 (1.0 - (kappa0 * x.x).cos()) / kappa0,
             )
         };
-        let mut s = shaped_strip(
-            l,
-            w,
-            (nx, ny),
-            &shell,
-            ClampLine::Centred,
-            vec![Box::new(couple)],
-            shape,
-        );
+        let mut s = shaped_strip(l, w, (nx, ny), &shell, ClampLine::Centred, Some(couple), shape);
         // The curved rest state is stress-free.
         let rest_energy = s.system.elastic_energy().unwrap();
         assert!(

@@ -34,7 +34,7 @@ fn roll_up(model: HyperelasticModel, nx: usize) -> Vec<(f64, Vector3<f64>)> {
     let ny = 1;
     let couple = end_couple(nx, ny);
     let moment = couple.handle();
-    let mut s = strip(l, w, (nx, ny), &shell, ClampLine::Centred, vec![Box::new(couple)]);
+    let mut s = strip(l, w, (nx, ny), &shell, ClampLine::Centred, Some(couple));
     let tip = s.column(nx);
     let levels: Vec<f64> = (1..=20).map(|i| i as f64 * 0.05).collect();
     let mut tips = Vec::new();

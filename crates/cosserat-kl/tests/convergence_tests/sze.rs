@@ -34,7 +34,7 @@ fn sze_31(model: HyperelasticModel, nx: usize, ny: usize) -> Vec<(f64, f64)> {
     // L = 10, b = 1, h = 0.1, E = 1.2e6, ν = 0: E I = 100, P_max = 4.
     let (l, w, h, e, p_max) = (10.0, 1.0, 0.1, 1.2e6, 4.0);
     let shell = KlShell::new(KlMaterial::new(model, e, 0.0), h, 1.0);
-    let mut s = strip(l, w, (nx, ny), &shell, ClampLine::Centred, Vec::new());
+    let mut s = strip(l, w, (nx, ny), &shell, ClampLine::Centred, None);
     let tip = s.column(nx);
     let weights = edge_weights(ny);
     let total: f64 = weights.iter().sum();

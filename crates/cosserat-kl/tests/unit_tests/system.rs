@@ -20,9 +20,8 @@ fn masses_are_a_third_of_each_face_and_sum_to_the_shell_mass() {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: true,
-        dt: 0.01,
     };
-    let sys = build_kl_system(&grid, &shell(), Vec::new(), &options).unwrap();
+    let sys = build_kl_system(&grid, &shell(), &options).unwrap();
     let total: f64 = sys.masses.iter().sum();
     assert!((total - 800.0 * 2e-3 * 0.4 * 0.3).abs() < 1e-14 * total);
     // The corner (0, 0) lies in one (even) quad and in both its triangles: a third of the quad's mass.
@@ -36,7 +35,6 @@ fn masses_are_a_third_of_each_face_and_sum_to_the_shell_mass() {
     let quasi = build_kl_system(
         &grid,
         &shell(),
-        Vec::new(),
         &SystemOptions {
             dynamic: false,
             ..options
@@ -57,11 +55,9 @@ fn a_free_shell_falls_without_deforming() {
     let mut sys = build_kl_system(
         &grid,
         &shell(),
-        Vec::new(),
         &SystemOptions {
             gravity: g,
             dynamic: true,
-            dt,
         },
     )
     .unwrap();
@@ -83,7 +79,6 @@ fn invalid_shells_and_options_are_rejected_by_name() {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: true,
-        dt: 0.01,
     };
     let cases = [
         (
@@ -110,7 +105,6 @@ fn invalid_shells_and_options_are_rejected_by_name() {
             options,
             "thickness",
         ),
-        (shell(), SystemOptions { dt: 0.0, ..options }, "dt"),
         (
             shell(),
             SystemOptions {
@@ -121,7 +115,7 @@ fn invalid_shells_and_options_are_rejected_by_name() {
         ),
     ];
     for (s, o, name) in cases {
-        match build_kl_system(&grid, &s, Vec::new(), &o) {
+        match build_kl_system(&grid, &s, &o) {
             Err(KlError::InvalidParameter { name: n, .. }) => assert_eq!(n, name),
             Err(other) => panic!("{name}: {other}"),
             Ok(_) => panic!("{name}: accepted"),

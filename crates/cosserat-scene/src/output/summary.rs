@@ -1,11 +1,12 @@
-//! `summary.json`: what a run was, how long it took and how it ended.
+//! `summary.json`: the typed record of a run — what it was, how long it took, how it ended.
 //!
-//! [`RunSummary`] mirrors the output contract field by field; the JSON keys are the field names. Element
-//! types and energy terms are plain strings here because this file is a report, not an input: the
-//! simulator converts its typed choices into names when it fills the summary. Every number is checked
-//! before writing, since serde_json would silently write NaN or infinity as `null`.
+//! [`RunSummary`] mirrors the output contract field by field; the JSON keys are the field names, and
+//! sections that only some runs have (contact, a failed step, a factorisation) are `null` or absent
+//! otherwise. Element types, energy terms and laws are plain strings here because this file is a
+//! report, not an input: the simulator converts its typed choices into names when it fills the
+//! record. Every number is checked before writing, since serde_json would silently write NaN or
+//! infinity as `null`.
 
-use std::collections::BTreeMap;
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
@@ -14,10 +15,11 @@ use super::OutputError;
 use super::atomic::write_atomic;
 
 /// How a run ended.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum RunStatus {
     /// The run reached its end time (`"ok"`).
+    #[default]
     Ok,
     /// The run stopped on an error, e.g. a Newton failure at the smallest time step (`"error"`).
     Error,
@@ -26,7 +28,7 @@ pub enum RunStatus {
 }
 
 /// Axis-aligned bounding box.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 pub struct BoundingBox {
     /// Componentwise minimum (length units of the scene).
     pub min: [f64; 3],
@@ -70,138 +72,282 @@ pub struct Attempt {
     pub residuals: Vec<f64>,
 }
 
-/// Contents of `DIR/summary.json`.
+/// The mechanical model of a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum ModelRecord {
+    /// The three-director Cosserat shell.
+    #[default]
+    Cosserat,
+    /// The Kirchhoff–Love comparison model.
+    KirchhoffLove {
+        /// The hyperelastic law (`stvk`, `neo_hookean`).
+        law: String,
+    },
+    /// The volumetric micropolar comparison model.
+    MicropolarVolume {
+        /// Number of tetrahedra.
+        n_tetrahedra: usize,
+    },
+}
+
+/// The linear solves of a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct LinearSolverRecord {
+    /// Numerical factorisations performed.
+    pub factorisations: usize,
+    /// The symmetric factor of the last symbolic analysis (direct solvers).
+    pub factor: Option<FactorRecord>,
+    /// Conjugate-gradient iterations in all (CG solver only).
+    pub cg_iterations: Option<usize>,
+    /// Conjugate-gradient iterations per Newton iteration (CG solver only).
+    pub cg_iterations_per_newton: Option<f64>,
+}
+
+/// A sparse symmetric factor and the rate its factorisations ran at.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FactorRecord {
+    /// Nonzeros of the factor.
+    pub nnz: usize,
+    /// Floating-point operations of one numerical factorisation.
+    pub flops: f64,
+    /// 2 when the two-domain Cholesky factorised the systems, 1 otherwise.
+    pub domains: usize,
+    /// Wall time of all numerical factorisations \[s\].
+    pub seconds: f64,
+    /// Achieved rate of the numerical factorisations \[GFLOP/s\] (their own wall time).
+    pub gflops_per_s: Option<f64>,
+}
+
+/// Contact over a run.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct ContactRecord {
+    /// Vertices of the contact mesh (shells and obstacles).
+    pub n_vertices: usize,
+    /// Triangles of the contact mesh.
+    pub n_triangles: usize,
+    /// Edges of the contact mesh.
+    pub n_edges: usize,
+    /// Time in contact energies, gradients and Hessians \[s\].
+    pub energy_seconds: f64,
+    /// Time in continuous collision detection \[s\].
+    pub ccd_seconds: f64,
+    /// Time in broad phases \[s\].
+    pub broad_phase_seconds: f64,
+    /// Share of the steps' time spent in contact (0 to 1).
+    pub share_of_step: f64,
+    /// Share of the steps' time in contact energies.
+    pub energy_share: f64,
+    /// Share of the steps' time in CCD.
+    pub ccd_share: f64,
+    /// Share of the steps' time in broad phases.
+    pub broad_phase_share: f64,
+    /// Evaluations of the contact term.
+    pub n_evaluations: usize,
+    /// CCD queries.
+    pub n_ccd_queries: usize,
+    /// Mean number of pairs within the barrier in a committed state.
+    pub mean_active_pairs: f64,
+    /// Largest number of pairs within the barrier in a committed state.
+    pub max_active_pairs: usize,
+    /// Smallest gap (distance minus thicknesses) in a committed state \[m\] (`null` without any pair).
+    pub min_gap: Option<f64>,
+    /// Largest distance of a kinematic obstacle from its scripted place at the end of a step \[m\].
+    pub max_obstacle_lag: f64,
+    /// The same at the end of the last step \[m\].
+    pub final_obstacle_lag: f64,
+}
+
+/// Kinetic and elastic energy at the output times.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
+pub struct EnergyHistory {
+    /// Output times.
+    pub t: Vec<f64>,
+    /// Kinetic energy \[J\].
+    pub kinetic: Vec<f64>,
+    /// Elastic energy \[J\].
+    pub elastic: Vec<f64>,
+}
+
+impl EnergyHistory {
+    /// Appends one output time; a time with a non-finite energy is left out (JSON has no NaN).
+    pub fn push(&mut self, t: f64, kinetic: f64, elastic: f64) {
+        if t.is_finite() && kinetic.is_finite() && elastic.is_finite() {
+            self.t.push(t);
+            self.kinetic.push(kinetic);
+            self.elastic.push(elastic);
+        }
+    }
+}
+
+/// Contents of `DIR/summary.json`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct RunSummary {
     /// Name of the scene.
     pub scene: String,
+    /// How the run ended.
+    pub status: RunStatus,
+    /// Why the run did not end with `ok` (`null` when it did).
+    pub reason: Option<String>,
+    /// Simulation time at which the run stopped (`null` if it completed).
+    pub stopped_at: Option<f64>,
+    /// The step that failed, with every attempt (`null` unless a step failed).
+    pub failed_step: Option<FailedStep>,
+    /// The mechanical model.
+    pub model: ModelRecord,
     /// Displacement element type, e.g. `"tri6"`.
     pub displacement_element: String,
-    /// Rotation element type, e.g. `"tri3"`.
+    /// Rotation element type, e.g. `"tri3"` (`"-"` for a model without rotations).
     pub rotation_element: String,
-    /// Number of cells (elements) of the mesh.
+    /// Number of shells.
+    pub n_shells: usize,
+    /// Number of cells (elements) of the meshes.
     pub n_cells: usize,
     /// Number of displacement degrees of freedom.
     pub n_displacement_dofs: usize,
     /// Number of rotation degrees of freedom.
     pub n_rotation_dofs: usize,
+    /// Quadrature points with a curved rest geometry (the curved-shell terms ran there).
+    pub n_curved_points: usize,
     /// Names of the energy terms of the incremental potential that were active.
     pub active_terms: Vec<String>,
-    /// Time step size requested by the scene (time units).
+    /// Nonzeros of the Hessian's upper triangle.
+    pub hessian_nnz: usize,
+    /// Time step size requested by the scene (time units; 1 in quasi-static runs).
     pub dt: f64,
-    /// Number of completed time steps.
+    /// Number of completed time steps (load levels).
     pub n_steps: usize,
+    /// Number of frames written.
+    pub n_frames: usize,
     /// Average number of Newton iterations per completed step.
     pub avg_newton_iterations: f64,
-    /// Total wall-clock time of the run (s).
+    /// Most Newton iterations of a completed step.
+    pub max_newton_iterations: usize,
+    /// Newton iterations of attempts that failed and were retried with a smaller step.
+    pub wasted_newton_iterations: usize,
+    /// Number of time step reductions (dt halvings, load bisections), those of a failed step included.
+    pub n_step_reductions: usize,
+    /// Total wall-clock time of the run \[s\].
     pub wall_seconds: f64,
-    /// Average wall-clock time per completed step (ms).
+    /// Average wall-clock time per completed step \[ms\].
     pub avg_step_ms: f64,
     /// Fraction of the time in steps spent in assembly (0 to 1).
     pub assembly_share: f64,
     /// Fraction of the time in steps spent in linear solves (0 to 1).
     pub linear_solve_share: f64,
-    /// Number of time step reductions (dt halvings) after failed steps.
-    pub n_step_reductions: usize,
+    /// The process's peak resident memory \[MB\], where the operating system reports it.
+    pub peak_memory_mb: Option<f64>,
+    /// The linear solves.
+    pub linear_solver: LinearSolverRecord,
+    /// The smallest deformed-to-rest area ratio over the shells' quadrature points at the output times
+    /// (negative: an element turned inside out).
+    pub min_area_ratio: Option<f64>,
+    /// Contact (`null` without contact).
+    pub contact: Option<ContactRecord>,
+    /// Warnings about the scene's settings and about the run.
+    pub warnings: Vec<String>,
+    /// Energies at the output times.
+    pub energy: EnergyHistory,
     /// Bounding box of the rest configuration.
     pub rest_bbox: BoundingBox,
-    /// How the run ended.
-    pub status: RunStatus,
-    /// Why the run did not end with `ok` (`null` when it did).
-    pub reason: Option<String>,
-    /// Simulation time at which the run stopped (`null` if it stopped before the first step).
-    pub stopped_at: Option<f64>,
-    /// The step that failed, with every attempt (`null` unless a step failed).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub failed_step: Option<FailedStep>,
-    /// Experiment-specific numbers, e.g. a measured tip deflection.
-    pub extra: BTreeMap<String, serde_json::Value>,
 }
 
 impl RunSummary {
     /// The summary of a run that failed before it could report anything else (for instance a scene
-    /// that did not validate): counts, times and the bounding box are zero, the element types and the
-    /// term list are empty.
+    /// that did not validate): counts, times and the bounding box are zero.
     pub fn failed(scene: impl Into<String>, status: RunStatus, reason: impl Into<String>) -> Self {
         Self {
             scene: scene.into(),
-            displacement_element: String::new(),
-            rotation_element: String::new(),
-            n_cells: 0,
-            n_displacement_dofs: 0,
-            n_rotation_dofs: 0,
-            active_terms: Vec::new(),
-            dt: 0.0,
-            n_steps: 0,
-            avg_newton_iterations: 0.0,
-            wall_seconds: 0.0,
-            avg_step_ms: 0.0,
-            assembly_share: 0.0,
-            linear_solve_share: 0.0,
-            n_step_reductions: 0,
-            rest_bbox: BoundingBox {
-                min: [0.0; 3],
-                max: [0.0; 3],
-            },
             status,
             reason: Some(reason.into()),
-            stopped_at: None,
-            failed_step: None,
-            extra: BTreeMap::new(),
+            ..Self::default()
         }
     }
 
-    /// Checks that every number is finite.
-    ///
-    /// Values in `extra` need no check: a `serde_json::Value` cannot hold NaN or infinity.
-    ///
-    /// # Errors
-    /// [`OutputError::NonFiniteSummary`] naming the first non-finite field.
-    pub fn validate(&self) -> Result<(), OutputError> {
-        let scalars = [
+    /// Every number of the record with its field path.
+    fn numbers(&self) -> Vec<(String, f64)> {
+        let mut out: Vec<(String, f64)> = [
             ("dt", self.dt),
             ("avg_newton_iterations", self.avg_newton_iterations),
             ("wall_seconds", self.wall_seconds),
             ("avg_step_ms", self.avg_step_ms),
             ("assembly_share", self.assembly_share),
             ("linear_solve_share", self.linear_solve_share),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect();
+        let optional = [
+            ("stopped_at", self.stopped_at),
+            ("peak_memory_mb", self.peak_memory_mb),
+            ("min_area_ratio", self.min_area_ratio),
+            (
+                "linear_solver.cg_iterations_per_newton",
+                self.linear_solver.cg_iterations_per_newton,
+            ),
         ];
-        for (field, value) in scalars {
-            if !value.is_finite() {
-                return Err(OutputError::NonFiniteSummary {
-                    field: field.to_owned(),
-                    value,
-                });
+        out.extend(optional.into_iter().filter_map(|(k, v)| Some((k.to_owned(), v?))));
+        for k in 0..3 {
+            out.push((format!("rest_bbox.min[{k}]"), self.rest_bbox.min[k]));
+            out.push((format!("rest_bbox.max[{k}]"), self.rest_bbox.max[k]));
+        }
+        if let Some(f) = &self.linear_solver.factor {
+            out.push(("linear_solver.factor.flops".into(), f.flops));
+            out.push(("linear_solver.factor.seconds".into(), f.seconds));
+            if let Some(rate) = f.gflops_per_s {
+                out.push(("linear_solver.factor.gflops_per_s".into(), rate));
             }
         }
-        for (corner, values) in [("min", self.rest_bbox.min), ("max", self.rest_bbox.max)] {
-            if let Some(k) = values.iter().position(|v| !v.is_finite()) {
-                return Err(OutputError::NonFiniteSummary {
-                    field: format!("rest_bbox.{corner}[{k}]"),
-                    value: values[k],
-                });
+        if let Some(c) = &self.contact {
+            let fields = [
+                ("energy_seconds", c.energy_seconds),
+                ("ccd_seconds", c.ccd_seconds),
+                ("broad_phase_seconds", c.broad_phase_seconds),
+                ("share_of_step", c.share_of_step),
+                ("energy_share", c.energy_share),
+                ("ccd_share", c.ccd_share),
+                ("broad_phase_share", c.broad_phase_share),
+                ("mean_active_pairs", c.mean_active_pairs),
+                ("max_obstacle_lag", c.max_obstacle_lag),
+                ("final_obstacle_lag", c.final_obstacle_lag),
+            ];
+            out.extend(fields.into_iter().map(|(k, v)| (format!("contact.{k}"), v)));
+            if let Some(gap) = c.min_gap {
+                out.push(("contact.min_gap".into(), gap));
             }
         }
-        if let Some(value) = self.stopped_at.filter(|v| !v.is_finite()) {
-            return Err(OutputError::NonFiniteSummary {
-                field: "stopped_at".to_owned(),
-                value,
-            });
+        let energies = [
+            ("t", &self.energy.t),
+            ("kinetic", &self.energy.kinetic),
+            ("elastic", &self.energy.elastic),
+        ];
+        for (name, values) in energies {
+            out.extend(values.iter().enumerate().map(|(i, v)| (format!("energy.{name}[{i}]"), *v)));
         }
         if let Some(step) = &self.failed_step {
-            let attempts = step.attempts.iter().enumerate();
-            let numbers = std::iter::once(("failed_step.t".to_owned(), step.t)).chain(attempts.flat_map(|(k, a)| {
-                let residuals = a.residuals.iter().enumerate();
-                std::iter::once((format!("failed_step.attempts[{k}].dt"), a.dt))
-                    .chain(residuals.map(move |(i, r)| (format!("failed_step.attempts[{k}].residuals[{i}]"), *r)))
-            }));
-            for (field, value) in numbers {
-                if !value.is_finite() {
-                    return Err(OutputError::NonFiniteSummary { field, value });
-                }
+            out.push(("failed_step.t".into(), step.t));
+            for (k, a) in step.attempts.iter().enumerate() {
+                out.push((format!("failed_step.attempts[{k}].dt"), a.dt));
+                out.extend(
+                    a.residuals
+                        .iter()
+                        .enumerate()
+                        .map(|(i, r)| (format!("failed_step.attempts[{k}].residuals[{i}]"), *r)),
+                );
             }
         }
-        Ok(())
+        out
+    }
+
+    /// Checks that every number is finite.
+    ///
+    /// # Errors
+    /// [`OutputError::NonFiniteSummary`] naming the first non-finite field.
+    pub fn validate(&self) -> Result<(), OutputError> {
+        match self.numbers().into_iter().find(|(_, v)| !v.is_finite()) {
+            Some((field, value)) => Err(OutputError::NonFiniteSummary { field, value }),
+            None => Ok(()),
+        }
     }
 
     /// The pretty-printed JSON text; `path` is only used in error messages.

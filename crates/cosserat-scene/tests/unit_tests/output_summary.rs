@@ -1,68 +1,106 @@
 //! `summary.json`: serde round trip, every contract key present, non-finite numbers refused.
 
-use std::collections::BTreeMap;
-
-use cosserat_scene::output::{BoundingBox, OutputError, RunStatus, RunSummary, read_summary, write_summary};
+use cosserat_scene::output::{
+    BoundingBox, ContactRecord, EnergyHistory, FactorRecord, LinearSolverRecord, ModelRecord, OutputError, RunStatus,
+    RunSummary, read_summary, write_summary,
+};
 
 use super::{entries, test_dir};
 
 fn sample_summary() -> RunSummary {
-    let mut extra = BTreeMap::new();
-    extra.insert("tip_deflection".to_owned(), serde_json::json!(0.1 + 0.2));
-    extra.insert(
-        "reference".to_owned(),
-        serde_json::json!({ "source": "Sze 2004", "values": [1.5, -2.0] }),
-    );
     RunSummary {
         scene: "cantilever".to_owned(),
+        status: RunStatus::Ok,
+        reason: None,
+        stopped_at: Some(1.0),
+        failed_step: None,
+        model: ModelRecord::KirchhoffLove { law: "stvk".into() },
         displacement_element: "tri6".to_owned(),
         rotation_element: "tri3".to_owned(),
+        n_shells: 1,
         n_cells: 128,
         n_displacement_dofs: 867,
         n_rotation_dofs: 243,
+        n_curved_points: 0,
         active_terms: vec!["membrane".to_owned(), "bending".to_owned(), "inertia".to_owned()],
+        hessian_nnz: 12_345,
         dt: 1e-3,
         n_steps: 1000,
+        n_frames: 31,
         avg_newton_iterations: 3.25,
+        max_newton_iterations: 7,
+        wasted_newton_iterations: 4,
+        n_step_reductions: 2,
         wall_seconds: 12.75,
         avg_step_ms: 12.5,
         assembly_share: 0.625,
         linear_solve_share: 0.25,
-        n_step_reductions: 2,
-        failed_step: None,
+        peak_memory_mb: Some(42.5),
+        linear_solver: LinearSolverRecord {
+            factorisations: 3250,
+            factor: Some(FactorRecord {
+                nnz: 40_000,
+                flops: 2.5e6,
+                domains: 1,
+                seconds: 1.5,
+                gflops_per_s: Some(5.4),
+            }),
+            cg_iterations: None,
+            cg_iterations_per_newton: None,
+        },
+        min_area_ratio: Some(0.875),
+        contact: Some(ContactRecord {
+            min_gap: Some(1e-4),
+            ..ContactRecord::default()
+        }),
+        warnings: vec!["shell `s`: elements lock".into()],
+        energy: EnergyHistory {
+            t: vec![0.0, 0.5],
+            kinetic: vec![0.0, 0.25],
+            elastic: vec![0.0, 1.5],
+        },
         rest_bbox: BoundingBox {
             min: [0.0, -0.5, 0.0],
             max: [10.0, 0.5, 1e-17],
         },
-        status: RunStatus::Ok,
-        reason: None,
-        stopped_at: Some(1.0),
-        extra,
     }
 }
 
 /// The keys of the output contract, with the JSON names used for them.
-const CONTRACT_KEYS: [&str; 20] = [
+const CONTRACT_KEYS: [&str; 33] = [
     "scene",
+    "status",
+    "reason",
+    "stopped_at",
+    "failed_step",
+    "model",
     "displacement_element",
     "rotation_element",
+    "n_shells",
     "n_cells",
     "n_displacement_dofs",
     "n_rotation_dofs",
+    "n_curved_points",
     "active_terms",
+    "hessian_nnz",
     "dt",
     "n_steps",
+    "n_frames",
     "avg_newton_iterations",
+    "max_newton_iterations",
+    "wasted_newton_iterations",
+    "n_step_reductions",
     "wall_seconds",
     "avg_step_ms",
     "assembly_share",
     "linear_solve_share",
-    "n_step_reductions",
+    "peak_memory_mb",
+    "linear_solver",
+    "min_area_ratio",
+    "contact",
+    "warnings",
+    "energy",
     "rest_bbox",
-    "status",
-    "reason",
-    "stopped_at",
-    "extra",
 ];
 
 #[test]
@@ -100,7 +138,12 @@ fn json_holds_every_contract_key() {
         object["active_terms"],
         serde_json::json!(["membrane", "bending", "inertia"])
     );
-    assert_eq!(object["extra"]["tip_deflection"].as_f64(), Some(0.1 + 0.2));
+    assert_eq!(
+        object["model"],
+        serde_json::json!({ "kind": "kirchhoff_love", "law": "stvk" })
+    );
+    assert_eq!(object["linear_solver"]["factor"]["nnz"], 40_000);
+    assert_eq!(object["contact"]["min_gap"].as_f64(), Some(1e-4));
 }
 
 #[test]
@@ -126,7 +169,7 @@ fn non_finite_numbers_are_refused_and_nothing_is_written() {
     let dir = test_dir("summary_non_finite");
     let path = dir.join("summary.json");
     type Poison = fn(&mut RunSummary);
-    let cases: [(&str, Poison); 9] = [
+    let cases: [(&str, Poison); 13] = [
         ("dt", |s| s.dt = f64::NAN),
         ("avg_newton_iterations", |s| s.avg_newton_iterations = f64::INFINITY),
         ("wall_seconds", |s| s.wall_seconds = f64::NAN),
@@ -136,6 +179,14 @@ fn non_finite_numbers_are_refused_and_nothing_is_written() {
         ("rest_bbox.min[1]", |s| s.rest_bbox.min[1] = f64::NAN),
         ("rest_bbox.max[2]", |s| s.rest_bbox.max[2] = f64::INFINITY),
         ("stopped_at", |s| s.stopped_at = Some(f64::NAN)),
+        ("min_area_ratio", |s| s.min_area_ratio = Some(f64::NAN)),
+        ("linear_solver.factor.flops", |s| {
+            s.linear_solver.factor.as_mut().unwrap().flops = f64::INFINITY
+        }),
+        ("contact.min_gap", |s| {
+            s.contact.as_mut().unwrap().min_gap = Some(f64::NAN)
+        }),
+        ("energy.kinetic[1]", |s| s.energy.kinetic[1] = f64::NAN),
     ];
     for (field, poison) in cases {
         let mut summary = sample_summary();

@@ -25,9 +25,9 @@ pub fn clamped_plate(nx: usize, ny: usize, pair: ElementPair, dt: f64) -> (Syste
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: true,
-        dt,
     };
-    let mut sys = build_system(&[input], Vec::new(), &options).expect("plate system");
+    let mut sys = build_system(&[input], &options).expect("plate system");
+    sys.potential.set_time_step(dt);
     let tol = 0.05 * 0.1 / nx as f64;
     let layout = &sys.shells[0];
     let near =

@@ -27,7 +27,9 @@ pub fn strip_system(
         damping: 0.0,
         angular_inertia_density: 0.0,
     };
-    build_system(&[input], Vec::new(), &SystemOptions { gravity, dynamic, dt }).unwrap()
+    let mut system = build_system(&[input], &SystemOptions { gravity, dynamic }).unwrap();
+    system.potential.set_time_step(dt);
+    system
 }
 
 /// Local displacement nodes of the first shell whose rest x satisfies `pred`.

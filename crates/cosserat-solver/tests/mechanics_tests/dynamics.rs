@@ -201,7 +201,7 @@ impl cosserat_assembly::PotentialTerm for FailsAbove {
 fn a_failed_step_is_retried_with_half_the_time_step_and_then_stops_with_a_diagnostic() {
     let g = Vector3::new(0.0, 0.0, -9.81);
     let mut sys = strip_system(ElementPair::Tri3Tri3, (0.1, 0.02), (4, 1), steel_like(), g, true, 0.04);
-    sys.potential.parts.extra.push(Box::new(FailsAbove(0.011)));
+    sys.potential.insert(FailsAbove(0.011));
     let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(0.04)).unwrap();
     let report = stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap();
     // 0.04 → 0.02 → 0.01: two reductions, and the step advanced by the reduced Δt only.
@@ -210,7 +210,7 @@ fn a_failed_step_is_retried_with_half_the_time_step_and_then_stops_with_a_diagno
 
     // A term that always fails: the run stops with every attempt listed and the state untouched.
     let mut sys = strip_system(ElementPair::Tri3Tri3, (0.1, 0.02), (4, 1), steel_like(), g, true, 0.04);
-    sys.potential.parts.extra.push(Box::new(FailsAbove(0.0)));
+    sys.potential.insert(FailsAbove(0.0));
     let before = sys.potential.parts.state.clone();
     let mut settings = TimeStepSettings::fixed(0.04);
     settings.max_reductions = 3;

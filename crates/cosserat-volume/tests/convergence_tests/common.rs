@@ -60,7 +60,6 @@ pub fn volume_coil(h: f64, cells: [usize; 3], lc: f64) -> (Vec<Vector3<f64>>, Ve
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: false,
-        dt: 1.0,
     };
     let mut sys = build_volume_system(&input, &options).unwrap();
     let face: Vec<usize> = (0..sys.rest_positions.len())
@@ -99,9 +98,8 @@ pub fn shell_coil(h: f64, nx: usize, ny: usize, lc: f64) -> Vec<Vector3<f64>> {
     let options = SystemOptions {
         gravity: Vector3::zeros(),
         dynamic: false,
-        dt: 1.0,
     };
-    let mut sys = build_system(&[input], Vec::new(), &options).unwrap();
+    let mut sys = build_system(&[input], &options).unwrap();
     let s = &sys.shells[0];
     let on_clamp = |x: &Vector3<f64>| x.x < -0.5 * LENGTH + 1e-9;
     let disp: Vec<usize> = (0..s.rest_disp_positions.len())

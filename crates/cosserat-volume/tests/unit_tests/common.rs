@@ -63,9 +63,10 @@ pub fn small_system(
     let options = cosserat_assembly::SystemOptions {
         gravity: Vector3::new(0.0, 0.0, -9.81),
         dynamic,
-        dt: 0.01,
     };
-    cosserat_volume::build_volume_system(&input, &options).unwrap()
+    let mut system = cosserat_volume::build_volume_system(&input, &options).unwrap();
+    system.potential.set_time_step(0.01);
+    system
 }
 
 /// Puts a system into a general start-of-step state: displaced, rotated nodes and points, moving.

@@ -19,12 +19,12 @@ fn load(text: &str) -> Simulation {
 
 /// Total mass of the shells \[kg\] from the lumped masses (ρ h A exactly).
 fn mass(sim: &Simulation) -> f64 {
-    sim.system().potential.parts.inertia.as_ref().unwrap().masses.iter().sum()
+    sim.potential().parts.inertia.as_ref().unwrap().masses.iter().sum()
 }
 
 /// Mean velocity of the shells' displacement nodes, mass-weighted \[m/s\].
 fn mean_velocity(sim: &Simulation) -> Vector3<f64> {
-    let parts = &sim.system().potential.parts;
+    let parts = &sim.potential().parts;
     let masses = &parts.inertia.as_ref().unwrap().masses;
     let m: f64 = masses.iter().sum();
     parts.state.v.iter().zip(masses).map(|(v, mi)| v * *mi).sum::<Vector3<f64>>() / m
@@ -96,14 +96,14 @@ fn a_plate_dropped_on_the_floor_comes_to_rest_carrying_its_weight() {
         (weight - expected).abs() < 1e-12 * expected,
         "lumped mass {weight} vs ρhA g {expected}"
     );
-    let forces = sim.contact_forces().unwrap().unwrap();
+    let forces = sim.contact().unwrap().forces(sim.potential()).unwrap();
     let total: Vector3<f64> = forces.iter().sum();
     assert!(
         (total.z - weight).abs() < 0.01 * weight,
         "contact force {total:?} N against the weight {weight} N"
     );
     assert!(total.xy().norm() < 0.01 * weight, "lateral contact force {total:?}");
-    let gap = sim.contact_monitor().unwrap().min_gap();
+    let gap = sim.contact().unwrap().monitor().min_gap();
     assert!(
         gap > 0.0 && gap < 1e-3,
         "the plate rests inside the barrier: smallest gap {gap}"
@@ -178,12 +178,12 @@ fn step_without_intersections(sim: &mut Simulation, n: usize, observe: &mut dyn 
     for k in 0..n {
         sim.step(&mut stepper).unwrap_or_else(|e| panic!("step {k}: {e}"));
         observe(sim);
-        let crossing = sim.contact_intersections().unwrap();
+        let crossing = sim.contact().unwrap().intersections(sim.potential());
         assert!(crossing.is_empty(), "step {k}: intersecting triangles {crossing:?}");
-        let gap = sim.contact_coverage().unwrap().min_gap;
+        let gap = sim.contact().unwrap().coverage(sim.potential()).min_gap;
         assert!(gap > 0.0, "step {k}: smallest gap {gap} m");
         // The run statistics see every pair within the barrier (d̂ = 1 mm).
-        let recorded = sim.contact_monitor().unwrap().min_gap();
+        let recorded = sim.contact().unwrap().monitor().min_gap();
         assert!(recorded > 0.0, "step {k}: recorded smallest gap {recorded} m");
         assert!(
             gap >= 1e-3 || recorded <= gap,
@@ -250,22 +250,25 @@ thickness = {TH}
 "#
     );
     let mut sim = load(&text);
-    let projectile = sim.system().shells[1].disp_nodes.clone();
+    let projectile = match &sim.placements()[1].disp {
+        cosserat::placement::NodeMap::Offset(start) => *start..sim.potential().parts.layout.n_disp_nodes,
+        columns => panic!("a shell is a block of nodes: {columns:?}"),
+    };
     for i in projectile.clone() {
-        sim.system_mut().potential.parts.state.v[i] = Vector3::new(0.0, 0.0, -5.0);
+        sim.potential_mut().parts.state.v[i] = Vector3::new(0.0, 0.0, -5.0);
     }
     let mut lowest = f64::INFINITY;
     step_without_intersections(&mut sim, 30, &mut |sim| {
-        let x = &sim.system().potential.parts.state.x;
+        let x = &sim.potential().parts.state.x;
         lowest = projectile.clone().map(|i| x[i].z).fold(lowest, f64::min);
     });
     assert!(
-        sim.contact_monitor().unwrap().max_active_pairs() > 0,
+        sim.contact().unwrap().monitor().max_active_pairs() > 0,
         "the plates never met"
     );
     // The projectile pushed the target down through its rest plane, then bounced off it.
     assert!(lowest < -0.01, "the projectile got no lower than z = {lowest} m");
-    let v = sim.system().potential.parts.state.v[projectile.start];
+    let v = sim.potential().parts.state.v[projectile.start];
     assert!(v.z > 0.0, "the projectile did not bounce back: v = {v:?}");
 }
 
@@ -312,7 +315,7 @@ project_pd = false
     let mut sim = load(&text);
     step_without_intersections(&mut sim, 70, &mut |_| {});
     assert!(
-        sim.contact_monitor().unwrap().max_active_pairs() > 100,
+        sim.contact().unwrap().monitor().max_active_pairs() > 100,
         "the strip barely touched itself"
     );
 }
@@ -357,13 +360,12 @@ fn run_dir(name: &str) -> std::path::PathBuf {
 #[test]
 fn a_scene_without_contact_builds_and_reports_no_contact() {
     let mut sim = load(&plain_plate(0.0, 0.02, ""));
-    assert!(sim.contact_term_mut().is_none());
-    assert!(sim.system().potential.parts.extra.is_empty());
-    assert!(sim.contact_forces().unwrap().is_none());
+    assert!(sim.contact().is_none());
+    assert!(!sim.potential().has_dynamic_terms());
     let summary = sim
         .run(&run_dir("no_contact"), &mut |_| {}, &cosserat::StopRequest::new())
         .unwrap();
-    assert!(!summary.extra.contains_key("contact"));
+    assert!(summary.contact.is_none());
     assert!(!summary.active_terms.iter().any(|t| t.starts_with("contact")));
 }
 
@@ -402,7 +404,7 @@ motion = {{ translate = ["t", 0.0, 0.0], rotate = {{ axis = "z", center = [0.0, 
     let mut sim = load(&plain_plate(0.0, 0.1, &contact));
     let dir = run_dir("kinematic");
     let summary = sim.run(&dir, &mut |_| {}, &cosserat::StopRequest::new()).unwrap();
-    assert_eq!(summary.extra["max_obstacle_lag"].as_f64(), Some(0.0));
+    assert_eq!(summary.contact.unwrap().max_obstacle_lag, 0.0);
     let frame = cosserat::scene::output::read_vtu(&dir.join("frames").join("frame_00010.vtu")).unwrap();
     assert!((frame.time - 0.1).abs() < 1e-12);
     let marker = frame.point_array("obstacle").unwrap();

@@ -83,8 +83,10 @@ fn a_free_kirchhoff_love_sheet_falls_as_backward_euler_predicts() {
     assert_eq!(summary.rotation_element, "-");
     assert_eq!((summary.n_displacement_dofs, summary.n_rotation_dofs), (3 * 18, 0));
     assert_eq!(summary.n_cells, 20);
-    assert_eq!(summary.extra["model"], "kirchhoff_love");
-    assert_eq!(summary.extra["law"], "stvk");
+    assert_eq!(
+        summary.model,
+        cosserat::scene::output::ModelRecord::KirchhoffLove { law: "stvk".into() }
+    );
     assert!(summary.active_terms.iter().any(|t| t.starts_with("kirchhoff_love")));
     // Backward Euler with lumped masses: v_n = −g n Δt, z_n = −g Δt² n(n + 1)/2; a rigid translation
     // has no elastic energy. Newton stops below 1e-10 N with nodal masses ≥ 3e-5 kg: velocities exact to
@@ -231,10 +233,10 @@ quantity = "position"
 fn a_kirchhoff_love_sheet_lands_on_a_floor_without_crossing_it() {
     let (out, summary) = run(ON_FLOOR, "floor");
     assert_eq!(summary.status, RunStatus::Ok, "{:?}", summary.reason);
-    let contact = &summary.extra["contact"];
-    assert_eq!(contact["n_triangles"], 32 + 12);
+    let contact = summary.contact.as_ref().unwrap();
+    assert_eq!(contact.n_triangles, 32 + 12);
     // The floor's top is at z = −1 mm; the pair thickness keeps 0.1 mm between the surfaces.
-    let min_gap = contact["min_gap"].as_f64().unwrap();
+    let min_gap = contact.min_gap.unwrap();
     assert!(min_gap > 0.0 && min_gap < 1e-4, "{min_gap}");
     let z = value(&last_probe_row(&out), "all.z");
     assert!(z > -1e-3 + 1e-4 && z < -1e-3 + 2e-4, "{z}");

@@ -99,11 +99,11 @@ fn a_run_writes_the_output_contract() {
     );
     // The linear algebra is reported: one factorisation of the whole (small) matrix, its operation
     // count and the rate over the factorisations' own time.
-    let number = |key: &str| summary.extra.get(key).and_then(serde_json::Value::as_f64);
-    assert_eq!(number("factor_domains"), Some(1.0));
-    assert!(number("factor_flops").is_some_and(|f| f > 0.0));
-    assert!(number("factorisation_seconds").is_some_and(|t| t > 0.0 && t < summary.wall_seconds));
-    assert!(number("factor_gflops_per_s").is_some_and(|r| r > 0.0 && r.is_finite()));
+    let factor = summary.linear_solver.factor.as_ref().expect("a direct solve");
+    assert_eq!(factor.domains, 1);
+    assert!(factor.flops > 0.0);
+    assert!(factor.seconds > 0.0 && factor.seconds < summary.wall_seconds);
+    assert!(factor.gflops_per_s.is_some_and(|r| r > 0.0 && r.is_finite()));
     let probes = std::fs::read_to_string(out.join("probes.csv")).unwrap();
     let mut lines = probes.lines();
     assert_eq!(lines.next().unwrap(), "t,tip.ux,tip.uy,tip.uz");
@@ -205,10 +205,7 @@ fn a_run_that_fails_later_keeps_every_complete_step() {
     );
     let probes = std::fs::read_to_string(out.join("probes.csv")).unwrap();
     assert_eq!(probes.lines().count(), 4, "{probes}");
-    assert_eq!(
-        summary.extra.get("n_frames").and_then(serde_json::Value::as_u64),
-        Some(3)
-    );
+    assert_eq!(summary.n_frames, 3);
 }
 
 #[test]

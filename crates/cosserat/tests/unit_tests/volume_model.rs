@@ -99,10 +99,13 @@ fn cg_and_direct_solvers_curl_the_slab_alike() {
         );
         // 5 × 5 × 2 nodes, 6 tetrahedra per cell.
         assert_eq!((s.n_displacement_dofs, s.n_rotation_dofs, s.n_cells), (150, 150, 96));
-        assert_eq!(s.extra["model"], "micropolar_volume");
+        assert_eq!(
+            s.model,
+            cosserat::scene::output::ModelRecord::MicropolarVolume { n_tetrahedra: 96 }
+        );
     }
-    assert!(cg.extra["cg_iterations"].as_u64().unwrap() > 0);
-    assert!(!lu.extra.contains_key("cg_iterations"));
+    assert!(cg.linear_solver.cg_iterations.unwrap() > 0);
+    assert!(lu.linear_solver.cg_iterations.is_none());
     let (header, cg_rows) = probe_rows(&cg_out);
     let (_, lu_rows) = probe_rows(&lu_out);
     let z = column(&header, "edge.z");

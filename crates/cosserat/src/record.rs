@@ -1,0 +1,136 @@
+//! The counters a run collects step by step, from which the simulation makes its typed run record
+//! ([`cosserat_scene::output::RunSummary`]) when the run ends.
+
+use cosserat_scene::output::{EnergyHistory, FactorRecord, LinearSolverRecord};
+use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, StepReport};
+
+/// Counters collected over a run.
+#[derive(Debug, Clone)]
+pub struct RunStats {
+    /// Completed steps (load levels).
+    pub steps: usize,
+    /// Newton iterations of the completed steps.
+    pub newton_iterations: usize,
+    /// Most Newton iterations of one step.
+    pub max_newton_iterations: usize,
+    /// Newton iterations of failed attempts.
+    pub wasted_iterations: usize,
+    /// Time-step halvings and load bisections.
+    pub reductions: usize,
+    /// Time in assembly \[s\].
+    pub assembly_seconds: f64,
+    /// Time in linear solves \[s\].
+    pub solve_seconds: f64,
+    /// The part of `solve_seconds` spent in numerical factorisations \[s\].
+    pub factorisation_seconds: f64,
+    /// Time in steps \[s\].
+    pub step_seconds: f64,
+    /// Smallest deformed-to-rest area ratio at the output times.
+    pub min_area_ratio: f64,
+    /// Frames written.
+    pub frames: usize,
+    /// Energies at the output times.
+    pub energy: EnergyHistory,
+    /// Numeric factorisations performed.
+    pub factorisations: usize,
+    /// Conjugate-gradient iterations (CG linear solver only).
+    pub cg_iterations: usize,
+    /// Structure of the symmetric factor (last symbolic analysis).
+    pub factor: Option<FactorStats>,
+}
+
+impl Default for RunStats {
+    fn default() -> Self {
+        Self {
+            steps: 0,
+            newton_iterations: 0,
+            max_newton_iterations: 0,
+            wasted_iterations: 0,
+            reductions: 0,
+            assembly_seconds: 0.0,
+            solve_seconds: 0.0,
+            factorisation_seconds: 0.0,
+            step_seconds: 0.0,
+            min_area_ratio: f64::INFINITY,
+            frames: 0,
+            energy: EnergyHistory::default(),
+            factorisations: 0,
+            cg_iterations: 0,
+            factor: None,
+        }
+    }
+}
+
+impl RunStats {
+    /// Adds a completed time step.
+    pub fn record_step(&mut self, r: &StepReport, seconds: f64) {
+        self.add_step(&r.newton, r.newton.iterations, seconds);
+        self.wasted_iterations += r.wasted_iterations;
+        self.reductions += r.reductions;
+    }
+
+    /// Adds a reached load level (a level counts as a step).
+    pub fn record_level(&mut self, r: &LoadLevelReport, seconds: f64) {
+        self.add_step(&r.newton, r.total_iterations, seconds);
+        self.reductions += r.bisections;
+    }
+
+    fn add_step(&mut self, newton: &NewtonReport, iterations: usize, seconds: f64) {
+        self.steps += 1;
+        self.newton_iterations += iterations;
+        self.max_newton_iterations = self.max_newton_iterations.max(iterations);
+        self.assembly_seconds += newton.assembly_seconds;
+        self.solve_seconds += newton.linear_solve_seconds;
+        self.factorisation_seconds += newton.factorisation_seconds;
+        self.step_seconds += seconds;
+        let f = &newton.factorisations;
+        self.factorisations += f.llt + f.lblt + f.lu;
+        self.cg_iterations += newton.cg_iterations;
+    }
+
+    /// Average Newton iterations per completed step.
+    pub fn avg_newton_iterations(&self) -> f64 {
+        self.newton_iterations as f64 / self.steps.max(1) as f64
+    }
+
+    /// Average time per completed step \[ms\].
+    pub fn avg_step_ms(&self) -> f64 {
+        1e3 * self.step_seconds / self.steps.max(1) as f64
+    }
+
+    /// `part / whole` of the steps' time, zero when nothing was timed.
+    pub fn share_of_steps(&self, part: f64) -> f64 {
+        if self.step_seconds > 0.0 {
+            part / self.step_seconds
+        } else {
+            0.0
+        }
+    }
+
+    /// The record of the linear solves.
+    pub fn linear_solver(&self) -> LinearSolverRecord {
+        let factor = self.factor.map(|f| FactorRecord {
+            nnz: f.nnz_l,
+            flops: f.flops,
+            domains: f.domains,
+            seconds: self.factorisation_seconds,
+            gflops_per_s: (self.factorisation_seconds > 0.0 && self.factorisations > 0)
+                .then(|| f.flops * self.factorisations as f64 / self.factorisation_seconds / 1e9),
+        });
+        let cg = self.cg_iterations > 0;
+        LinearSolverRecord {
+            factorisations: self.factorisations,
+            factor,
+            cg_iterations: cg.then_some(self.cg_iterations),
+            cg_iterations_per_newton: cg.then(|| self.cg_iterations as f64 / self.newton_iterations.max(1) as f64),
+        }
+    }
+}
+
+/// The process's peak resident memory (VmHWM) in MB, where the OS reports it.
+pub fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
