@@ -9,7 +9,7 @@
 //! time per step (all columns of a row come from that one run).
 
 use anyhow::{Context, Result, bail};
-use cosserat::scene::output::{RunStatus, read_summary};
+use cosserat::io::{RunStatus, read_summary};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -9,7 +9,7 @@ use crate::paper;
 use crate::postprocess::{ProbeTable, boundary_loops, fit_circle, hausdorff, rim_waves};
 use anyhow::{Context, Result};
 use cosserat::Simulation;
-use cosserat::scene::output::{RunStatus, RunSummary, VtuFrame, read_pvd, read_pvd_frame};
+use cosserat::io::{RunStatus, RunSummary, VtuFrame, read_pvd, read_pvd_frame};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -592,7 +592,7 @@ fn moebius_check(r: &[RunResult]) -> Vec<String> {
 
 /// Renders the last frame of the experiment's runs (or only of its last run) to `<render_dir>/<name>.png`.
 fn render(o: &Options, exp: &Experiment, results: &[RunResult]) -> Result<()> {
-    use cosserat::scene::render::{Colouring, RenderOptions, ScalarMode, render_png};
+    use cosserat::io::render::{Colouring, RenderOptions, ScalarMode, render_png};
     let Some(dir) = &o.render_dir else { return Ok(()) };
     std::fs::create_dir_all(dir)?;
     let picked: Vec<&RunResult> = if exp.render_each {

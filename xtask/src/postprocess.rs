@@ -2,7 +2,7 @@
 //! boundary loops, rim waves). Pure geometry on written results: no physics.
 
 use anyhow::{Context, Result, bail};
-use cosserat::scene::output::VtuFrame;
+use cosserat::io::VtuFrame;
 use std::collections::HashMap;
 use std::path::Path;
 

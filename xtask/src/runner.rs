@@ -9,7 +9,7 @@
 
 use crate::postprocess::ProbeTable;
 use anyhow::{Context, Result};
-use cosserat::scene::output::{RunStatus, RunSummary, read_summary};
+use cosserat::io::{RunStatus, RunSummary, read_summary};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::process::Command;

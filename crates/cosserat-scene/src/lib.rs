@@ -8,39 +8,31 @@
 //! - the building blocks of that: [`expr`] (scripted formulas compiled once), [`region`] (node
 //!   selections), [`mesh_source`] (generators, OBJ input via [`obj`], refinement, projections and
 //!   transforms);
-//! - [`output`]: the files of a run (VTU frames with a `.pvd` collection, `probes.csv`, `summary.json`),
-//!   all written atomically and owned by [`output::RunWriter`];
-//! - [`grid`]: flat rectangular grids recognised in a mesh (the mid-surface of a volumetric slab);
-//! - [`render`]: a small software rasteriser that turns a frame into a PNG image for quick looks and
-//!   reports.
 //!
-//! Non-goals: this crate does no physics. Scene loading builds meshes, resolves regions and compiles
-//! scripts, but computes no rest state or energy; the outputs and the renderer take plain data
-//! (points, triangles, named arrays) and know no simulation type. There are no feature flags.
+//! Non-goals: this crate does no physics and writes no outputs (`cosserat-io`). Scene loading builds
+//! meshes, resolves regions and compiles scripts, but computes no rest state or energy. There are no
+//! feature flags.
 //!
 //! ```
-//! use cosserat_scene::output::{DataArray, VtuFrame, vtu::to_vtu_string};
-//! use cosserat_scene::render::{RenderOptions, render_image};
+//! use cosserat_scene::spec::SceneSpec;
+//! use std::path::Path;
 //!
-//! let mut frame = VtuFrame::new(vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]], vec![[0, 1, 2]], 0.0);
-//! frame.point_data.push(DataArray::scalars("height", vec![0.0, 1.0, 2.0]));
-//! assert!(to_vtu_string(&frame)?.contains("NumberOfCells=\"1\""));
-//!
-//! let options = RenderOptions { width: 64, height: 48, ..RenderOptions::default() };
-//! let image = render_image(&frame, &options)?;
-//! assert_eq!((image.width, image.height), (64, 48));
-//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! let text = "name = \"disk\"\n[time]\nmode = \"quasi_static\"\nn_levels = 2\n\
+//!             [mesh]\ngenerator = \"disk\"\nradius = 1.0\nn_radial = 2\nn_angular = 8\n\
+//!             [material]\nmodel = \"plate\"\nthickness = 0.01\nyoungs_modulus = 1e6\n\
+//!             poisson_ratio = 0.3\ndensity = 1000.0\nlength_scale = 1e-3\n";
+//! let spec = SceneSpec::from_str(text, "disk.toml", Path::new("."), &[])?;
+//! // A fan of 8 triangles around the centre and a ring of 8 quads (16 triangles).
+//! assert_eq!(spec.shells[0].mesh.corners.n_elements(), 8 + 16);
+//! # Ok::<(), cosserat_scene::SceneError>(())
 //! ```
 
 pub mod error;
 pub mod expr;
-pub mod grid;
 pub mod mesh_source;
 pub mod obj;
-pub mod output;
 pub mod overrides;
 pub mod region;
-pub mod render;
 pub mod schema;
 pub mod spec;
 mod validate;

@@ -68,6 +68,7 @@ pub mod builder;
 pub mod density;
 pub mod element;
 pub mod error;
+pub mod grid;
 pub mod kernel;
 pub mod material;
 pub mod measure;

@@ -10,8 +10,8 @@ use crate::simulation::{Simulation, StepInfo, write_setup_failure};
 use crate::stop::{StopReason, StopRequest};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use cosserat_scene::output::RunStatus;
-use cosserat_scene::render::{RenderOptions, render_png};
+use cosserat_io::RunStatus;
+use cosserat_io::render::{RenderOptions, render_png};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -213,7 +213,7 @@ fn setup_failed(dir: &Path, scene: &str, reason: &str) -> anyhow::Result<i32> {
 /// Whether `dir` holds outputs of a run that started (probes or a frame collection); a summary alone is
 /// the report of an earlier run that could not start, which a new report may replace.
 fn holds_run_outputs(dir: &Path) -> bool {
-    use cosserat_scene::output::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE};
+    use cosserat_io::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE};
     dir.join(PROBES_FILE).exists() || dir.join(FRAMES_DIR).join(PVD_FILE).exists()
 }
 
@@ -285,8 +285,8 @@ impl Drop for Reporter {
 /// # Errors
 /// Missing or unreadable frames, PNG encoding failures.
 pub fn render(args: &RenderArgs) -> anyhow::Result<PathBuf> {
-    use cosserat_scene::output::run::{FRAMES_DIR, PVD_FILE};
-    use cosserat_scene::output::{read_pvd, read_pvd_frame};
+    use cosserat_io::run::{FRAMES_DIR, PVD_FILE};
+    use cosserat_io::{read_pvd, read_pvd_frame};
     let pvd = args.dir.join(FRAMES_DIR).join(PVD_FILE);
     let entries = read_pvd(&pvd).with_context(|| format!("reading {}", pvd.display()))?;
     anyhow::ensure!(!entries.is_empty(), "{} lists no frames", pvd.display());
@@ -299,9 +299,9 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<PathBuf> {
     let frame = read_pvd_frame(&pvd, idx).with_context(|| format!("reading frame {idx}"))?;
     let mut options = RenderOptions::default();
     if args.color_displacement {
-        options.colouring = cosserat_scene::render::Colouring::PointScalar {
+        options.colouring = cosserat_io::render::Colouring::PointScalar {
             array: "displacement".into(),
-            mode: cosserat_scene::render::ScalarMode::Magnitude,
+            mode: cosserat_io::render::ScalarMode::Magnitude,
             range: None,
         };
     }

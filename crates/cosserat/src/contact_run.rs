@@ -14,7 +14,7 @@ use crate::model::Model;
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHandle};
 use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm, Coverage, Obstacle};
-use cosserat_scene::output::{ContactRecord, DataArray, VtuFrame};
+use cosserat_io::{ContactRecord, DataArray, VtuFrame};
 use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
 use nalgebra::Vector3;
 

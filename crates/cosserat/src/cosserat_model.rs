@@ -9,7 +9,7 @@ use crate::placement::{NodeMap, ShellPlacement};
 use cosserat_assembly::{
     ElementPair, IncrementalPotential, ShellInput, ShellLayout, SystemOptions, SystemState, build_system,
 };
-use cosserat_scene::output::{ModelRecord, VtuFrame};
+use cosserat_io::{ModelRecord, VtuFrame};
 use cosserat_scene::spec::{FieldFunction, RestFieldSpec, SceneSpec, Timing};
 use cosserat_solver::ScriptError;
 use nalgebra::{Matrix3, Vector3};

@@ -27,7 +27,7 @@ pub enum SimulationError {
     Solver(#[from] cosserat_solver::NewtonError),
     /// Writing outputs failed.
     #[error(transparent)]
-    Output(#[from] cosserat_scene::output::OutputError),
+    Output(#[from] cosserat_io::OutputError),
     /// The scene needs more memory than the machine or `--max-memory` allows.
     #[error(transparent)]
     Memory(#[from] crate::memory::TooLarge),

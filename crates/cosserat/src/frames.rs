@@ -11,7 +11,7 @@
 use cosserat_assembly::{ElementPair, ShellLayout, SystemState};
 use cosserat_fem::{ShapeFunctions, Tri3, Tri6};
 use cosserat_geometry::rotation::{rotation_matrix, same_hemisphere};
-use cosserat_scene::output::{DataArray, VtuFrame};
+use cosserat_io::{DataArray, VtuFrame};
 use nalgebra::{Quaternion, Vector3};
 use std::collections::HashMap;
 

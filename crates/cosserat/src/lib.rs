@@ -52,6 +52,7 @@ pub use cosserat_assembly as assembly;
 pub use cosserat_contact as contact;
 pub use cosserat_fem as fem;
 pub use cosserat_geometry as geometry;
+pub use cosserat_io as io;
 pub use cosserat_material as material;
 pub use cosserat_scene as scene;
 pub use cosserat_solver as solver;

@@ -6,7 +6,7 @@
 use crate::error::SimulationError;
 use crate::placement::ShellPlacement;
 use cosserat_assembly::{IncrementalPotential, SystemOptions, SystemState};
-use cosserat_scene::output::{ModelRecord, VtuFrame};
+use cosserat_io::{ModelRecord, VtuFrame};
 use cosserat_scene::spec::{ModelKind, SceneSpec};
 use cosserat_solver::ScriptError;
 use nalgebra::Vector3;

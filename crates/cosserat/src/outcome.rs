@@ -1,6 +1,6 @@
 //! How a run ended ([`Outcome`]) and when it writes its frames ([`OutputSchedule`]).
 
-use cosserat_scene::output::{Attempt, FailedStep};
+use cosserat_io::{Attempt, FailedStep};
 use cosserat_solver::{LevelFailure, StaticError, StepError};
 
 use crate::stop::StopReason;

@@ -1,7 +1,7 @@
 //! The counters a run collects step by step, from which the simulation makes its typed run record
-//! ([`cosserat_scene::output::RunSummary`]) when the run ends.
+//! ([`cosserat_io::RunSummary`]) when the run ends.
 
-use cosserat_scene::output::{EnergyHistory, FactorRecord, LinearSolverRecord};
+use cosserat_io::{EnergyHistory, FactorRecord, LinearSolverRecord};
 use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, StepReport};
 
 /// Counters collected over a run.

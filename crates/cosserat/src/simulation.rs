@@ -17,7 +17,7 @@ use crate::record::{RunStats, peak_memory_mb};
 use crate::scripts::Scripts;
 use crate::stop::StopRequest;
 use cosserat_assembly::{IncrementalPotential, PSEUDO_TIME_STEP, SystemOptions};
-use cosserat_scene::output::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
+use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
 use cosserat_scene::spec::{SceneSpec, SolverSpec, TimeSpec};
 use cosserat_solver::{
     QuasiStaticSettings, QuasiStaticStepper, ScriptError, StepError, StepReport, TimeStepSettings, TimeStepper,

@@ -1,7 +1,7 @@
 //! The `cosserat` binary as a user runs it: real signals, exit codes, paths relative to the working
 //! directory, and re-runs into a folder that holds an earlier run.
 
-use cosserat::scene::output::{RunStatus, read_pvd, read_summary, read_vtu};
+use cosserat::io::{RunStatus, read_pvd, read_summary, read_vtu};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};

@@ -11,8 +11,8 @@
 //! both ways), so different samplings of the same shape (Tri3 vertices against Tri6 nodes) give zero.
 
 use super::{Options, RunResult, RunSpec, quick_end, run};
-use cosserat::scene::output::ModelRecord;
-use cosserat::scene::output::VtuFrame;
+use cosserat::io::ModelRecord;
+use cosserat::io::VtuFrame;
 use std::fmt::Write as _;
 
 /// The Kirchhoff–Love bunny at the Cosserat bunny's settings: h = 10 mm (Δt = 10 ms); with `--large`

@@ -6,7 +6,7 @@
 use super::{Options, RunResult, RunSpec, quick_end, run};
 use crate::postprocess::{fit_circle, hausdorff, rest_positions};
 use cosserat::contact::intersecting_pairs;
-use cosserat::scene::output::{RunStatus, VtuFrame, read_pvd, read_pvd_frame};
+use cosserat::io::{RunStatus, VtuFrame, read_pvd, read_pvd_frame};
 use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::Path;
@@ -51,7 +51,7 @@ pub(super) fn without_obstacles(f: &VtuFrame) -> VtuFrame {
                 .filter(|&i| keep[i])
                 .flat_map(|i| a.values[n * i..n * (i + 1)].iter().copied())
                 .collect();
-            cosserat::scene::output::DataArray::new(a.name.clone(), n, values)
+            cosserat::io::DataArray::new(a.name.clone(), n, values)
         })
         .collect();
     out

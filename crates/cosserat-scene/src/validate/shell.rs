@@ -3,7 +3,6 @@
 
 use super::Ctx;
 use crate::error::{MeshSourceError, SceneError};
-use crate::grid::PlanarGrid;
 use crate::mesh_source::{
     Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh_within,
 };
@@ -21,6 +20,7 @@ use cosserat_material::rest::RestOptions;
 use cosserat_material::{
     AxlVariant, CurvedTerms, MaterialError, MaterialParameters, MembraneVolume, ModelOptions, ShellModel,
 };
+use cosserat_volume::grid::PlanarGrid;
 use nalgebra::{Matrix3, Vector3};
 
 /// The most uniform refinements a scene may ask for (each multiplies the elements by 4).

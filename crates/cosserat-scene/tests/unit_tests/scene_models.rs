@@ -2,9 +2,9 @@
 //! law) and `model = "micropolar_volume"` (a flat grid extruded into a Tet4 slab), the `cg` solver name,
 //! and the rejection of what a model cannot express, with file, line and field in the message.
 
-use cosserat_scene::grid::PlanarGrid;
 use cosserat_scene::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ModelKind, SceneSpec};
 use cosserat_solver::{DomainSplit, LinearSolverKind};
+use cosserat_volume::grid::PlanarGrid;
 use nalgebra::Vector3;
 use std::path::Path;
 

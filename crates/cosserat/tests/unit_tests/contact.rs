@@ -405,7 +405,7 @@ motion = {{ translate = ["t", 0.0, 0.0], rotate = {{ axis = "z", center = [0.0, 
     let dir = run_dir("kinematic");
     let summary = sim.run(&dir, &mut |_| {}, &cosserat::StopRequest::new()).unwrap();
     assert_eq!(summary.contact.unwrap().max_obstacle_lag, 0.0);
-    let frame = cosserat::scene::output::read_vtu(&dir.join("frames").join("frame_00010.vtu")).unwrap();
+    let frame = cosserat::io::read_vtu(&dir.join("frames").join("frame_00010.vtu")).unwrap();
     assert!((frame.time - 0.1).abs() < 1e-12);
     let marker = frame.point_array("obstacle").unwrap();
     let plate_points = (0..frame.points.len()).filter(|&i| marker.tuple(i)[0] == 0.0).count();

@@ -2,8 +2,8 @@
 //! rejection of what the model cannot express.
 
 use cosserat::Simulation;
+use cosserat::io::{RunStatus, read_pvd, read_pvd_frame};
 use cosserat::scene::SceneError;
-use cosserat::scene::output::{RunStatus, read_pvd, read_pvd_frame};
 use std::path::{Path, PathBuf};
 
 fn dir(name: &str) -> PathBuf {
@@ -34,7 +34,7 @@ fn value(row: &[(String, f64)], name: &str) -> f64 {
         .1
 }
 
-fn run(text: &str, name: &str) -> (PathBuf, cosserat::scene::output::RunSummary) {
+fn run(text: &str, name: &str) -> (PathBuf, cosserat::io::RunSummary) {
     let d = dir(name);
     let path = d.join("scene.toml");
     std::fs::write(&path, text).unwrap();
@@ -85,7 +85,7 @@ fn a_free_kirchhoff_love_sheet_falls_as_backward_euler_predicts() {
     assert_eq!(summary.n_cells, 20);
     assert_eq!(
         summary.model,
-        cosserat::scene::output::ModelRecord::KirchhoffLove { law: "stvk".into() }
+        cosserat::io::ModelRecord::KirchhoffLove { law: "stvk".into() }
     );
     assert!(summary.active_terms.iter().any(|t| t.starts_with("kirchhoff_love")));
     // Backward Euler with lumped masses: v_n = −g n Δt, z_n = −g Δt² n(n + 1)/2; a rigid translation

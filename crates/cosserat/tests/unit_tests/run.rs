@@ -1,7 +1,7 @@
 //! Runs of small scenes through the facade and the CLI.
 
 use cosserat::cli::{RunArgs, run_scene};
-use cosserat::scene::output::{RunStatus, read_pvd, read_summary, read_vtu};
+use cosserat::io::{RunStatus, read_pvd, read_summary, read_vtu};
 use cosserat::{Simulation, StopReason, StopRequest};
 use std::path::{Path, PathBuf};
 

@@ -3,7 +3,7 @@
 //! whole node columns.
 
 use cosserat::Simulation;
-use cosserat::scene::output::{RunStatus, RunSummary, read_pvd, read_pvd_frame};
+use cosserat::io::{RunStatus, RunSummary, read_pvd, read_pvd_frame};
 use std::path::{Path, PathBuf};
 
 fn dir(name: &str) -> PathBuf {
@@ -101,7 +101,7 @@ fn cg_and_direct_solvers_curl_the_slab_alike() {
         assert_eq!((s.n_displacement_dofs, s.n_rotation_dofs, s.n_cells), (150, 150, 96));
         assert_eq!(
             s.model,
-            cosserat::scene::output::ModelRecord::MicropolarVolume { n_tetrahedra: 96 }
+            cosserat::io::ModelRecord::MicropolarVolume { n_tetrahedra: 96 }
         );
     }
     assert!(cg.linear_solver.cg_iterations.unwrap() > 0);

@@ -1,6 +1,6 @@
 //! Reading `.vtu` frames back: the renderer's input and the round-trip check of the writer.
 //!
-//! The reader accepts what [`super::vtu`] writes and the simple variations of it that other tools
+//! The reader accepts what [`crate::vtu`] writes and the simple variations of it that other tools
 //! produce: one `Piece` of triangles, inline `binary` (with a `UInt32` or `UInt64` header) or `ascii`
 //! arrays, any numeric VTK type for data arrays. Compressed or appended data, other cell types and
 //! big-endian files are refused with an error naming the file and the array. What is read is validated like
@@ -12,10 +12,10 @@ use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD;
 use roxmltree::{Document, Node};
 
-use super::OutputError;
-use super::vtu::{DataArray, POINTS_ARRAY, TIME_ARRAY, VTK_TRIANGLE, VtuFrame};
+use crate::OutputError;
+use crate::vtu::{DataArray, POINTS_ARRAY, TIME_ARRAY, VTK_TRIANGLE, VtuFrame};
 
-/// Reads a `.vtu` file written by [`super::vtu::write_vtu`] (or a compatible one).
+/// Reads a `.vtu` file written by [`crate::vtu::write_vtu`] (or a compatible one).
 ///
 /// # Errors
 /// [`OutputError::Io`] if the file cannot be read, [`OutputError::Xml`] if it is not well-formed,

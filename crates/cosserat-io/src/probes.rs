@@ -11,9 +11,9 @@ use std::fs::{File, OpenOptions};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::OutputError;
-use super::atomic::write_atomic;
-use super::number::format_f64;
+use crate::OutputError;
+use crate::atomic::write_atomic;
+use crate::number::format_f64;
 
 /// Name of the time column.
 pub const TIME_COLUMN: &str = "t";

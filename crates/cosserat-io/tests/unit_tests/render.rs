@@ -1,11 +1,11 @@
 //! The renderer: camera fit, coverage, depth order, two-sided Lambert shading, colour map, PNG output
 //! and errors. Expected pixels follow from the documented camera rule and Lambert's law, computed here.
 
-use cosserat_scene::output::{DataArray, RunWriter, VtuFrame, read_pvd_frame};
-use cosserat_scene::render::{
+use cosserat_io::render::{
     Colouring, Image, Projection, RenderError, RenderOptions, ScalarMode, render_image, render_png,
     render_side_by_side, viridis,
 };
+use cosserat_io::{DataArray, RunWriter, VtuFrame, read_pvd_frame};
 
 use super::test_dir;
 

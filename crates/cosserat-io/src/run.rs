@@ -21,12 +21,12 @@
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use super::OutputError;
-use super::atomic::{create_dir_all, remove_if_exists, temporary_target};
-use super::probes::{ProbeWriter, check_columns};
-use super::pvd::{PvdEntry, write_pvd};
-use super::summary::{RunStatus, RunSummary, write_summary};
-use super::vtu::{VtuFrame, write_vtu};
+use crate::OutputError;
+use crate::atomic::{create_dir_all, remove_if_exists, temporary_target};
+use crate::probes::{ProbeWriter, check_columns};
+use crate::pvd::{PvdEntry, write_pvd};
+use crate::summary::{RunStatus, RunSummary, write_summary};
+use crate::vtu::{VtuFrame, write_vtu};
 
 /// Name of the summary file in `DIR`.
 pub const SUMMARY_FILE: &str = "summary.json";

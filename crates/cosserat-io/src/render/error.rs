@@ -2,7 +2,7 @@
 
 use thiserror::Error;
 
-use crate::output::OutputError;
+use crate::OutputError;
 
 /// A frame or option set that cannot be rendered, or an image that cannot be written.
 #[derive(Debug, Error)]
@@ -21,7 +21,7 @@ pub enum RenderError {
         /// Its number of triangles.
         n_triangles: usize,
     },
-    /// A frame that fails [`crate::output::VtuFrame::validate`].
+    /// A frame that fails [`crate::VtuFrame::validate`].
     #[error("frame {frame_idx} is invalid: {source}")]
     Frame {
         /// Index of the frame among those rendered.

@@ -1,6 +1,6 @@
 //! The `.pvd` collection (ParaView Data) listing the frames of a run with their times.
 //!
-//! ParaView opens the collection as one time-dependent dataset. [`crate::output::RunWriter`] rewrites it
+//! ParaView opens the collection as one time-dependent dataset. [`crate::RunWriter`] rewrites it
 //! atomically after every frame, so it always lists exactly the frames written so far, in order. File
 //! names are stored relative to the directory of the `.pvd` file, with `/` separators, and times with
 //! the shortest decimal text that reads back to the same `f64`.
@@ -9,11 +9,11 @@ use std::path::Path;
 
 use roxmltree::Document;
 
-use super::OutputError;
-use super::atomic::write_atomic;
-use super::number::format_f64;
-use super::vtu::{VtuFrame, xml_escape};
-use super::vtu_read::read_vtu;
+use crate::OutputError;
+use crate::atomic::write_atomic;
+use crate::number::format_f64;
+use crate::vtu::{VtuFrame, xml_escape};
+use crate::vtu_read::read_vtu;
 
 /// One frame of a collection.
 #[derive(Debug, Clone, PartialEq)]
@@ -62,7 +62,7 @@ pub fn to_pvd_string(entries: &[PvdEntry]) -> Result<String, OutputError> {
 /// Writes the collection atomically to `path`.
 ///
 /// # Errors
-/// As [`to_pvd_string`], plus the errors of [`super::atomic::write_atomic`].
+/// As [`to_pvd_string`], plus the errors of [`crate::atomic::write_atomic`].
 pub fn write_pvd(path: &Path, entries: &[PvdEntry]) -> Result<(), OutputError> {
     let xml = to_pvd_string(entries)?;
     write_atomic(path, xml.as_bytes())
@@ -124,7 +124,7 @@ pub fn read_pvd(path: &Path) -> Result<Vec<PvdEntry>, OutputError> {
 /// collection's directory).
 ///
 /// # Errors
-/// The errors of [`read_pvd`] and [`super::vtu_read::read_vtu`], and
+/// The errors of [`read_pvd`] and [`crate::vtu_read::read_vtu`], and
 /// [`OutputError::FrameIndexOutOfRange`] if the collection has no such frame.
 pub fn read_pvd_frame(pvd_path: &Path, frame_idx: usize) -> Result<VtuFrame, OutputError> {
     let entries = read_pvd(pvd_path)?;

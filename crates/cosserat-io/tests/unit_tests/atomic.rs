@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use cosserat_scene::output::{OutputError, write_atomic};
+use cosserat_io::{OutputError, write_atomic};
 
 use super::{entries, test_dir};
 

@@ -3,7 +3,7 @@
 //! It exists for quick looks and report figures without ParaView: a fixed, documented camera fitted to
 //! the mesh, a z-buffer, two-sided Lambert shading, an optional colour map of a point scalar and 2x2
 //! supersampling by default. Input is a [`VtuFrame`] (points, triangles and point data), so frames read
-//! back with [`crate::output::read_vtu`] or [`crate::output::read_pvd_frame`] render directly.
+//! back with [`crate::read_vtu`] or [`crate::read_pvd_frame`] render directly.
 //!
 //! - [`render_image`] / [`render_png`]: one frame;
 //! - [`render_side_by_side`] / [`render_side_by_side_png`]: several frames in a row, with one camera and
@@ -16,7 +16,7 @@ mod raster;
 
 use std::path::Path;
 
-use crate::output::{VtuFrame, write_atomic};
+use crate::{VtuFrame, write_atomic};
 use camera::{Camera, unit_option};
 pub use colour_map::viridis;
 pub use error::RenderError;

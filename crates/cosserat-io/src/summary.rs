@@ -11,8 +11,8 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::OutputError;
-use super::atomic::write_atomic;
+use crate::OutputError;
+use crate::atomic::write_atomic;
 
 /// How a run ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -369,7 +369,7 @@ impl RunSummary {
 ///
 /// # Errors
 /// As [`RunSummary::to_json_string`] (then nothing is written), plus the errors of
-/// [`super::atomic::write_atomic`].
+/// [`crate::atomic::write_atomic`].
 pub fn write_summary(path: &Path, summary: &RunSummary) -> Result<(), OutputError> {
     let json = summary.to_json_string(path)?;
     write_atomic(path, json.as_bytes())

@@ -3,14 +3,14 @@
 //! The bytes go to a temporary file in the target's directory (same file system, so the final rename is
 //! atomic on POSIX), which is flushed and synced before it is renamed over the target. A crash therefore
 //! never leaves a truncated file under the final name; at worst a hidden temporary file
-//! `.<name>.tmp<pid>-<n>` remains, which [`crate::output::RunWriter`] removes when it starts a new run.
+//! `.<name>.tmp<pid>-<n>` remains, which [`crate::RunWriter`] removes when it starts a new run.
 
 use std::fs::{self, File, OpenOptions};
 use std::io::Write;
 use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use super::OutputError;
+use crate::OutputError;
 
 /// Distinguishes temporary files of concurrent writes from one process.
 static TEMPORARY_COUNTER: AtomicU64 = AtomicU64::new(0);

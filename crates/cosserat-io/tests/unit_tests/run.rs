@@ -2,8 +2,8 @@
 
 use std::fs;
 
-use cosserat_scene::output::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE, SUMMARY_FILE, frame_file_name};
-use cosserat_scene::output::{
+use cosserat_io::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE, SUMMARY_FILE, frame_file_name};
+use cosserat_io::{
     OutputError, RunStatus, RunSummary, RunWriter, VtuFrame, read_summary, read_vtu, write_failure_summary,
 };
 
@@ -132,7 +132,7 @@ fn a_failed_run_keeps_its_frames_and_probes() {
         entries(&dir.join(FRAMES_DIR)),
         ["frame_00000.vtu", "frame_00001.vtu", "frame_00002.vtu", PVD_FILE]
     );
-    let listed = cosserat_scene::output::read_pvd(&dir.join(FRAMES_DIR).join(PVD_FILE)).expect("pvd");
+    let listed = cosserat_io::read_pvd(&dir.join(FRAMES_DIR).join(PVD_FILE)).expect("pvd");
     assert_eq!(listed.len(), 3);
     let probes = std::fs::read_to_string(dir.join(PROBES_FILE)).expect("probes");
     assert_eq!(probes.lines().count(), 4, "header and three rows: {probes}");

@@ -1,7 +1,7 @@
 //! The `.pvd` collection: all frames in order with their exact times, kept up to date after each frame.
 
-use cosserat_scene::output::pvd::to_pvd_string;
-use cosserat_scene::output::{OutputError, PvdEntry, RunWriter, VtuFrame, read_pvd, read_pvd_frame};
+use cosserat_io::pvd::to_pvd_string;
+use cosserat_io::{OutputError, PvdEntry, RunWriter, VtuFrame, read_pvd, read_pvd_frame};
 
 use super::test_dir;
 

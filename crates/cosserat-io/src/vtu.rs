@@ -13,7 +13,7 @@
 //! - the frame time is the field-data array `TimeValue`, which ParaView shows as the dataset time.
 //!
 //! Frames are validated before anything is written: no NaN or infinity, consistent lengths, indices in
-//! range, valid unique names. Files are written through [`super::atomic::write_atomic`].
+//! range, valid unique names. Files are written through [`crate::atomic::write_atomic`].
 
 use std::collections::HashSet;
 use std::fmt::Write as _;
@@ -22,8 +22,8 @@ use std::path::Path;
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD;
 
-use super::OutputError;
-use super::atomic::write_atomic;
+use crate::OutputError;
+use crate::atomic::write_atomic;
 
 /// VTK cell type code of a linear triangle.
 pub const VTK_TRIANGLE: u8 = 5;
@@ -334,7 +334,7 @@ pub fn to_vtu_string(frame: &VtuFrame) -> Result<String, OutputError> {
 ///
 /// # Errors
 /// Any error of [`VtuFrame::validate`] (then no file is created or changed), or of
-/// [`super::atomic::write_atomic`].
+/// [`crate::atomic::write_atomic`].
 pub fn write_vtu(path: &Path, frame: &VtuFrame) -> Result<(), OutputError> {
     let xml = to_vtu_string(frame)?;
     write_atomic(path, xml.as_bytes())

@@ -5,9 +5,9 @@ use std::path::Path;
 
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD;
-use cosserat_scene::output::vtu::{to_vtu_string, write_vtu};
-use cosserat_scene::output::vtu_read::parse_vtu;
-use cosserat_scene::output::{DataArray, OutputError, VtuFrame, read_vtu};
+use cosserat_io::vtu::{to_vtu_string, write_vtu};
+use cosserat_io::vtu_read::parse_vtu;
+use cosserat_io::{DataArray, OutputError, VtuFrame, read_vtu};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 

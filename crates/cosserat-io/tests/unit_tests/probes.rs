@@ -1,6 +1,6 @@
 //! `probes.csv`: header and rows at full precision, row length checks, non-finite values refused.
 
-use cosserat_scene::output::{OutputError, ProbeWriter};
+use cosserat_io::{OutputError, ProbeWriter};
 
 use super::test_dir;
 

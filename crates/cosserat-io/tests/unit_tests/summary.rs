@@ -1,6 +1,6 @@
 //! `summary.json`: serde round trip, every contract key present, non-finite numbers refused.
 
-use cosserat_scene::output::{
+use cosserat_io::{
     BoundingBox, ContactRecord, EnergyHistory, FactorRecord, LinearSolverRecord, ModelRecord, OutputError, RunStatus,
     RunSummary, read_summary, write_summary,
 };
