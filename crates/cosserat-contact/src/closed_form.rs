@@ -3,8 +3,9 @@
 //! `(r·n)²/|n|²` with `n = a × b`, the squared point–line distance `|r × e|²/|e|²`, and the squared
 //! cross-product norm `|a × b|²` of the edge–edge mollifier.
 //!
-//! A second-order dual pass over 9 locals costs about 7 µs per pair; these hand-derived forms are some
-//! twenty times cheaper, which matters because every active pair needs them in every Newton iteration.
+//! A second-order dual pass over 9 locals costs microseconds per pair; these hand-derived forms are
+//! more than an order of magnitude cheaper, which matters because every active pair needs them in every
+//! Newton iteration.
 //! They are checked against the dual-number pass of the same generic closed forms (the oracle) in this
 //! module's tests and, through the pair jets, in the crate's unit tests.
 //!

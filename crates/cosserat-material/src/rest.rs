@@ -101,6 +101,8 @@ fn shell_rest_impl<E: ShapeFunctions<NU>, F: ShapeFunctions<NR>, const NU: usize
 where
     TriMesh<NU>: MeshElement<NU>,
 {
+    // Long because one pass over the elements fills the point arrays that the rest state keeps in
+    // step (shapes, positions, curvature, density index), and the density table needs all of them.
     let n_el = disp.n_elements();
     if rot.n_elements() != n_el {
         return Err(RestStateError::ElementCountMismatch {
@@ -168,8 +170,9 @@ where
             }
         }
     }
-    // One dense 18-direction second-order dual pass per curved point (about 1 ms each): independent,
-    // so they run in parallel; the order of `matrices` follows `index` whatever the scheduling.
+    // One dense 18-direction second-order dual pass per curved point (the costliest part of the set-up):
+    // independent, so they run in parallel; the order of `matrices` follows `index` whatever the
+    // scheduling.
     let mut matrices: Vec<StrainMatrix> = Vec::with_capacity(1 + curved_points.len());
     matrices.push(flat_d);
     matrices.par_extend(

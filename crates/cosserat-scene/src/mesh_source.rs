@@ -370,6 +370,33 @@ pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
 /// # Errors
 /// As [`build_mesh`].
 pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<BuiltMesh, MeshSourceError> {
+    let (mut mesh, warnings) = source_mesh(recipe, budget)?;
+    shape(&mut mesh, recipe)?;
+    if let Some(transform) = &recipe.transform {
+        apply_transform(&mut mesh, transform)?;
+    }
+    mesh.corners.validate().map_err(MeshSourceError::Result)?;
+    if let Some(tri6) = &mesh.tri6 {
+        tri6.validate().map_err(MeshSourceError::Result)?;
+    }
+    let initial_positions = recipe.initial.map(|motion| {
+        let rest = if recipe.pair.displacement() == ElementKind::Tri6 {
+            mesh.tri6.as_ref().map_or(&mesh.corners.nodes, |t| &t.nodes)
+        } else {
+            &mesh.corners.nodes
+        };
+        rest.iter().map(|x| motion.apply(x)).collect()
+    });
+    Ok(BuiltMesh {
+        mesh,
+        initial_positions,
+        warnings,
+    })
+}
+
+/// The input mesh, refined and upgraded to the element pair, with the input's warnings; sizes are
+/// checked against the budget before anything is generated or refined.
+fn source_mesh(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<(ShellMesh, Vec<String>), MeshSourceError> {
     let refined_count = |n_elements: usize| 4usize.saturating_pow(recipe.refine as u32).saturating_mul(n_elements);
     let limit = || format!("more than the limit of {} ({})", budget.max, budget.source);
     let too_large = |n: usize| MeshSourceError::Invalid {
@@ -377,7 +404,7 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
         reason: format!("the mesh would have {n} elements, {}", limit()),
     };
     let mut warnings = Vec::new();
-    let mut mesh = match &recipe.source {
+    let mesh = match &recipe.source {
         MeshSource::Generator(generator) => {
             let generated = generator.element_count();
             if generated > budget.max {
@@ -413,8 +440,13 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
             ShellMesh::from_tri3(corners, recipe.pair, chord_placement)
         }
     };
+    Ok((mesh, warnings))
+}
+
+/// The shaping steps of the recipe: projection onto a sphere, flattening of a cap.
+fn shape(mesh: &mut ShellMesh, recipe: &MeshRecipe) -> Result<(), MeshSourceError> {
     if let Some(projection) = recipe.project_to_sphere {
-        map_nodes(&mut mesh, |x, _| {
+        map_nodes(mesh, |x, _| {
             let d = x - projection.center;
             let r = d.norm();
             if r > 0.0 {
@@ -428,7 +460,7 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
         })?;
     }
     if let Some(radius) = recipe.flatten_cap {
-        map_nodes(&mut mesh, |x, on_boundary| {
+        map_nodes(mesh, |x, on_boundary| {
             let r = x.norm();
             if r == 0.0 {
                 return Err(MeshSourceError::Invalid {
@@ -452,26 +484,7 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
             }
         })?;
     }
-    if let Some(transform) = &recipe.transform {
-        apply_transform(&mut mesh, transform)?;
-    }
-    mesh.corners.validate().map_err(MeshSourceError::Result)?;
-    if let Some(tri6) = &mesh.tri6 {
-        tri6.validate().map_err(MeshSourceError::Result)?;
-    }
-    let initial_positions = recipe.initial.map(|motion| {
-        let rest = if recipe.pair.displacement() == ElementKind::Tri6 {
-            mesh.tri6.as_ref().map_or(&mesh.corners.nodes, |t| &t.nodes)
-        } else {
-            &mesh.corners.nodes
-        };
-        rest.iter().map(|x| motion.apply(x)).collect()
-    });
-    Ok(BuiltMesh {
-        mesh,
-        initial_positions,
-        warnings,
-    })
+    Ok(())
 }
 
 /// For each edge of `topology` (built on `corners`), the Tri6 node on it.

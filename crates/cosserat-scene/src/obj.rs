@@ -72,56 +72,11 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
         let Some(keyword) = words.next() else { continue };
         match keyword {
             "v" => {
-                let coords: Vec<&str> = words.collect();
-                if coords.len() < 3 {
-                    return Err(parse_error(
-                        line,
-                        format!("a vertex needs 3 coordinates, found {}", coords.len()),
-                    ));
-                }
-                let mut p = [0.0; 3];
-                for (c, word) in p.iter_mut().zip(&coords) {
-                    *c = word
-                        .parse::<f64>()
-                        .ok()
-                        .filter(|v| v.is_finite())
-                        .ok_or_else(|| parse_error(line, format!("`{word}` is not a finite coordinate")))?;
-                }
-                nodes.push(Vector3::from(p));
+                nodes.push(parse_vertex(words, line, &parse_error)?);
                 vertex_lines.push(line);
             }
             "f" => {
-                let corners: Vec<&str> = words.collect();
-                if corners.len() != 3 {
-                    return Err(ObjError::NonTriangle {
-                        path: path.to_path_buf(),
-                        line,
-                        face: raw_faces.len(),
-                        n_vertices: corners.len(),
-                    });
-                }
-                let mut face = [0_i64; 3];
-                for (slot, corner) in face.iter_mut().zip(&corners) {
-                    let index_text = corner.split('/').next().unwrap_or("");
-                    let index: i64 = index_text
-                        .parse()
-                        .map_err(|_| parse_error(line, format!("`{corner}` is not a vertex reference")))?;
-                    *slot = match index {
-                        0 => return Err(parse_error(line, "vertex indices start at 1; 0 is not valid".into())),
-                        i if i < 0 => {
-                            // Relative to the vertices defined so far.
-                            let resolved = nodes.len() as i64 + i + 1;
-                            if resolved < 1 {
-                                return Err(parse_error(
-                                    line,
-                                    format!("relative index {i} reaches before the first vertex"),
-                                ));
-                            }
-                            resolved
-                        }
-                        i => i,
-                    };
-                }
+                let face = parse_face(words, line, nodes.len(), raw_faces.len(), path, &parse_error)?;
                 raw_faces.push((face, line));
             }
             "l" | "p" => {
@@ -163,6 +118,74 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
     };
     obj.check(path)?;
     Ok(obj)
+}
+
+/// The coordinates of a `v` statement.
+fn parse_vertex<'a>(
+    words: impl Iterator<Item = &'a str>,
+    line: usize,
+    parse_error: &dyn Fn(usize, String) -> ObjError,
+) -> Result<Vector3<f64>, ObjError> {
+    let coords: Vec<&str> = words.collect();
+    if coords.len() < 3 {
+        return Err(parse_error(
+            line,
+            format!("a vertex needs 3 coordinates, found {}", coords.len()),
+        ));
+    }
+    let mut p = [0.0; 3];
+    for (c, word) in p.iter_mut().zip(&coords) {
+        *c = word
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| parse_error(line, format!("`{word}` is not a finite coordinate")))?;
+    }
+    Ok(Vector3::from(p))
+}
+
+/// The 1-based vertex indices of an `f` statement (relative indices resolved against the `n_vertices`
+/// defined so far); the face must be a triangle.
+fn parse_face<'a>(
+    words: impl Iterator<Item = &'a str>,
+    line: usize,
+    n_vertices: usize,
+    face: usize,
+    path: &Path,
+    parse_error: &dyn Fn(usize, String) -> ObjError,
+) -> Result<[i64; 3], ObjError> {
+    let corners: Vec<&str> = words.collect();
+    if corners.len() != 3 {
+        return Err(ObjError::NonTriangle {
+            path: path.to_path_buf(),
+            line,
+            face,
+            n_vertices: corners.len(),
+        });
+    }
+    let mut out = [0_i64; 3];
+    for (slot, corner) in out.iter_mut().zip(&corners) {
+        let index_text = corner.split('/').next().unwrap_or("");
+        let index: i64 = index_text
+            .parse()
+            .map_err(|_| parse_error(line, format!("`{corner}` is not a vertex reference")))?;
+        *slot = match index {
+            0 => return Err(parse_error(line, "vertex indices start at 1; 0 is not valid".into())),
+            i if i < 0 => {
+                // Relative to the vertices defined so far.
+                let resolved = n_vertices as i64 + i + 1;
+                if resolved < 1 {
+                    return Err(parse_error(
+                        line,
+                        format!("relative index {i} reaches before the first vertex"),
+                    ));
+                }
+                resolved
+            }
+            i => i,
+        };
+    }
+    Ok(out)
 }
 
 impl ObjMesh {

@@ -6,8 +6,9 @@ use super::shell::ValidShell;
 use crate::error::{RegionError, SceneError};
 use crate::region::{Region, Selected};
 use crate::schema::{
-    AxisName, BoundarySection, DistributionName, ExprValue, LoadSection, MotionSection, ProbeSection, QuantityName,
-    ReductionName, RegionSection, RestFieldSection, ShellRef, TimingName,
+    AngularVelocitySection, AxisName, BoundarySection, DistributionName, ExprValue, LoadSection, MotionSection,
+    PositionSection, ProbeSection, QuantityName, ReductionName, RegionSection, RestFieldSection, RotationSection,
+    ShellRef, TimingName,
 };
 use crate::spec::{
     BoundarySpec, ForceDistribution, LoadKind, LoadSpec, MotionSpec, NodeSelection, PositionEnforcement, ProbeQuantity,
@@ -210,6 +211,65 @@ impl Ctx<'_> {
         Ok(MotionSpec { rotation, translation })
     }
 
+    /// `position = { stiffness | exact, axes }`.
+    fn position_condition(
+        &self,
+        pf: &str,
+        p: &PositionSection,
+    ) -> Result<(PositionEnforcement, [bool; 3]), SceneError> {
+        let enforcement = match (p.stiffness, p.exact) {
+            (Some(_), Some(true)) => {
+                return Err(self.invalid(&format!("{pf}.exact"), "give `stiffness` or `exact = true`, not both"));
+            }
+            (Some(k), _) => PositionEnforcement::Penalty(self.non_negative(&format!("{pf}.stiffness"), k)?),
+            (None, Some(true)) => PositionEnforcement::Exact,
+            (None, _) => return Err(self.invalid(pf, "give `stiffness = k` (a penalty) or `exact = true`")),
+        };
+        Ok((enforcement, self.axes(&format!("{pf}.axes"), p.axes.as_deref())?))
+    }
+
+    /// `rotation = { stiffness, directors }`: the penalty and the held directors (1-based in the file).
+    fn rotation_condition(&self, rf: &str, r: &RotationSection) -> Result<(f64, [bool; 3]), SceneError> {
+        let stiffness = self.non_negative(&format!("{rf}.stiffness"), r.stiffness)?;
+        let directors = match &r.directors {
+            None => [true; 3],
+            Some(list) if list.is_empty() => return Err(self.invalid(&format!("{rf}.directors"), "the list is empty")),
+            Some(list) => {
+                let mut active = [false; 3];
+                for &d in list {
+                    if !(1..=3).contains(&d) {
+                        return Err(self.invalid(
+                            &format!("{rf}.directors"),
+                            format!("directors are numbered 1 to 3 (got {d})"),
+                        ));
+                    }
+                    active[d - 1] = true;
+                }
+                active
+            }
+        };
+        Ok((stiffness, directors))
+    }
+
+    /// `angular_velocity = { stiffness, axes, target }`.
+    fn angular_velocity_condition(
+        &self,
+        af: &str,
+        a: &AngularVelocitySection,
+    ) -> Result<(f64, [bool; 3], [TimeFunction; 3]), SceneError> {
+        let stiffness = self.non_negative(&format!("{af}.stiffness"), a.stiffness)?;
+        let axes = self.axes(&format!("{af}.axes"), a.axes.as_deref())?;
+        let target = match &a.target {
+            Some(t) => self.time_functions(&format!("{af}.target"), t)?,
+            None => [
+                TimeFunction::constant(0.0),
+                TimeFunction::constant(0.0),
+                TimeFunction::constant(0.0),
+            ],
+        };
+        Ok((stiffness, axes, target))
+    }
+
     pub(super) fn boundaries(
         &self,
         list: &[BoundarySection],
@@ -224,66 +284,15 @@ impl Ctx<'_> {
             let shell = self.shell_index(&f, b.shell.as_ref(), shells)?;
             let position = match &b.position {
                 None => None,
-                Some(p) => {
-                    let pf = format!("{f}.position");
-                    let enforcement = match (p.stiffness, p.exact) {
-                        (Some(_), Some(true)) => {
-                            return Err(
-                                self.invalid(&format!("{pf}.exact"), "give `stiffness` or `exact = true`, not both")
-                            );
-                        }
-                        (Some(k), _) => PositionEnforcement::Penalty(self.non_negative(&format!("{pf}.stiffness"), k)?),
-                        (None, Some(true)) => PositionEnforcement::Exact,
-                        (None, _) => {
-                            return Err(self.invalid(&pf, "give `stiffness = k` (a penalty) or `exact = true`"));
-                        }
-                    };
-                    Some((enforcement, self.axes(&format!("{pf}.axes"), p.axes.as_deref())?))
-                }
+                Some(p) => Some(self.position_condition(&format!("{f}.position"), p)?),
             };
             let rotation = match &b.rotation {
                 None => None,
-                Some(r) => {
-                    let rf = format!("{f}.rotation");
-                    let stiffness = self.non_negative(&format!("{rf}.stiffness"), r.stiffness)?;
-                    let directors = match &r.directors {
-                        None => [true; 3],
-                        Some(list) if list.is_empty() => {
-                            return Err(self.invalid(&format!("{rf}.directors"), "the list is empty"));
-                        }
-                        Some(list) => {
-                            let mut active = [false; 3];
-                            for &d in list {
-                                if !(1..=3).contains(&d) {
-                                    return Err(self.invalid(
-                                        &format!("{rf}.directors"),
-                                        format!("directors are numbered 1 to 3 (got {d})"),
-                                    ));
-                                }
-                                active[d - 1] = true;
-                            }
-                            active
-                        }
-                    };
-                    Some((stiffness, directors))
-                }
+                Some(r) => Some(self.rotation_condition(&format!("{f}.rotation"), r)?),
             };
             let angular_velocity = match &b.angular_velocity {
                 None => None,
-                Some(a) => {
-                    let af = format!("{f}.angular_velocity");
-                    let stiffness = self.non_negative(&format!("{af}.stiffness"), a.stiffness)?;
-                    let axes = self.axes(&format!("{af}.axes"), a.axes.as_deref())?;
-                    let target = match &a.target {
-                        Some(t) => self.time_functions(&format!("{af}.target"), t)?,
-                        None => [
-                            TimeFunction::constant(0.0),
-                            TimeFunction::constant(0.0),
-                            TimeFunction::constant(0.0),
-                        ],
-                    };
-                    Some((stiffness, axes, target))
-                }
+                Some(a) => Some(self.angular_velocity_condition(&format!("{f}.angular_velocity"), a)?),
             };
             if position.is_none() && rotation.is_none() && angular_velocity.is_none() {
                 return Err(self.invalid(&f, "needs `position`, `rotation` or `angular_velocity`"));

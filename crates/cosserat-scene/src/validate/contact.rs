@@ -29,46 +29,75 @@ impl Ctx<'_> {
                 format!("must lie in (0, 1) (got {min_gap_fraction})"),
             ));
         }
-        let thickness = |field: &str, own: Option<f64>| -> Result<f64, SceneError> {
-            match (own, default_thickness) {
-                (Some(h), _) => self.non_negative(field, h),
-                (None, Some(h)) => Ok(h),
-                (None, None) => Err(self.invalid(
-                    field,
-                    "no contact thickness: give `thickness` here or a default `contact.thickness`",
-                )),
-            }
-        };
-        let surfaces = match &c.surface {
-            None => {
-                let mut out = Vec::with_capacity(shells.len());
-                for shell in 0..shells.len() {
-                    out.push(ContactSurfaceSpec {
+        let surfaces = self.contact_surfaces(c, shells, default_thickness)?;
+        let obstacles = self.obstacles(c, shells, default_thickness)?;
+        let friction = self.friction(c, shells, &surfaces, &obstacles)?;
+        Ok(Some(ContactSpec {
+            stiffness,
+            barrier_width,
+            stick_velocity,
+            project_pd: c.project_pd.unwrap_or(true),
+            min_gap_fraction,
+            surfaces,
+            obstacles,
+            friction,
+        }))
+    }
+
+    /// A contact thickness given at `field`, or the section's default.
+    fn contact_thickness(&self, field: &str, own: Option<f64>, default: Option<f64>) -> Result<f64, SceneError> {
+        match (own, default) {
+            (Some(h), _) => self.non_negative(field, h),
+            (None, Some(h)) => Ok(h),
+            (None, None) => Err(self.invalid(
+                field,
+                "no contact thickness: give `thickness` here or a default `contact.thickness`",
+            )),
+        }
+    }
+
+    /// The shells that take part in contact: every shell, or those of `[[contact.surface]]`.
+    fn contact_surfaces(
+        &self,
+        c: &ContactSection,
+        shells: &[ValidShell],
+        default_thickness: Option<f64>,
+    ) -> Result<Vec<ContactSurfaceSpec>, SceneError> {
+        let Some(list) = &c.surface else {
+            return (0..shells.len())
+                .map(|shell| {
+                    Ok(ContactSurfaceSpec {
                         shell,
-                        thickness: thickness("contact.thickness", None)?,
-                    });
-                }
-                out
-            }
-            Some(list) => {
-                let mut out: Vec<ContactSurfaceSpec> = Vec::with_capacity(list.len());
-                for (k, s) in list.iter().enumerate() {
-                    let f = format!("contact.surface.{k}");
-                    let shell = self.shell_index(&f, s.shell.as_ref(), shells)?;
-                    if out.iter().any(|o| o.shell == shell) {
-                        return Err(self.invalid(
-                            &format!("{f}.shell"),
-                            format!("shell `{}` is listed twice", shells[shell].spec.name),
-                        ));
-                    }
-                    out.push(ContactSurfaceSpec {
-                        shell,
-                        thickness: thickness(&format!("{f}.thickness"), s.thickness)?,
-                    });
-                }
-                out
-            }
+                        thickness: self.contact_thickness("contact.thickness", None, default_thickness)?,
+                    })
+                })
+                .collect();
         };
+        let mut out: Vec<ContactSurfaceSpec> = Vec::with_capacity(list.len());
+        for (k, s) in list.iter().enumerate() {
+            let f = format!("contact.surface.{k}");
+            let shell = self.shell_index(&f, s.shell.as_ref(), shells)?;
+            if out.iter().any(|o| o.shell == shell) {
+                return Err(self.invalid(
+                    &format!("{f}.shell"),
+                    format!("shell `{}` is listed twice", shells[shell].spec.name),
+                ));
+            }
+            out.push(ContactSurfaceSpec {
+                shell,
+                thickness: self.contact_thickness(&format!("{f}.thickness"), s.thickness, default_thickness)?,
+            });
+        }
+        Ok(out)
+    }
+
+    /// The obstacles, with names distinct from the shells' and from each other.
+    fn obstacles(
+        &self,
+        c: &ContactSection,
+        shells: &[ValidShell],
+        default_thickness: Option<f64>,
+    ) -> Result<Vec<ObstacleSpec>, SceneError> {
         let mut obstacles: Vec<ObstacleSpec> = Vec::new();
         let shell_names: Vec<String> = shells.iter().map(|s| s.spec.name.clone()).collect();
         let mut names = shell_names.clone();
@@ -90,11 +119,27 @@ impl Ctx<'_> {
                 name: o.name.clone(),
                 positions,
                 triangles,
-                thickness: thickness(&format!("{f}.thickness"), o.thickness)?,
+                thickness: self.contact_thickness(&format!("{f}.thickness"), o.thickness, default_thickness)?,
                 motion,
             });
             names.push(o.name.clone());
         }
+        Ok(obstacles)
+    }
+
+    /// Friction coefficients between named bodies (shells that take part in contact, obstacles).
+    fn friction(
+        &self,
+        c: &ContactSection,
+        shells: &[ValidShell],
+        surfaces: &[ContactSurfaceSpec],
+        obstacles: &[ObstacleSpec],
+    ) -> Result<Vec<FrictionSpec>, SceneError> {
+        let names: Vec<&str> = shells
+            .iter()
+            .map(|s| s.spec.name.as_str())
+            .chain(obstacles.iter().map(|o| o.name.as_str()))
+            .collect();
         let mut friction: Vec<FrictionSpec> = Vec::new();
         for (k, fr) in c.friction.as_deref().unwrap_or(&[]).iter().enumerate() {
             let f = format!("contact.friction.{k}");
@@ -131,16 +176,7 @@ impl Ctx<'_> {
             }
             friction.push(FrictionSpec { bodies, coefficient });
         }
-        Ok(Some(ContactSpec {
-            stiffness,
-            barrier_width,
-            stick_velocity,
-            project_pd: c.project_pd.unwrap_or(true),
-            min_gap_fraction,
-            surfaces,
-            obstacles,
-            friction,
-        }))
+        Ok(friction)
     }
 
     fn obstacle_geometry(&self, f: &str, o: &ObstacleSection) -> Result<SurfaceMesh, SceneError> {

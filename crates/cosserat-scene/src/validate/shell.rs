@@ -90,46 +90,7 @@ impl Ctx<'_> {
     ) -> Result<ValidShell, SceneError> {
         let m = format!("{prefix}mesh");
         let model_kind = self.model_kind(&format!("{prefix}material"), material)?;
-        let default_element = if model_kind == ModelKind::Cosserat {
-            ElementName::Tri6
-        } else {
-            ElementName::Tri3
-        };
-        if model_kind != ModelKind::Cosserat {
-            let model = model_label(model_kind);
-            if mesh.element == Some(ElementName::Tri6) {
-                return Err(self.invalid(
-                    &format!("{m}.element"),
-                    format!("the {model} model is built on the Tri3 mesh (`element = \"tri3\"`, the default for it); Tri6 elements are not available"),
-                ));
-            }
-            if mesh.rotation_element.is_some() {
-                return Err(self.invalid(
-                    &format!("{m}.rotation_element"),
-                    format!("does not apply to the {model} model"),
-                ));
-            }
-            if mesh.quadrature_degree.is_some() {
-                return Err(self.invalid(
-                    &format!("{m}.quadrature_degree"),
-                    format!("does not apply to the {model} model (its quadrature is fixed)"),
-                ));
-            }
-        }
-        let pair = match (
-            mesh.element.unwrap_or(default_element),
-            mesh.rotation_element.unwrap_or(ElementName::Tri3),
-        ) {
-            (ElementName::Tri3, ElementName::Tri3) => ElementPair::Tri3Tri3,
-            (ElementName::Tri6, ElementName::Tri3) => ElementPair::Tri6Tri3,
-            (ElementName::Tri6, ElementName::Tri6) => ElementPair::Tri6Tri6,
-            (ElementName::Tri3, ElementName::Tri6) => {
-                return Err(self.invalid(
-                    &format!("{m}.rotation_element"),
-                    "quadratic rotations need quadratic displacements (`element = \"tri6\"`)",
-                ));
-            }
-        };
+        let pair = self.element_pair(&m, mesh, model_kind)?;
         let recipe = self.recipe(&m, mesh, pair)?;
         let mut built = build_mesh_within(&recipe, self.budget).map_err(|e| self.mesh_source_error(&m, e))?;
         if let Some(d) = &mesh.displace {
@@ -142,26 +103,7 @@ impl Ctx<'_> {
                 rest.iter().map(|x| motion.apply(x)).collect()
             });
         }
-        let quadrature = match mesh.quadrature_degree {
-            None => None,
-            Some(d) if d < pair.min_quadrature_degree() => {
-                return Err(self.invalid(
-                    &format!("{m}.quadrature_degree"),
-                    format!(
-                        "a rule of degree {d} leaves zero-energy modes in {:?} elements (they deform without \
-                         resistance); use at least degree {} or leave the key out for the default",
-                        pair.displacement(),
-                        pair.min_quadrature_degree()
-                    ),
-                ));
-            }
-            Some(d) => Some(QuadratureRule::for_degree(d).ok_or_else(|| {
-                self.invalid(
-                    &format!("{m}.quadrature_degree"),
-                    format!("no quadrature rule of degree {d} is available"),
-                )
-            })?),
-        };
+        let quadrature = self.quadrature(&m, mesh, pair)?;
         let (params, rest, damping, angular_inertia_density) = self.material(&format!("{prefix}material"), material)?;
         if let ModelKind::MicropolarVolume { .. } = model_kind
             && let Err(reason) = PlanarGrid::detect(&built.mesh.corners.nodes)
@@ -198,6 +140,77 @@ impl Ctx<'_> {
             nodes,
             sample_points,
             warnings: built.warnings,
+        })
+    }
+
+    /// The element pair of a mesh section for the model: Tri3 only for the comparison models, which
+    /// take no rotation element or quadrature.
+    fn element_pair(&self, m: &str, mesh: &MeshSection, model_kind: ModelKind) -> Result<ElementPair, SceneError> {
+        let default_element = if model_kind == ModelKind::Cosserat {
+            ElementName::Tri6
+        } else {
+            ElementName::Tri3
+        };
+        if model_kind != ModelKind::Cosserat {
+            let model = model_label(model_kind);
+            if mesh.element == Some(ElementName::Tri6) {
+                return Err(self.invalid(
+                    &format!("{m}.element"),
+                    format!("the {model} model is built on the Tri3 mesh (`element = \"tri3\"`, the default for it); Tri6 elements are not available"),
+                ));
+            }
+            if mesh.rotation_element.is_some() {
+                return Err(self.invalid(
+                    &format!("{m}.rotation_element"),
+                    format!("does not apply to the {model} model"),
+                ));
+            }
+            if mesh.quadrature_degree.is_some() {
+                return Err(self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!("does not apply to the {model} model (its quadrature is fixed)"),
+                ));
+            }
+        }
+        Ok(
+            match (
+                mesh.element.unwrap_or(default_element),
+                mesh.rotation_element.unwrap_or(ElementName::Tri3),
+            ) {
+                (ElementName::Tri3, ElementName::Tri3) => ElementPair::Tri3Tri3,
+                (ElementName::Tri6, ElementName::Tri3) => ElementPair::Tri6Tri3,
+                (ElementName::Tri6, ElementName::Tri6) => ElementPair::Tri6Tri6,
+                (ElementName::Tri3, ElementName::Tri6) => {
+                    return Err(self.invalid(
+                        &format!("{m}.rotation_element"),
+                        "quadratic rotations need quadratic displacements (`element = \"tri6\"`)",
+                    ));
+                }
+            },
+        )
+    }
+
+    /// The quadrature rule a mesh section asks for (`None`: the pair's default).
+    fn quadrature(&self, m: &str, mesh: &MeshSection, pair: ElementPair) -> Result<Option<QuadratureRule>, SceneError> {
+        Ok(match mesh.quadrature_degree {
+            None => None,
+            Some(d) if d < pair.min_quadrature_degree() => {
+                return Err(self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!(
+                        "a rule of degree {d} leaves zero-energy modes in {:?} elements (they deform without \
+                         resistance); use at least degree {} or leave the key out for the default",
+                        pair.displacement(),
+                        pair.min_quadrature_degree()
+                    ),
+                ));
+            }
+            Some(d) => Some(QuadratureRule::for_degree(d).ok_or_else(|| {
+                self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!("no quadrature rule of degree {d} is available"),
+                )
+            })?),
         })
     }
 
@@ -409,13 +422,13 @@ impl Ctx<'_> {
         })
     }
 
-    fn generator(
+    /// Every parameter the generator needs is given, and none that it does not take.
+    fn check_generator_parameters(
         &self,
         m: &str,
         generator: GeneratorName,
-        mesh: &MeshSection,
         given: &[(&'static str, bool)],
-    ) -> Result<Generator, SceneError> {
+    ) -> Result<(), SceneError> {
         let (required, optional): (&[&str], &[&str]) = match generator {
             GeneratorName::Rectangle => (&["lx", "ly", "nx", "ny"], &[]),
             GeneratorName::Disk => (&["radius", "n_radial", "n_angular"], &[]),
@@ -451,6 +464,17 @@ impl Ctx<'_> {
                 ));
             }
         }
+        Ok(())
+    }
+
+    fn generator(
+        &self,
+        m: &str,
+        generator: GeneratorName,
+        mesh: &MeshSection,
+        given: &[(&'static str, bool)],
+    ) -> Result<Generator, SceneError> {
+        self.check_generator_parameters(m, generator, given)?;
         // Presence of every required parameter was checked above.
         let f = |v: Option<f64>| v.unwrap_or(f64::NAN);
         let n = |v: Option<usize>| v.unwrap_or(0);

@@ -27,111 +27,117 @@ const MAX_STEPS: f64 = 1e9;
 impl Ctx<'_> {
     pub(super) fn time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
         match time.mode.unwrap_or(TimeMode::Dynamic) {
-            TimeMode::Dynamic => {
-                for (key, given) in [("levels", time.levels.is_some()), ("n_levels", time.n_levels.is_some())] {
-                    if given {
-                        return Err(self.invalid(&format!("time.{key}"), "only used in `quasi_static` mode"));
-                    }
-                }
-                let dt = time.dt.ok_or_else(|| self.invalid("time.dt", "required in dynamic mode"))?;
-                let dt = self.positive("time.dt", dt)?;
-                let end = time.end.ok_or_else(|| self.invalid("time.end", "required in dynamic mode"))?;
-                if !(end.is_finite() && end >= 0.0) {
-                    return Err(self.invalid("time.end", format!("must be finite and non-negative (got {end})")));
-                }
-                if end / dt > MAX_STEPS {
-                    return Err(self.invalid(
-                        "time.dt",
-                        format!(
-                            "end / dt = {:.3e} steps is more than the limit of {MAX_STEPS:e}",
-                            end / dt
-                        ),
-                    ));
-                }
-                let output_interval = match (time.output_fps, time.output_interval) {
-                    (Some(_), Some(_)) => {
-                        return Err(self.invalid(
-                            "time.output_interval",
-                            "give `output_fps` or `output_interval`, not both",
-                        ));
-                    }
-                    (Some(fps), None) => 1.0 / self.positive("time.output_fps", fps)?,
-                    (None, Some(interval)) => self.positive("time.output_interval", interval)?,
-                    (None, None) => 1.0 / DEFAULT_OUTPUT_FPS,
-                };
-                // The run's times go up to end + dt; an interval that vanishes next to them cannot
-                // advance the output schedule.
-                let latest = end + dt;
-                if latest + output_interval == latest {
-                    let field = if time.output_fps.is_some() {
-                        "time.output_fps"
-                    } else {
-                        "time.output_interval"
-                    };
-                    return Err(self.invalid(
-                        field,
-                        format!(
-                            "an output interval of {output_interval:e} s is below the resolution of the run's times \
-                             (up to {latest} s); frames are written at most once per step, so an interval of \
-                             time.dt = {dt} s already writes every step"
-                        ),
-                    ));
-                }
-                // Scripts are evaluated at tⁿ or tⁿ + Δt, and the last step may pass the end by up to Δt.
-                let last = end + dt;
-                self.sample_times = (0..=N_SAMPLE_TIMES).map(|k| last * k as f64 / N_SAMPLE_TIMES as f64).collect();
-                Ok(TimeSpec::Dynamic {
-                    dt,
-                    end,
-                    adaptive: time.adaptive.unwrap_or(true),
-                    output_interval,
-                })
-            }
-            TimeMode::QuasiStatic => {
-                for (key, given) in [
-                    ("dt", time.dt.is_some()),
-                    ("end", time.end.is_some()),
-                    ("output_fps", time.output_fps.is_some()),
-                    ("output_interval", time.output_interval.is_some()),
-                    ("adaptive", time.adaptive.is_some()),
-                ] {
-                    if given {
-                        return Err(self.invalid(
-                            &format!("time.{key}"),
-                            "not used in `quasi_static` mode (the load factors are `levels` or `n_levels`)",
-                        ));
-                    }
-                }
-                let levels = match (&time.levels, time.n_levels) {
-                    (Some(_), Some(_)) => {
-                        return Err(self.invalid("time.n_levels", "give `levels` or `n_levels`, not both"));
-                    }
-                    (None, None) => {
-                        return Err(self.invalid("time", "quasi-static mode needs `levels` or `n_levels`"));
-                    }
-                    (None, Some(0)) => return Err(self.invalid("time.n_levels", "must be at least 1")),
-                    (None, Some(n)) if n > MAX_LEVELS => {
-                        return Err(self.invalid("time.n_levels", format!("must be at most {MAX_LEVELS} (got {n})")));
-                    }
-                    (None, Some(n)) => (1..=n).map(|k| k as f64 / n as f64).collect(),
-                    (Some(levels), None) => {
-                        let valid = !levels.is_empty()
-                            && levels.iter().all(|l| l.is_finite() && *l > 0.0 && *l <= 1.0)
-                            && levels.windows(2).all(|w| w[0] < w[1])
-                            && levels.last() == Some(&1.0);
-                        if !valid {
-                            return Err(self.invalid(
-                                "time.levels",
-                                format!("must increase strictly within (0, 1] and end at 1 (got {levels:?})"),
-                            ));
-                        }
-                        levels.clone()
-                    }
-                };
-                self.sample_times = std::iter::once(0.0).chain(levels.iter().copied()).collect();
-                Ok(TimeSpec::QuasiStatic { levels })
+            TimeMode::Dynamic => self.dynamic(time),
+            TimeMode::QuasiStatic => self.quasi_static(time),
+        }
+    }
+
+    /// Time stepping: the step, the end time, the output interval.
+    fn dynamic(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
+        for (key, given) in [("levels", time.levels.is_some()), ("n_levels", time.n_levels.is_some())] {
+            if given {
+                return Err(self.invalid(&format!("time.{key}"), "only used in `quasi_static` mode"));
             }
         }
+        let dt = time.dt.ok_or_else(|| self.invalid("time.dt", "required in dynamic mode"))?;
+        let dt = self.positive("time.dt", dt)?;
+        let end = time.end.ok_or_else(|| self.invalid("time.end", "required in dynamic mode"))?;
+        if !(end.is_finite() && end >= 0.0) {
+            return Err(self.invalid("time.end", format!("must be finite and non-negative (got {end})")));
+        }
+        if end / dt > MAX_STEPS {
+            return Err(self.invalid(
+                "time.dt",
+                format!(
+                    "end / dt = {:.3e} steps is more than the limit of {MAX_STEPS:e}",
+                    end / dt
+                ),
+            ));
+        }
+        let output_interval = match (time.output_fps, time.output_interval) {
+            (Some(_), Some(_)) => {
+                return Err(self.invalid(
+                    "time.output_interval",
+                    "give `output_fps` or `output_interval`, not both",
+                ));
+            }
+            (Some(fps), None) => 1.0 / self.positive("time.output_fps", fps)?,
+            (None, Some(interval)) => self.positive("time.output_interval", interval)?,
+            (None, None) => 1.0 / DEFAULT_OUTPUT_FPS,
+        };
+        // The run's times go up to end + dt; an interval that vanishes next to them cannot
+        // advance the output schedule.
+        let latest = end + dt;
+        if latest + output_interval == latest {
+            let field = if time.output_fps.is_some() {
+                "time.output_fps"
+            } else {
+                "time.output_interval"
+            };
+            return Err(self.invalid(
+                field,
+                format!(
+                    "an output interval of {output_interval:e} s is below the resolution of the run's times \
+                     (up to {latest} s); frames are written at most once per step, so an interval of \
+                     time.dt = {dt} s already writes every step"
+                ),
+            ));
+        }
+        // Scripts are evaluated at tⁿ or tⁿ + Δt, and the last step may pass the end by up to Δt.
+        let last = end + dt;
+        self.sample_times = (0..=N_SAMPLE_TIMES).map(|k| last * k as f64 / N_SAMPLE_TIMES as f64).collect();
+        Ok(TimeSpec::Dynamic {
+            dt,
+            end,
+            adaptive: time.adaptive.unwrap_or(true),
+            output_interval,
+        })
+    }
+
+    /// Load levels: `levels` or `n_levels`.
+    fn quasi_static(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
+        for (key, given) in [
+            ("dt", time.dt.is_some()),
+            ("end", time.end.is_some()),
+            ("output_fps", time.output_fps.is_some()),
+            ("output_interval", time.output_interval.is_some()),
+            ("adaptive", time.adaptive.is_some()),
+        ] {
+            if given {
+                return Err(self.invalid(
+                    &format!("time.{key}"),
+                    "not used in `quasi_static` mode (the load factors are `levels` or `n_levels`)",
+                ));
+            }
+        }
+        let levels = match (&time.levels, time.n_levels) {
+            (Some(_), Some(_)) => {
+                return Err(self.invalid("time.n_levels", "give `levels` or `n_levels`, not both"));
+            }
+            (None, None) => {
+                return Err(self.invalid("time", "quasi-static mode needs `levels` or `n_levels`"));
+            }
+            (None, Some(0)) => return Err(self.invalid("time.n_levels", "must be at least 1")),
+            (None, Some(n)) if n > MAX_LEVELS => {
+                return Err(self.invalid("time.n_levels", format!("must be at most {MAX_LEVELS} (got {n})")));
+            }
+            (None, Some(n)) => (1..=n).map(|k| k as f64 / n as f64).collect(),
+            (Some(levels), None) => {
+                let valid = !levels.is_empty()
+                    && levels.iter().all(|l| l.is_finite() && *l > 0.0 && *l <= 1.0)
+                    && levels.windows(2).all(|w| w[0] < w[1])
+                    && levels.last() == Some(&1.0);
+                if !valid {
+                    return Err(self.invalid(
+                        "time.levels",
+                        format!("must increase strictly within (0, 1] and end at 1 (got {levels:?})"),
+                    ));
+                }
+                levels.clone()
+            }
+        };
+        self.sample_times = std::iter::once(0.0).chain(levels.iter().copied()).collect();
+        Ok(TimeSpec::QuasiStatic { levels })
     }
 
     pub(super) fn solver(&self, solver: Option<&SolverSection>) -> Result<SolverSpec, SceneError> {

@@ -3,11 +3,10 @@
 //! faer's dense kernels use the widest vector instructions of the machine (AVX-512 here), and some of
 //! them return with the upper parts of the vector registers still marked as in use. Code compiled
 //! for the baseline x86-64 target, such as the element kernels, uses the older SSE encodings; on a
-//! thread in that state every such instruction pays for the mixed register state. On the Tri6 plate
-//! with 157k unknowns (2 threads), a Hessian assembly after a two-domain factorisation took 143–160
-//! ms against 58–78 ms before it, and 59–70 ms when the workers executed `vzeroupper` in between
-//! (`assembly_time` example, `FACTORISE=1`). Only the pool's workers mattered, as they run both the
-//! factor's kernels and the element kernels.
+//! thread in that state every such instruction pays for the mixed register state, which can make an
+//! element assembly after a factorisation more than twice as slow (the `assembly_time` example with
+//! `FACTORISE=1` shows it; docs/performance.md has the figures). Only the pool's workers matter, as
+//! they run both the factor's kernels and the element kernels.
 //!
 //! So every thread that ran faer's kernels executes `vzeroupper` when they return: the two domains'
 //! workers at the end of their factorisations, and the caller at the end of every factorisation and
