@@ -372,7 +372,7 @@ impl Simulation {
         s.adaptive = adaptive;
         s.max_reductions = self.solver.max_step_reductions;
         s.initial_guess = self.solver.initial_guess;
-        s.newton.residual_tolerance = self.solver.tolerance;
+        s.newton.tolerance = cosserat_solver::Tolerance::Absolute(self.solver.tolerance);
         s.newton.max_iterations = self.solver.max_newton_iterations;
         s.newton.max_line_search_iterations = self.solver.max_line_search_iterations;
         s.newton.linear_solver.kind = self.solver.linear_solver;

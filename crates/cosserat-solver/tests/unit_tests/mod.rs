@@ -1,6 +1,7 @@
 //! Test modules mirroring `src/`, plus shared fixtures (sparse matrices and toy problems).
 
 mod cg;
+mod convergence;
 mod error;
 mod fixtures;
 mod linear;
