@@ -234,6 +234,9 @@ pub enum SettingName {
     CgMaxIterations,
     /// A fixed `cg_forcing` tolerance must lie in (0, 1).
     CgForcing,
+    /// Arc-length settings: a finite non-zero first increment, a finite end, a positive iteration
+    /// target, `0 < min_ratio ≤ 1 ≤ max_ratio`.
+    ArcLength,
 }
 
 /// A failure of Newton's method.

@@ -17,6 +17,8 @@
 //!   systems, which Newton's method solves inexactly with the reference's forcing sequence
 //!   ([`CgForcing`]).
 //! - [`TimeStepper`] and [`solve_quasi_static`]: time steps and load levels with the same Newton solver.
+//! - [`continuation`]: arc-length path following through limit points ([`trace_path`] for any
+//!   [`PathProblem`], [`trace_quasi_static`] for a quasi-static potential).
 //!
 //! Non-goals: this crate knows nothing about meshes, elements or energies: the assembly layer adapts
 //! its incremental potential to [`NewtonProblem`]. It does not project Hessians to positive
@@ -70,6 +72,7 @@
 //! assert!((x[0] - 1.0).abs() < 2e-2 && (x[1] - x[0]).abs() < 1e-4);
 //! ```
 
+pub mod continuation;
 pub mod error;
 mod line_search;
 pub mod linear;
@@ -79,6 +82,9 @@ pub mod problem;
 pub mod statics;
 pub mod time_step;
 
+pub use continuation::{
+    ArcLengthSettings, CorrectorError, PathError, PathPoint, PathProblem, trace_path, trace_quasi_static,
+};
 pub use error::{
     Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, SettingName,
 };

@@ -16,6 +16,16 @@ impl<'a> PotentialProblem<'a> {
     pub fn new(potential: &'a mut IncrementalPotential, fixed: Option<Vec<bool>>) -> Self {
         Self { potential, fixed }
     }
+
+    /// The potential.
+    pub(crate) fn potential(&self) -> &IncrementalPotential {
+        self.potential
+    }
+
+    /// The potential, to change its loads and state.
+    pub(crate) fn potential_mut(&mut self) -> &mut IncrementalPotential {
+        self.potential
+    }
 }
 
 pub(crate) fn map_error(e: AssemblyError) -> ProblemError {

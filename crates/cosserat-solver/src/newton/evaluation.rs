@@ -7,6 +7,7 @@ use super::{NewtonSolver, Run, since};
 use crate::error::{NewtonError, NonFiniteQuantity, ProblemError};
 use crate::problem::NewtonProblem;
 use cosserat_assembly::finite::first_non_finite;
+use faer::sparse::SymbolicSparseColMatRef;
 
 impl NewtonSolver {
     /// `max_i |g_i| / scale` over free unknowns.
@@ -36,27 +37,15 @@ impl NewtonSolver {
     /// `max_i Σ_j |H_ij| m_j / scale` over free rows `i`, with the problem's magnitudes `m` of the
     /// unknowns at `x`: the size of the terms whose round-off makes the residual's floor.
     pub(super) fn stiffness_scale<P: NewtonProblem + ?Sized>(&mut self, problem: &P, x: &[f64]) -> f64 {
-        let n = self.grad.len();
-        let (mut magnitudes, mut sums) = std::mem::take(&mut self.scratch);
-        problem.unknown_magnitudes(x, &mut magnitudes);
-        sums.fill(0.0);
-        let pattern = problem.hessian_pattern();
-        let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
-        for j in 0..n {
-            for (k, &i) in row_idx.iter().enumerate().take(col_ptr[j + 1]).skip(col_ptr[j]) {
-                let h = self.hess_values[k].abs();
-                sums[i] += h * magnitudes[j];
-                if i != j {
-                    sums[j] += h * magnitudes[i];
-                }
-            }
-        }
-        let max = sums
-            .iter()
-            .zip(&self.fixed)
-            .filter(|(_, f)| !**f)
-            .fold(0.0_f64, |m, (s, _)| m.max(*s));
-        self.scratch = (magnitudes, sums);
+        let (magnitudes, sums) = &mut self.scratch;
+        problem.unknown_magnitudes(x, magnitudes);
+        let max = round_off_scale(
+            problem.hessian_pattern(),
+            &self.hess_values,
+            magnitudes,
+            sums,
+            &self.fixed,
+        );
         max / self.settings.residual_scale
     }
 
@@ -155,6 +144,32 @@ impl NewtonSolver {
         run.test.observe_reactions(self.reactions());
         run.test.observe_energy(energy);
     }
+}
+
+/// `max_i Σ_j |H_ij| m_j` over free rows `i` of the symmetric matrix whose upper triangle is `values`
+/// on `pattern`, with `sums` as scratch (length `n`).
+pub(crate) fn round_off_scale(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    magnitudes: &[f64],
+    sums: &mut [f64],
+    fixed: &[bool],
+) -> f64 {
+    sums.fill(0.0);
+    let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+    for j in 0..sums.len() {
+        for k in col_ptr[j]..col_ptr[j + 1] {
+            let (i, h) = (row_idx[k], values[k].abs());
+            sums[i] += h * magnitudes[j];
+            if i != j {
+                sums[j] += h * magnitudes[i];
+            }
+        }
+    }
+    sums.iter()
+        .zip(fixed)
+        .filter(|(_, f)| !**f)
+        .fold(0.0_f64, |m, (s, _)| m.max(*s))
 }
 
 /// A problem's own error in an iteration (its residual history is attached when the solve ends).

@@ -9,8 +9,8 @@
 //!    forcing sequence [`NewtonSettings::cg_forcing`] (truncated Newton-CG);
 //! 3. take the full step (shortened to the problem's feasible fraction and halved while the state is
 //!    invalid) with its gradient, accept it if it passes the Armijo test or the convergence test,
-//!    otherwise backtrack on energies ([`crate::line_search`]);
-//! 4. stop when the residual passes the [convergence test](convergence), or when the solve has
+//!    otherwise backtrack on energies (the noise-resistant Armijo test of `line_search.rs`);
+//! 4. stop when the residual passes the convergence test ([`Tolerance`]), or when the solve has
 //!    stagnated at the residual's round-off floor.
 //!
 //! It follows the reference code's `NewtonsMethod` (model.md §7.1) without its quirks: convergence is
@@ -39,6 +39,7 @@ mod step;
 
 pub(crate) use convergence::ConvergenceTest;
 pub use convergence::{Convergence, Criterion, Tolerance};
+pub(crate) use evaluation::round_off_scale;
 pub use report::{FactorisationCounts, NewtonReport};
 pub use settings::{IndefiniteHessian, NewtonSettings};
 
