@@ -12,7 +12,6 @@ use cosserat::Simulation;
 use cosserat::scene::output::{RunStatus, RunSummary, VtuFrame, read_pvd, read_pvd_frame};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 mod comparison;
 mod contact;
@@ -637,7 +636,7 @@ pub fn execute(spec: &RunSpec, dir: &Path) -> Result<RunResult> {
     let scene = cosserat::scene::load_scene(&spec.scene, &spec.overrides)
         .with_context(|| format!("loading {}", spec.scene.display()))?;
     let mut sim = Simulation::new(scene).with_context(|| format!("setting up {}", spec.scene.display()))?;
-    let summary = sim.run(dir, &mut |_| {}, &AtomicBool::new(false))?;
+    let summary = sim.run(dir, &mut |_| {}, &cosserat::StopRequest::new())?;
     let probes = ProbeTable::read(&dir.join("probes.csv")).ok();
     Ok(RunResult {
         spec: spec.clone(),

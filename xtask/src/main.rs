@@ -85,7 +85,12 @@ fn workspace_root() -> PathBuf {
 
 fn main() -> Result<()> {
     let args = Xtask::parse();
-    std::env::set_current_dir(workspace_root())?;
+    // `run` and `render` are the user's runner: their paths (scene, --out, the default out/<name>)
+    // stay relative to the folder the command was started in. The other commands work on the
+    // workspace's scenes and docs from its root.
+    if !matches!(args.command, Command::Run(_) | Command::Render(_)) {
+        std::env::set_current_dir(workspace_root())?;
+    }
     let code = match args.command {
         Command::Run(a) => run::run(&a)?,
         Command::BenchTable { large, rounds } => {

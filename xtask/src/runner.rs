@@ -13,7 +13,6 @@ use cosserat::scene::output::{RunStatus, RunSummary, read_summary};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 /// Where a run executes.
@@ -128,7 +127,7 @@ fn run_in_process(point: &RunPoint, dir: &Path) -> Option<String> {
         let scene = cosserat::scene::load_scene(&point.scene, &point.overrides)
             .with_context(|| format!("loading {}", point.scene.display()))?;
         let mut sim = cosserat::Simulation::new(scene).context("setting up the simulation")?;
-        sim.run(dir, &mut |_| {}, &AtomicBool::new(false))?;
+        sim.run(dir, &mut |_| {}, &cosserat::StopRequest::new())?;
         Ok(())
     }));
     match result {

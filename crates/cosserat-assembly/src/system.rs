@@ -46,6 +46,17 @@ impl ElementPair {
             ElementPair::Tri6Tri6 => ElementKind::Tri6,
         }
     }
+
+    /// The lowest quadrature degree that leaves no spurious zero-energy mode: with it and every
+    /// higher degree a free patch has only the six rigid-body modes; the one-point rule leaves
+    /// quadratic displacement fields free to deform without energy (checked in the tests of this
+    /// crate).
+    pub fn min_quadrature_degree(self) -> usize {
+        match self.displacement() {
+            ElementKind::Tri3 => 1,
+            _ => 2,
+        }
+    }
 }
 
 /// The rest mesh of a shell: its Tri3 corner mesh and, for quadratic displacements, the Tri6 mesh whose

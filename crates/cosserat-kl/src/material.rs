@@ -74,11 +74,12 @@ impl KlMaterial {
             self.youngs_modulus > 0.0,
             "must be finite and positive",
         )?;
+        let problem = cosserat_material::poisson_ratio_problem(self.poisson_ratio);
         check_parameter(
             "poisson_ratio",
             self.poisson_ratio,
-            self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5,
-            "must lie in (-1, 0.5); 0.5 would make the Lamé parameter λ infinite",
+            problem.is_none(),
+            problem.unwrap_or_default(),
         )
     }
 

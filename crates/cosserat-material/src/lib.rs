@@ -43,4 +43,4 @@ pub mod volume;
 
 pub use error::{MaterialError, RestStateError};
 pub use model::{AxlVariant, CurvedTerms, EnergyTerm, MembraneVolume, ModelOptions, ShellModel, TermSet};
-pub use parameters::{MaterialParameters, Moduli};
+pub use parameters::{MaterialParameters, Moduli, poisson_ratio_problem};

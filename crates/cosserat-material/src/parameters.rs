@@ -74,12 +74,13 @@ impl MaterialParameters {
             self.youngs_modulus > 0.0,
             "must be finite and positive",
         )?;
-        check(
-            "poisson_ratio",
-            self.poisson_ratio,
-            self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5,
-            "must lie in (-1, 0.5); 0.5 would make the Lamé parameter λ infinite",
-        )?;
+        if let Some(reason) = poisson_ratio_problem(self.poisson_ratio) {
+            return Err(MaterialError::InvalidParameter {
+                name: "poisson_ratio",
+                value: self.poisson_ratio,
+                reason,
+            });
+        }
         check(
             "density",
             self.density,
@@ -175,4 +176,18 @@ pub struct Moduli {
     pub curvature_coefficients: [f64; 3],
     /// `κ_b`.
     pub bending_correction: f64,
+}
+
+/// Why a Poisson ratio cannot be used by an isotropic linear material, or `None` if it can: it must be
+/// finite and lie in (−1, 0.5). Each bound says which modulus it would make infinite.
+pub fn poisson_ratio_problem(nu: f64) -> Option<&'static str> {
+    if !nu.is_finite() {
+        Some("must be finite")
+    } else if nu >= 0.5 {
+        Some("must be below 0.5; 0.5 would make the Lamé parameter λ = Eν/((1 + ν)(1 − 2ν)) infinite")
+    } else if nu <= -1.0 {
+        Some("must be above −1; −1 would make the shear modulus μ = E/(2(1 + ν)) infinite")
+    } else {
+        None
+    }
 }

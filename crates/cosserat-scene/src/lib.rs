@@ -55,3 +55,15 @@ pub use spec::SceneSpec;
 pub fn load_scene(path: &std::path::Path, overrides: &[String]) -> Result<SceneSpec, SceneError> {
     SceneSpec::from_file(path, overrides)
 }
+
+/// [`load_scene`] with a limit on the size of every mesh ([`SceneSpec::from_file_within`]).
+///
+/// # Errors
+/// As [`load_scene`].
+pub fn load_scene_within(
+    path: &std::path::Path,
+    overrides: &[String],
+    budget: &mesh_source::ElementBudget,
+) -> Result<SceneSpec, SceneError> {
+    SceneSpec::from_file_within(path, overrides, budget)
+}

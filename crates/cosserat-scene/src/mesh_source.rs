@@ -46,7 +46,16 @@ pub enum Generator {
         /// Quads along y.
         ny: usize,
     },
-    /// [`procedural::annulus`] (a disk when the inner radius is 0).
+    /// A disk: [`procedural::annulus`] without a hole.
+    Disk {
+        /// Radius.
+        radius: f64,
+        /// Rings of quads.
+        n_radial: usize,
+        /// Vertices per ring.
+        n_angular: usize,
+    },
+    /// [`procedural::annulus`].
     Annulus(AnnulusSettings),
     /// [`procedural::cylinder`] about the z axis.
     Cylinder {
@@ -117,11 +126,33 @@ pub enum Generator {
 /// of the paper's experiments; larger requests are reported instead of exhausting memory.
 pub const MAX_ELEMENTS: usize = 10_000_000;
 
+/// The most elements a mesh may have, and why: [`MAX_ELEMENTS`] by default, fewer when the caller
+/// knows that a larger mesh could not be simulated in the memory at hand.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ElementBudget {
+    /// Elements after refinement.
+    pub max: usize,
+    /// Where the limit comes from, for messages.
+    pub source: String,
+}
+
+impl Default for ElementBudget {
+    fn default() -> Self {
+        Self {
+            max: MAX_ELEMENTS,
+            source: "the largest mesh the simulator builds".into(),
+        }
+    }
+}
+
 impl Generator {
     /// The number of triangles the generator makes (saturating; an upper bound for caps and holes).
     pub fn element_count(&self) -> usize {
         match *self {
             Generator::Rectangle { nx, ny, .. } => 2usize.saturating_mul(nx).saturating_mul(ny),
+            Generator::Disk {
+                n_radial, n_angular, ..
+            } => 2usize.saturating_mul(n_radial).saturating_mul(n_angular),
             Generator::Annulus(s) => 2usize.saturating_mul(s.n_radial).saturating_mul(s.n_angular),
             Generator::Cylinder { n_around, n_along, .. } => 2usize.saturating_mul(n_around).saturating_mul(n_along),
             Generator::Icosphere { level, .. } => 20usize.saturating_mul(4usize.saturating_pow(level as u32)),
@@ -133,6 +164,26 @@ impl Generator {
         }
     }
 
+    /// The resolution parameter that contributes most to the element count (the one to name when the
+    /// mesh is too large).
+    pub fn resolution_key(&self) -> &'static str {
+        let larger = |a: (&'static str, usize), b: (&'static str, usize)| if a.1 >= b.1 { a.0 } else { b.0 };
+        match *self {
+            Generator::Rectangle { nx, ny, .. } => larger(("nx", nx), ("ny", ny)),
+            Generator::Disk {
+                n_radial, n_angular, ..
+            } => larger(("n_radial", n_radial), ("n_angular", n_angular)),
+            Generator::Annulus(s) => larger(("n_radial", s.n_radial), ("n_angular", s.n_angular)),
+            Generator::Cylinder { n_around, n_along, .. } => larger(("n_around", n_around), ("n_along", n_along)),
+            Generator::Icosphere { .. } => "level",
+            Generator::IcosphereCap { .. } => "frequency",
+            Generator::UvSphere { n_lon, n_lat, .. } | Generator::Hemisphere { n_lon, n_lat, .. } => {
+                larger(("n_lon", n_lon), ("n_lat", n_lat))
+            }
+            Generator::Mobius { n_along, n_across, .. } => larger(("n_along", n_along), ("n_across", n_across)),
+        }
+    }
+
     /// The generated mesh with its exact surface.
     ///
     /// # Errors
@@ -141,6 +192,31 @@ impl Generator {
     pub fn generate(&self) -> Result<GeneratedMesh, MeshError> {
         match *self {
             Generator::Rectangle { lx, ly, nx, ny } => procedural::rectangle_grid(lx, ly, nx, ny),
+            Generator::Disk {
+                radius,
+                n_radial,
+                n_angular,
+            } => procedural::annulus(&AnnulusSettings {
+                inner_radius: 0.0,
+                outer_radius: radius,
+                n_radial,
+                n_angular,
+                slit: false,
+            })
+            .map_err(|e| match e {
+                MeshError::InvalidParameter {
+                    parameter,
+                    value,
+                    reason,
+                    ..
+                } => MeshError::InvalidParameter {
+                    generator: "disk",
+                    parameter,
+                    value,
+                    reason,
+                },
+                e => e,
+            }),
             Generator::Annulus(settings) => procedural::annulus(&settings),
             Generator::Cylinder {
                 radius,
@@ -163,7 +239,16 @@ impl Generator {
             } => {
                 let mesh = procedural::uv_hemisphere(radius, n_lon, n_lat)?;
                 match polar_hole {
-                    Some(angle) => mesh.with_polar_hole(angle),
+                    Some(angle) => mesh.with_polar_hole(angle).map_err(|e| match e {
+                        MeshError::EmptyMesh { .. } => MeshError::InvalidParameter {
+                            generator: "hemisphere",
+                            parameter: "polar_hole_degrees",
+                            value: angle.to_degrees(),
+                            reason: "leaves no face: the hole must be smaller than 90° less one latitude band \
+                                     (90°/n_lat)",
+                        },
+                        e => e,
+                    }),
                     None => Ok(mesh),
                 }
             }
@@ -245,6 +330,8 @@ pub struct MeshRecipe {
     pub pair: ElementPair,
     /// Number of uniform refinements (each splits every triangle into four).
     pub refine: usize,
+    /// OBJ input: merge vertices closer than this distance \[m\] before anything else.
+    pub weld: Option<f64>,
     /// Radial projection of every node onto a sphere.
     pub project_to_sphere: Option<SphereProjection>,
     /// Flatten a spherical cap into a disk of this radius \[m\] (see the module docs).
@@ -262,6 +349,9 @@ pub struct BuiltMesh {
     pub mesh: ShellMesh,
     /// Initial displacement-node positions, if they differ from the rest positions.
     pub initial_positions: Option<Vec<Vector3<f64>>>,
+    /// What the input does that is allowed but probably not meant (see
+    /// [`ObjMesh::warnings`](crate::obj::ObjMesh::warnings)).
+    pub warnings: Vec<String>,
 }
 
 /// Runs the pipeline of the module docs.
@@ -272,15 +362,32 @@ pub struct BuiltMesh {
 /// (a node at a projection centre, a flat mesh scaled to a height, a Tri3/Tri6 pair), and
 /// [`MeshSourceError::Result`] if the final mesh has a degenerate or folded element.
 pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
+    build_mesh_within(recipe, &ElementBudget::default())
+}
+
+/// [`build_mesh`] with a given limit on the number of elements, checked before anything is built.
+///
+/// # Errors
+/// As [`build_mesh`].
+pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<BuiltMesh, MeshSourceError> {
     let refined_count = |n_elements: usize| 4usize.saturating_pow(recipe.refine as u32).saturating_mul(n_elements);
+    let limit = || format!("more than the limit of {} ({})", budget.max, budget.source);
     let too_large = |n: usize| MeshSourceError::Invalid {
         step: "refine",
-        reason: format!("the mesh would have {n} elements, more than the limit of {MAX_ELEMENTS}"),
+        reason: format!("the mesh would have {n} elements, {}", limit()),
     };
+    let mut warnings = Vec::new();
     let mut mesh = match &recipe.source {
         MeshSource::Generator(generator) => {
-            let n = refined_count(generator.element_count());
-            if n > MAX_ELEMENTS {
+            let generated = generator.element_count();
+            if generated > budget.max {
+                return Err(MeshSourceError::Invalid {
+                    step: generator.resolution_key(),
+                    reason: format!("the generator would make {generated} triangles, {}", limit()),
+                });
+            }
+            let n = refined_count(generated);
+            if n > budget.max {
                 return Err(too_large(n));
             }
             let mut generated = generator.generate().map_err(MeshSourceError::Generator)?;
@@ -290,9 +397,14 @@ pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
             ShellMesh::from_tri3(generated.mesh.clone(), recipe.pair, |node| generated.place(node))
         }
         MeshSource::Obj(path) => {
-            let mut corners: Tri3Mesh = read_obj(path).map_err(MeshSourceError::Obj)?.mesh;
+            let mut obj = read_obj(path).map_err(MeshSourceError::Obj)?;
+            if let Some(tolerance) = recipe.weld {
+                obj = obj.welded(tolerance, path).map_err(MeshSourceError::Obj)?.0;
+            }
+            warnings = obj.warnings(path);
+            let mut corners: Tri3Mesh = obj.mesh;
             let n = refined_count(corners.n_elements());
-            if n > MAX_ELEMENTS {
+            if n > budget.max {
                 return Err(too_large(n));
             }
             for _ in 0..recipe.refine {
@@ -358,6 +470,7 @@ pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
     Ok(BuiltMesh {
         mesh,
         initial_positions,
+        warnings,
     })
 }
 

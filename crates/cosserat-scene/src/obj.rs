@@ -14,10 +14,16 @@
 //! reports problems instead, each with its line:
 //! non-triangle faces, degenerate triangles, unreferenced vertices and edges shared by more than two
 //! faces ([`cosserat_fem::TriMesh::validate`] does the geometric checks).
+//!
+//! Two things a file may do on purpose are reported as [`ObjMesh::warnings`] rather than refused:
+//! vertices at the same position (an exporter's split along seams: the surface falls apart into
+//! pieces there, unless [`ObjMesh::welded`] merges them) and bowtie vertices (two fans of faces that
+//! touch in one vertex only, so that the shell can turn freely about it).
 
 use crate::error::ObjError;
 use cosserat_fem::{MeshError, Tri3Mesh, TriMesh};
 use nalgebra::Vector3;
+use std::collections::HashMap;
 use std::path::Path;
 
 /// A triangle mesh read from an OBJ file, with the line of every vertex and face.
@@ -203,5 +209,141 @@ impl ObjMesh {
                 source,
             },
         })
+    }
+}
+
+impl ObjMesh {
+    /// The mesh with every vertex within `tolerance` \[m\] of an earlier one merged into it (vertex
+    /// order kept, later duplicates removed, faces renumbered), and the number of vertices merged.
+    ///
+    /// # Errors
+    /// [`ObjError::DegenerateFace`] if merging collapses a face, and the other checks of
+    /// [`parse_obj`] on the welded mesh.
+    pub fn welded(&self, tolerance: f64, path: &Path) -> Result<(ObjMesh, usize), ObjError> {
+        let nodes = &self.mesh.nodes;
+        let cell = |p: &Vector3<f64>| p.map(|c| (c / tolerance).floor() as i64);
+        let mut grid: HashMap<Vector3<i64>, Vec<usize>> = HashMap::new();
+        let mut target = vec![usize::MAX; nodes.len()];
+        let mut kept: Vec<usize> = Vec::new();
+        for (i, p) in nodes.iter().enumerate() {
+            let c = cell(p);
+            let near = (-1..=1)
+                .flat_map(|dx| (-1..=1).flat_map(move |dy| (-1..=1).map(move |dz| c + Vector3::new(dx, dy, dz))))
+                .filter_map(|c| grid.get(&c))
+                .flatten()
+                .copied()
+                .find(|&k| (nodes[kept[k]] - p).norm() <= tolerance);
+            target[i] = match near {
+                Some(k) => k,
+                None => {
+                    kept.push(i);
+                    grid.entry(c).or_default().push(kept.len() - 1);
+                    kept.len() - 1
+                }
+            };
+        }
+        let merged = nodes.len() - kept.len();
+        let elements: Vec<[usize; 3]> = self.mesh.elements.iter().map(|f| f.map(|v| target[v])).collect();
+        if let Some(face) = elements.iter().position(|f| f[0] == f[1] || f[1] == f[2] || f[0] == f[2]) {
+            return Err(ObjError::DegenerateFace {
+                path: path.to_path_buf(),
+                line: self.face_lines[face],
+                face,
+                area: 0.0,
+            });
+        }
+        let welded = ObjMesh {
+            mesh: TriMesh {
+                nodes: kept.iter().map(|&i| nodes[i]).collect(),
+                elements,
+            },
+            vertex_lines: kept.iter().map(|&i| self.vertex_lines[i]).collect(),
+            face_lines: self.face_lines.clone(),
+        };
+        welded.check(path)?;
+        Ok((welded, merged))
+    }
+
+    /// What the file does that is allowed but probably not meant: vertices at the same position
+    /// (the surface is split there) and bowtie vertices, each with its line.
+    pub fn warnings(&self, path: &Path) -> Vec<String> {
+        let mut warnings = Vec::new();
+        let coincident = self.coincident_vertices();
+        if let Some(&(first, duplicate)) = coincident.first() {
+            warnings.push(format!(
+                "`{}`: {} vertices lie exactly on earlier ones (first: line {} on line {}), so the surface is split \
+                 into pieces along them; merge them with `weld = <distance>` in the mesh section if they are one \
+                 surface",
+                path.display(),
+                coincident.len(),
+                self.vertex_lines[duplicate],
+                self.vertex_lines[first]
+            ));
+        }
+        let bowties = self.bowtie_vertices();
+        if let Some(&v) = bowties.first() {
+            warnings.push(format!(
+                "`{}`: {} vertices join faces that share no edge there (first: line {}), like a bowtie; the shell \
+                 can turn freely about such a vertex",
+                path.display(),
+                bowties.len(),
+                self.vertex_lines[v]
+            ));
+        }
+        warnings
+    }
+
+    /// Pairs `(earlier, later)` of distinct vertices at the same position.
+    fn coincident_vertices(&self) -> Vec<(usize, usize)> {
+        let mut seen: HashMap<[u64; 3], usize> = HashMap::new();
+        let mut pairs = Vec::new();
+        for (i, p) in self.mesh.nodes.iter().enumerate() {
+            // `+ 0.0` makes −0 and +0 one key.
+            let key = [p.x + 0.0, p.y + 0.0, p.z + 0.0].map(f64::to_bits);
+            match seen.get(&key) {
+                Some(&first) => pairs.push((first, i)),
+                None => {
+                    seen.insert(key, i);
+                }
+            }
+        }
+        pairs
+    }
+
+    /// Vertices whose faces form more than one fan (groups of faces joined through edges at the vertex).
+    fn bowtie_vertices(&self) -> Vec<usize> {
+        let mut faces_at: Vec<Vec<usize>> = vec![Vec::new(); self.mesh.nodes.len()];
+        for (f, face) in self.mesh.elements.iter().enumerate() {
+            for &v in face {
+                faces_at[v].push(f);
+            }
+        }
+        let mut bowties = Vec::new();
+        for (v, faces) in faces_at.iter().enumerate() {
+            // Union the faces around `v` that share one of its edges, then count the groups.
+            let mut group: Vec<usize> = (0..faces.len()).collect();
+            fn root(group: &mut [usize], mut i: usize) -> usize {
+                while group[i] != i {
+                    group[i] = group[group[i]];
+                    i = group[i];
+                }
+                i
+            }
+            for a in 0..faces.len() {
+                for b in a + 1..faces.len() {
+                    let (fa, fb) = (&self.mesh.elements[faces[a]], &self.mesh.elements[faces[b]]);
+                    let shares_edge = fa.iter().any(|&w| w != v && fb.contains(&w));
+                    if shares_edge {
+                        let (ra, rb) = (root(&mut group, a), root(&mut group, b));
+                        group[ra] = rb;
+                    }
+                }
+            }
+            let fans = (0..faces.len()).filter(|&i| root(&mut group, i) == i).count();
+            if fans > 1 {
+                bowties.push(v);
+            }
+        }
+        bowties
     }
 }

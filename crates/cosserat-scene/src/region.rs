@@ -7,7 +7,9 @@
 //!   paper's scenes (`|p − c| ≤ size/2` per axis, computed as `c − size/2 ≤ p ≤ c + size/2`);
 //! - [`Region::Predicate`]: a boolean expression of `x, y, z` ([`crate::expr::Predicate`]);
 //! - [`Region::Vertices`]: corner vertices by index (the order of the generator or OBJ file), with the
-//!   displacement and rotation nodes at those vertices;
+//!   displacement and rotation nodes at those vertices and, for quadratic elements, the mid-edge nodes
+//!   of every edge whose two corners are listed (so listing the vertices of an edge selects the whole
+//!   edge, as a clamp needs);
 //! - [`Region::BoundaryLoop`]: the nodes on boundary loop `k` (corner vertices and, for quadratic
 //!   elements, the mid-edge nodes of its edges); loops are numbered as
 //!   [`cosserat_fem::mesh::Topology::boundary_loops`] returns them (by their first edge in the sorted
@@ -37,6 +39,10 @@ pub struct ShellNodes {
     loops: Vec<(Vec<usize>, Vec<usize>)>,
     /// Boundary edges as corner-vertex pairs.
     boundary_edges: Vec<[usize; 2]>,
+    /// Quadratic meshes: every edge as its corner-vertex pair and its mid-edge node.
+    mid_edge_nodes: Vec<([usize; 2], usize)>,
+    /// Whether the rotation nodes are the displacement nodes (a quadratic rotation element).
+    rot_is_tri6: bool,
     bbox: (Vector3<f64>, Vector3<f64>),
 }
 
@@ -112,6 +118,9 @@ impl ShellNodes {
             .collect();
         let bbox = bounding_box(&disp_positions);
         let boundary_edges = topology.boundary_edges().into_iter().map(|e| topology.edges()[e]).collect();
+        let mid_edge_nodes = edge_nodes
+            .map(|nodes| topology.edges().iter().copied().zip(nodes).collect())
+            .unwrap_or_default();
         Ok(Self {
             name: name.to_string(),
             disp_positions,
@@ -120,6 +129,8 @@ impl ShellNodes {
             vertex_rot,
             loops,
             boundary_edges,
+            mid_edge_nodes,
+            rot_is_tri6,
             bbox,
         })
     }
@@ -267,6 +278,17 @@ impl Region {
                 }
                 let mut disp_nodes: Vec<usize> = list.iter().map(|&v| nodes.vertex_disp[v]).collect();
                 let mut rot_nodes: Vec<usize> = list.iter().map(|&v| nodes.vertex_rot[v]).collect();
+                let mut listed = list.clone();
+                sort_unique(&mut listed);
+                let is_listed = |v: usize| listed.binary_search(&v).is_ok();
+                for &([a, b], mid) in &nodes.mid_edge_nodes {
+                    if is_listed(a) && is_listed(b) {
+                        disp_nodes.push(mid);
+                        if nodes.rot_is_tri6 {
+                            rot_nodes.push(mid);
+                        }
+                    }
+                }
                 sort_unique(&mut disp_nodes);
                 sort_unique(&mut rot_nodes);
                 Ok(Selected { disp_nodes, rot_nodes })

@@ -148,6 +148,9 @@ pub struct SceneSpec {
     pub output: OutputSpec,
     /// Frictional contact; `None` builds no contact structure at all.
     pub contact: Option<ContactSpec>,
+    /// What the inputs do that is allowed but probably not meant (coincident OBJ vertices, ...), for
+    /// the run to report.
+    pub warnings: Vec<String>,
 }
 
 /// The hyperelastic law of a Kirchhoff–Love shell.

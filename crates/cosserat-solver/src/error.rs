@@ -382,3 +382,10 @@ impl NewtonError {
         }
     }
 }
+
+/// A failure of the scripts that prepare a time step or a load level: a load scale, a target or a rest
+/// field that is not finite at the time it is needed, with the item and the expression named. It is not
+/// Newton's failure, so the step is not retried with a smaller time step.
+#[derive(Debug, Clone, PartialEq, Error)]
+#[error("{0}")]
+pub struct ScriptError(pub String);

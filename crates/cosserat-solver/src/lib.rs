@@ -16,7 +16,8 @@
 //!   preconditioned conjugate gradients ([`LinearSolverKind::Cg`]) for large positive definite
 //!   systems, which Newton's method solves inexactly with the reference's forcing sequence
 //!   ([`CgForcing`]).
-//! - [`TimeStepper`] and [`solve_quasi_static`]: time steps and load levels with the same Newton solver.
+//! - [`TimeStepper`], [`QuasiStaticStepper`] and [`solve_quasi_static`]: time steps and load levels with
+//!   the same Newton solver.
 //! - [`continuation`]: arc-length path following through limit points ([`trace_path`] for any
 //!   [`PathProblem`], [`trace_quasi_static`] for a quasi-static potential).
 //!
@@ -86,7 +87,8 @@ pub use continuation::{
     ArcLengthSettings, CorrectorError, PathError, PathPoint, PathProblem, trace_path, trace_quasi_static,
 };
 pub use error::{
-    Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, SettingName,
+    Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, ScriptError,
+    SettingName,
 };
 pub use linear::{
     CgForcing, CgReport, CgSettings, CgStop, DomainSplit, FactorStats, FillOrdering, LinearSolverKind,
@@ -97,5 +99,7 @@ pub use newton::{
     Tolerance,
 };
 pub use problem::NewtonProblem;
-pub use statics::{LoadLevelReport, QuasiStaticSettings, StaticError, solve_quasi_static};
+pub use statics::{
+    LevelFailure, LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, StaticError, solve_quasi_static,
+};
 pub use time_step::{InitialGuess, StepError, StepReport, TimeStepSettings, TimeStepper};

@@ -5,7 +5,7 @@
 //! level starts from the previous equilibrium; a level whose Newton solve fails is approached through
 //! bisected intermediate levels, up to a bounded number of times.
 
-use crate::error::NewtonError;
+use crate::error::{NewtonError, ScriptError};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
 use crate::potential_problem::PotentialProblem;
 use cosserat_assembly::IncrementalPotential;
@@ -46,6 +46,17 @@ pub struct LoadLevelReport {
     pub total_iterations: usize,
 }
 
+/// Why a load level could not be reached.
+#[derive(Debug, Clone, Error)]
+pub enum LevelFailure {
+    /// Newton failed at the last allowed bisection.
+    #[error(transparent)]
+    Newton(#[from] NewtonError),
+    /// The scripts could not set the loads of a level (not Newton's failure: no bisection helps).
+    #[error(transparent)]
+    Scripts(#[from] ScriptError),
+}
+
 /// A load level that could not be reached.
 #[derive(Debug, Clone, Error)]
 #[error("quasi-static solve failed between load factors {from} and {to}: {error}")]
@@ -54,8 +65,145 @@ pub struct StaticError {
     pub from: f64,
     /// The level that failed.
     pub to: f64,
-    /// The last Newton failure.
-    pub error: NewtonError,
+    /// What failed.
+    pub error: LevelFailure,
+    /// Newton iterations spent on the failed level (every bisection included).
+    pub iterations: usize,
+    /// Bisections of the failed level.
+    pub bisections: usize,
+}
+
+/// Advances a potential through increasing load levels, one requested level at a time, from the
+/// last equilibrium. Each level starts from the previous equilibrium; a level whose Newton solve fails
+/// is approached through bisected intermediate levels, up to [`QuasiStaticSettings::max_bisections`].
+pub struct QuasiStaticStepper {
+    solver: NewtonSolver,
+    settings: QuasiStaticSettings,
+    u: Vec<f64>,
+    /// The last converged increment and its load step, for the predictor.
+    previous: Option<(Vec<f64>, f64)>,
+    /// The load factor of the last equilibrium.
+    current: f64,
+}
+
+impl QuasiStaticStepper {
+    /// A stepper at load factor 0. Sets the potential's pseudo time step to 1.
+    ///
+    /// # Errors
+    /// Invalid Newton settings, or a symbolic analysis failure of the pattern.
+    pub fn new(potential: &mut IncrementalPotential, settings: &QuasiStaticSettings) -> Result<Self, NewtonError> {
+        let mut newton = settings.newton;
+        newton.residual_scale = 1.0;
+        let solver = NewtonSolver::try_new(potential.pattern().symbolic(), newton)?;
+        potential.dt = 1.0;
+        Ok(Self {
+            solver,
+            settings: *settings,
+            u: vec![0.0; potential.n_dofs()],
+            previous: None,
+            current: 0.0,
+        })
+    }
+
+    /// The load factor of the last equilibrium.
+    pub fn load_factor(&self) -> f64 {
+        self.current
+    }
+
+    /// The Newton solver (for linear-solver statistics).
+    pub fn solver(&self) -> &NewtonSolver {
+        &self.solver
+    }
+
+    /// Solves for equilibrium at load factor `target`, calling `apply(potential, λ)` to set loads and
+    /// targets for every level tried (intermediate ones included).
+    ///
+    /// # Errors
+    /// [`StaticError`] when the level cannot be reached within the allowed bisections, or `apply`
+    /// fails; the potential then holds the last equilibrium.
+    pub fn advance(
+        &mut self,
+        potential: &mut IncrementalPotential,
+        target: f64,
+        apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
+    ) -> Result<LoadLevelReport, StaticError> {
+        let mut bisections = 0;
+        let mut total_iterations = 0;
+        let mut stack = vec![target];
+        let mut last_report = None;
+        while let Some(&lambda) = stack.last() {
+            let from = self.current;
+            let fail = |error: LevelFailure, iterations: usize, bisections: usize| StaticError {
+                from,
+                to: lambda,
+                error,
+                iterations,
+                bisections,
+            };
+            apply(potential, lambda).map_err(|e| fail(e.into(), total_iterations, bisections))?;
+            self.predict(lambda);
+            self.prepare(potential)
+                .map_err(|e| fail(e.into(), total_iterations, bisections))?;
+            let fixed = potential.fixed_dofs().map(|(mask, values)| {
+                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+                    self.u[i] = values[i];
+                }
+                mask
+            });
+            match self.solver.solve(&mut PotentialProblem::new(potential, fixed), &mut self.u) {
+                Ok(report) => {
+                    total_iterations += report.iterations;
+                    potential.commit(&self.u);
+                    self.previous = Some((self.u.clone(), lambda - self.current));
+                    self.current = lambda;
+                    stack.pop();
+                    last_report = Some(report);
+                }
+                Err(error) => {
+                    total_iterations += error.residuals().len().saturating_sub(1);
+                    if bisections >= self.settings.max_bisections {
+                        return Err(fail(error.into(), total_iterations, bisections));
+                    }
+                    bisections += 1;
+                    // A failed predictor is not trusted for the bisected step.
+                    self.previous = None;
+                    stack.push(0.5 * (self.current + lambda));
+                }
+            }
+        }
+        Ok(LoadLevelReport {
+            load_factor: target,
+            newton: last_report.expect("the loop ends only after the target level converged"),
+            bisections,
+            total_iterations,
+        })
+    }
+
+    /// The starting point for level `lambda`: the last increment scaled to the new load step (a secant
+    /// predictor), or zero.
+    fn predict(&mut self, lambda: f64) {
+        match (&self.previous, self.settings.extrapolate) {
+            (Some((du, step)), true) if *step != 0.0 => {
+                let scale = (lambda - self.current) / step;
+                self.u.iter_mut().zip(du).for_each(|(u, d)| *u = d * scale);
+            }
+            _ => self.u.fill(0.0),
+        }
+    }
+
+    /// Lets the dynamic terms prepare around the starting point; a grown pattern gets a new symbolic
+    /// analysis.
+    fn prepare(&mut self, potential: &mut IncrementalPotential) -> Result<(), NewtonError> {
+        let changed = potential.begin_step(&self.u).map_err(|e| NewtonError::Problem {
+            iteration: 0,
+            source: crate::potential_problem::map_error(e),
+            residuals: Vec::new(),
+        })?;
+        if changed {
+            self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings())?;
+        }
+        Ok(())
+    }
 }
 
 /// Solves for equilibrium at each load factor of `levels` (increasing), calling `apply(potential, λ)`
@@ -71,92 +219,21 @@ pub fn solve_quasi_static(
     apply: &mut dyn FnMut(&mut IncrementalPotential, f64),
     reached: &mut dyn FnMut(&IncrementalPotential, f64),
 ) -> Result<Vec<LoadLevelReport>, StaticError> {
-    let mut newton = settings.newton;
-    newton.residual_scale = 1.0;
-    let mut solver = NewtonSolver::try_new(potential.pattern().symbolic(), newton).map_err(|error| StaticError {
+    let mut stepper = QuasiStaticStepper::new(potential, settings).map_err(|error| StaticError {
         from: 0.0,
         to: levels.first().copied().unwrap_or(0.0),
-        error,
+        error: error.into(),
+        iterations: 0,
+        bisections: 0,
     })?;
-    potential.dt = 1.0;
-    let mut u = vec![0.0; potential.n_dofs()];
-    // The last converged increment and its load step, for the predictor.
-    let mut previous: Option<(Vec<f64>, f64)> = None;
-    let mut current = 0.0;
     let mut reports = Vec::with_capacity(levels.len());
     for &target in levels {
-        let mut bisections = 0;
-        let mut total_iterations = 0;
-        let mut stack = vec![target];
-        let mut last_report = None;
-        while let Some(&lambda) = stack.last() {
-            apply(potential, lambda);
-            match (&previous, settings.extrapolate) {
-                (Some((du, step)), true) if *step != 0.0 => {
-                    let scale = (lambda - current) / step;
-                    u.iter_mut().zip(du).for_each(|(u, d)| *u = d * scale);
-                }
-                _ => u.fill(0.0),
-            }
-            let changed = potential.begin_step(&u).map_err(|e| StaticError {
-                from: current,
-                to: lambda,
-                error: NewtonError::Problem {
-                    iteration: 0,
-                    source: crate::potential_problem::map_error(e),
-                    residuals: Vec::new(),
-                },
-            })?;
-            if changed {
-                solver =
-                    NewtonSolver::try_new(potential.pattern().symbolic(), *solver.settings()).map_err(|error| {
-                        StaticError {
-                            from: current,
-                            to: lambda,
-                            error,
-                        }
-                    })?;
-            }
-            let fixed = potential.fixed_dofs().map(|(mask, values)| {
-                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
-                    u[i] = values[i];
-                }
-                mask
-            });
-            let result = solver.solve(&mut PotentialProblem::new(potential, fixed), &mut u);
-            match result {
-                Ok(report) => {
-                    total_iterations += report.iterations;
-                    potential.commit(&u);
-                    previous = Some((u.clone(), lambda - current));
-                    current = lambda;
-                    stack.pop();
-                    last_report = Some(report);
-                }
-                Err(error) => {
-                    total_iterations += error.residuals().len().saturating_sub(1);
-                    if bisections >= settings.max_bisections {
-                        return Err(StaticError {
-                            from: current,
-                            to: lambda,
-                            error,
-                        });
-                    }
-                    bisections += 1;
-                    // A failed predictor is not trusted for the bisected step.
-                    previous = None;
-                    stack.push(0.5 * (current + lambda));
-                }
-            }
-        }
+        let report = stepper.advance(potential, target, &mut |p, lambda| {
+            apply(p, lambda);
+            Ok(())
+        })?;
         reached(potential, target);
-        let newton = last_report.expect("at least one solve converged for this level");
-        reports.push(LoadLevelReport {
-            load_factor: target,
-            newton,
-            bisections,
-            total_iterations,
-        });
+        reports.push(report);
     }
     Ok(reports)
 }

@@ -7,7 +7,7 @@
 //! and the step is retried with the scripts re-run for the new `Δt`, up to a bounded number of times.
 //! A state is only ever committed from a converged, finite solution.
 
-use crate::error::NewtonError;
+use crate::error::{NewtonError, ScriptError};
 use crate::linear::{DomainSplit, LinearSolverKind};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
 use crate::potential_problem::PotentialProblem;
@@ -75,14 +75,46 @@ pub struct FailedAttempt {
     pub error: NewtonError,
 }
 
-/// A step that could not be completed.
+/// A step that could not be completed; the state is unchanged.
 #[derive(Debug, Clone, Error)]
-#[error("time step from t = {t} failed after {} attempt(s); last: dt = {}: {}", attempts.len(), attempts.last().map_or(0.0, |a| a.dt), attempts.last().map_or_else(String::new, |a| a.error.to_string()))]
-pub struct StepError {
+pub enum StepError {
+    /// Newton failed in every allowed attempt (each halved `Δt`).
+    #[error("time step from t = {t} failed after {} attempt(s); last: dt = {}: {}", attempts.len(), attempts.last().map_or(0.0, |a| a.dt), attempts.last().map_or_else(String::new, |a| a.error.to_string()))]
+    NotConverged {
+        /// Start time of the step \[s\].
+        t: f64,
+        /// Every attempt, in order.
+        attempts: Vec<FailedAttempt>,
+    },
+    /// The scripts could not prepare an attempt (e.g. a load scale that is not finite at its time):
+    /// not Newton's failure, so no smaller step is tried.
+    #[error("time step from t = {t} (dt = {dt}): {source}")]
+    Scripts {
+        /// Start time of the step \[s\].
+        t: f64,
+        /// The time step of the attempt the scripts failed for \[s\].
+        dt: f64,
+        /// The Newton attempts that failed before it.
+        attempts: Vec<FailedAttempt>,
+        /// What the scripts reported.
+        source: ScriptError,
+    },
+}
+
+impl StepError {
     /// Start time of the step \[s\].
-    pub t: f64,
-    /// Every attempt, in order.
-    pub attempts: Vec<FailedAttempt>,
+    pub fn t(&self) -> f64 {
+        match self {
+            Self::NotConverged { t, .. } | Self::Scripts { t, .. } => *t,
+        }
+    }
+
+    /// The failed Newton attempts, in order.
+    pub fn attempts(&self) -> &[FailedAttempt] {
+        match self {
+            Self::NotConverged { attempts, .. } | Self::Scripts { attempts, .. } => attempts,
+        }
+    }
 }
 
 /// A completed step.
@@ -162,12 +194,35 @@ impl TimeStepper {
         potential: &mut IncrementalPotential,
         scripts: &mut dyn FnMut(&mut IncrementalPotential, f64, f64),
     ) -> Result<StepReport, StepError> {
+        self.try_step(potential, &mut |p, t, dt| {
+            scripts(p, t, dt);
+            Ok(())
+        })
+    }
+
+    /// [`TimeStepper::step`] with scripts that can fail: a script failure ends the step at once with
+    /// [`StepError::Scripts`] (a smaller step would not help).
+    ///
+    /// # Errors
+    /// [`StepError`]; the potential's state is then unchanged.
+    pub fn try_step(
+        &mut self,
+        potential: &mut IncrementalPotential,
+        scripts: &mut dyn FnMut(&mut IncrementalPotential, f64, f64) -> Result<(), ScriptError>,
+    ) -> Result<StepReport, StepError> {
         let mut attempts = Vec::new();
         let mut wasted = 0;
         let mut dt = self.dt;
         loop {
             potential.dt = dt;
-            scripts(potential, self.t, dt);
+            if let Err(source) = scripts(potential, self.t, dt) {
+                return Err(StepError::Scripts {
+                    t: self.t,
+                    dt,
+                    attempts,
+                    source,
+                });
+            }
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
             // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
@@ -175,7 +230,7 @@ impl TimeStepper {
                 attempts.push(FailedAttempt { dt, error });
                 let next = dt * 0.5;
                 if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
-                    return Err(StepError { t: self.t, attempts });
+                    return Err(StepError::NotConverged { t: self.t, attempts });
                 }
                 dt = next;
                 continue;
@@ -226,7 +281,7 @@ impl TimeStepper {
                     attempts.push(FailedAttempt { dt, error });
                     let next = dt * 0.5;
                     if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
-                        return Err(StepError { t: self.t, attempts });
+                        return Err(StepError::NotConverged { t: self.t, attempts });
                     }
                     dt = next;
                 }

@@ -59,11 +59,12 @@ impl MicropolarMaterial {
             self.youngs_modulus > 0.0,
             "must be finite and positive",
         )?;
+        let problem = cosserat_material::poisson_ratio_problem(self.poisson_ratio);
         check(
             "poisson_ratio",
             self.poisson_ratio,
-            self.poisson_ratio > -1.0 && self.poisson_ratio < 0.5,
-            "must lie in (-1, 0.5); 0.5 would make the Lamé parameter λ infinite",
+            problem.is_none(),
+            problem.unwrap_or_default(),
         )?;
         check(
             "density",

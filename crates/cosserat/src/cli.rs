@@ -1,10 +1,13 @@
 //! The command-line interface: `cosserat run <scene.toml>` and `cosserat render <out dir>`.
 //!
 //! Output on a terminal is a progress bar (step, time, Newton iterations, residual); otherwise plain
-//! lines about once a second. Ctrl-C stops the run after the current step; the frames written so far
-//! stay and the summary says where the run stopped.
+//! lines about once a second. Ctrl-C (SIGINT) or SIGTERM stops the run after the current step; the
+//! frames written so far stay and the summary says where the run stopped. A second signal of the same
+//! kind ends the process at once.
 
+use crate::memory::MemoryLimit;
 use crate::simulation::{Simulation, StepInfo, write_setup_failure};
+use crate::stop::{StopReason, StopRequest};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
 use cosserat_scene::output::RunStatus;
@@ -13,7 +16,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 /// Command-line arguments.
@@ -51,6 +54,10 @@ pub struct RunArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Refuse scenes that need more memory than this (e.g. `3G`, `512M`); the machine's available
+    /// memory and the process's limits apply in any case.
+    #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    pub max_memory: Option<u64>,
 }
 
 /// Arguments of `render`.
@@ -102,43 +109,43 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
     }
 }
 
-/// Runs a scene file; returns the exit code.
+/// Runs a scene file; returns the exit code: 0 when the run completed, 1 when the scene is invalid or
+/// the run failed, 130 (SIGINT) or 143 (SIGTERM) when it was interrupted.
 ///
 /// # Errors
-/// I/O failures of the outputs.
+/// I/O failures of the outputs, or signal handlers that cannot be installed.
 pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
-    let stem = args
-        .scene
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "scene".into());
-    let spec = match cosserat_scene::load_scene(&args.scene, &args.overrides) {
+    let stop = StopRequest::new();
+    install_signal_handlers(&stop).context("installing the signal handlers")?;
+    let limit = MemoryLimit::of_machine(args.max_memory);
+    let budget = limit.as_ref().map(MemoryLimit::element_budget).unwrap_or_default();
+    let spec = match cosserat_scene::load_scene_within(&args.scene, &args.overrides, &budget) {
         Ok(spec) => spec,
         Err(e) => {
+            let stem = args
+                .scene
+                .file_stem()
+                .map_or_else(|| "scene".into(), |s| s.to_string_lossy().into_owned());
             let dir = args.out.clone().unwrap_or_else(|| Path::new("out").join(&stem));
-            write_setup_failure(&dir, &stem, &e.to_string()).with_context(|| format!("writing {}", dir.display()))?;
-            eprintln!("error: {e}");
-            return Ok(1);
+            return setup_failed(&dir, &stem, &e.to_string());
         }
     };
     let dir = args.out.clone().unwrap_or_else(|| Path::new("out").join(&spec.name));
     let name = spec.name.clone();
-    let mut sim = match Simulation::new(spec) {
+    let mut sim = match Simulation::with_memory_limit(spec, limit) {
         Ok(sim) => sim,
-        Err(e) => {
-            write_setup_failure(&dir, &name, &e.to_string()).with_context(|| format!("writing {}", dir.display()))?;
-            eprintln!("error: {e}");
-            return Ok(1);
-        }
+        Err(e) => return setup_failed(&dir, &name, &e.to_string()),
     };
     for warning in sim.advice() {
         eprintln!("warning: {warning}");
     }
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = stop.clone();
-        // A second Ctrl-C while stopping falls through to the default handler only if this fails.
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    if let Some(reason) = stop.reason() {
+        eprintln!(
+            "{}: stopped before the run started; {} is unchanged",
+            reason.describe(),
+            dir.display()
+        );
+        return Ok(reason.exit_code());
     }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(args.threads.unwrap_or(0))
@@ -155,6 +162,7 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
             eprintln!("warning: {warning}");
         }
     }
+    let stopped_at = summary.stopped_at.unwrap_or(0.0);
     match summary.status {
         RunStatus::Ok => {
             if !args.quiet {
@@ -171,18 +179,60 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
             Ok(0)
         }
         RunStatus::Interrupted => {
+            let reason = stop.reason().unwrap_or(StopReason::Requested);
             eprintln!(
-                "interrupted at t = {}; outputs so far in {}",
-                summary.stopped_at.unwrap_or(0.0),
+                "{} at t = {stopped_at}; the {} complete steps are in {}",
+                reason.describe(),
+                summary.n_steps,
                 dir.display()
             );
-            Ok(130)
+            Ok(reason.exit_code())
         }
         RunStatus::Error => {
-            eprintln!("run failed: {}", summary.reason.as_deref().unwrap_or("unknown reason"));
+            eprintln!(
+                "run failed at t = {stopped_at}: {}; the {} complete steps are in {}",
+                summary.reason.as_deref().unwrap_or("unknown reason"),
+                summary.n_steps,
+                dir.display()
+            );
             Ok(1)
         }
     }
+}
+
+/// Reports a scene that could not be set up. A summary with the reason is written into `dir` only when
+/// `dir` holds no earlier run: the outputs of an earlier run are never touched by a run that did not
+/// start.
+fn setup_failed(dir: &Path, scene: &str, reason: &str) -> anyhow::Result<i32> {
+    eprintln!("error: {reason}");
+    if holds_run_outputs(dir) {
+        eprintln!("the earlier run's outputs in {} are left as they were", dir.display());
+    } else {
+        write_setup_failure(dir, scene, reason).with_context(|| format!("writing {}", dir.display()))?;
+    }
+    Ok(1)
+}
+
+/// Whether `dir` holds outputs of a run that started (probes or a frame collection); a summary alone is
+/// the report of an earlier run that could not start, which a new report may replace.
+fn holds_run_outputs(dir: &Path) -> bool {
+    use cosserat_scene::output::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE};
+    dir.join(PROBES_FILE).exists() || dir.join(FRAMES_DIR).join(PVD_FILE).exists()
+}
+
+/// SIGINT and SIGTERM ask the run to stop after its current step; a second one of the same kind ends
+/// the process at once (for a step that takes too long), with the conventional status.
+fn install_signal_handlers(stop: &StopRequest) -> std::io::Result<()> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    use signal_hook::flag;
+    for (signal, status) in [(SIGINT, 130), (SIGTERM, 143)] {
+        let armed = Arc::new(AtomicBool::new(false));
+        // Order matters: the shutdown checks `armed` before the first signal sets it.
+        flag::register_conditional_shutdown(signal, status, armed.clone())?;
+        flag::register(signal, armed)?;
+        flag::register_usize(signal, stop.flag(), signal as usize)?;
+    }
+    Ok(())
 }
 
 /// Progress display: a bar on a terminal, plain lines otherwise.

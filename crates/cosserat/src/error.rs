@@ -28,4 +28,7 @@ pub enum SimulationError {
     /// Writing outputs failed.
     #[error(transparent)]
     Output(#[from] cosserat_scene::output::OutputError),
+    /// The scene needs more memory than the machine or `--max-memory` allows.
+    #[error(transparent)]
+    Memory(#[from] crate::memory::TooLarge),
 }

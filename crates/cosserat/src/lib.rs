@@ -23,11 +23,10 @@
 //! Feature flags: none.
 //!
 //! ```no_run
-//! use cosserat::Simulation;
-//! use std::sync::atomic::AtomicBool;
+//! use cosserat::{Simulation, StopRequest};
 //! let spec = cosserat::scene::load_scene(std::path::Path::new("scenes/twisting_strip.toml"), &[]).unwrap();
 //! let mut sim = Simulation::new(spec).unwrap();
-//! let summary = sim.run(std::path::Path::new("out/twisting_strip"), &mut |_| {}, &AtomicBool::new(false)).unwrap();
+//! let summary = sim.run(std::path::Path::new("out/twisting_strip"), &mut |_| {}, &StopRequest::new()).unwrap();
 //! println!("{} steps, {:.1} Newton iterations per step", summary.n_steps, summary.avg_newton_iterations);
 //! ```
 
@@ -37,9 +36,11 @@ pub mod contact_run;
 pub mod error;
 pub mod frames;
 pub mod kl_model;
+pub mod memory;
 pub mod probes;
 pub mod scripts;
 pub mod simulation;
+pub mod stop;
 pub mod volume_model;
 
 pub use cosserat_assembly as assembly;
@@ -51,3 +52,4 @@ pub use cosserat_scene as scene;
 pub use cosserat_solver as solver;
 pub use error::SimulationError;
 pub use simulation::{Simulation, StepInfo};
+pub use stop::{StopReason, StopRequest};

@@ -13,11 +13,13 @@ use cosserat_scene::spec::{
     BoundarySpec, FieldFunction, ForceDistribution, LoadKind, LoadSpec, MotionSpec, NodeSelection, PositionEnforcement,
     RestFieldSpec, SceneSpec, TimeFunction, Timing,
 };
+use cosserat_solver::ScriptError;
 use nalgebra::{Matrix3, Vector3};
 
 /// Where one boundary condition's terms sit in the potential.
 #[derive(Debug)]
 struct BoundaryScript {
+    name: String,
     motion: MotionSpec,
     timing: Timing,
     active: (f64, f64),
@@ -32,6 +34,7 @@ struct BoundaryScript {
 /// A load with its nodal weights.
 #[derive(Debug)]
 struct LoadScript {
+    name: String,
     torque: bool,
     vector: Vector3<f64>,
     nodes: Vec<(usize, f64)>,
@@ -305,6 +308,7 @@ impl Scripts {
         let rot = global_rot(layouts, &bc.selection);
         let anchors: Vec<Vector3<f64>> = disp.iter().map(|&i| parts.state.x[i]).collect();
         let mut script = BoundaryScript {
+            name: bc.name.clone(),
             motion: bc.motion.clone(),
             timing: bc.timing,
             active: bc.active,
@@ -404,6 +408,7 @@ impl Scripts {
             }
         };
         Ok(LoadScript {
+            name: load.name.clone(),
             torque,
             vector,
             nodes,
@@ -428,7 +433,12 @@ impl Scripts {
     }
 
     /// Sets targets, loads, rest fields and kinematic obstacles for the step from `t` to `t + dt`.
-    pub fn apply(&mut self, potential: &mut IncrementalPotential, t: f64, dt: f64) {
+    ///
+    /// # Errors
+    /// [`ScriptError`] naming the item and the expression when a scripted value is not finite at the
+    /// time (or rest position) it is needed; the potential may then hold some of the new values, and the
+    /// step must not be solved.
+    pub fn apply(&mut self, potential: &mut IncrementalPotential, t: f64, dt: f64) -> Result<(), ScriptError> {
         self.move_obstacles(potential, t + dt);
         let at = |timing: Timing| match timing {
             Timing::StartOfStep => t,
@@ -438,13 +448,21 @@ impl Scripts {
         for bc in &self.boundaries {
             let tau = at(bc.timing);
             let on = bc.active.0 <= tau && tau < bc.active.1;
+            let value = |what: &str, f: &TimeFunction| {
+                finite(f.eval(tau), tau, || format!("boundary `{}`: {what}", bc.name), f)
+            };
             let (rotation, center) = match &bc.motion.rotation {
-                Some((axis, center, angle)) => (exp_map(&(axis * angle.eval(tau))), *center),
+                Some((axis, center, angle)) => (exp_map(&(axis * value("rotation angle", angle)?)), *center),
                 None => (Matrix3::identity(), Vector3::zeros()),
             };
-            let translation = bc.motion.translation.as_ref().map_or_else(Vector3::zeros, |d| {
-                Vector3::new(d[0].eval(tau), d[1].eval(tau), d[2].eval(tau))
-            });
+            let translation = match &bc.motion.translation {
+                Some(d) => Vector3::new(
+                    value("translation x", &d[0])?,
+                    value("translation y", &d[1])?,
+                    value("translation z", &d[2])?,
+                ),
+                None => Vector3::zeros(),
+            };
             let target = |x: &Vector3<f64>| rotation * (x - center) + center + translation;
             if let Some((idx, k)) = bc.position_penalty {
                 let p = &mut parts.position_penalties[idx];
@@ -464,14 +482,24 @@ impl Scripts {
             if let Some((idx, k, target)) = &bc.angular_velocity {
                 let w = &mut parts.omega_penalties[*idx];
                 w.stiffness = if on { *k } else { 0.0 };
-                w.target = Vector3::new(target[0].eval(tau), target[1].eval(tau), target[2].eval(tau));
+                w.target = Vector3::new(
+                    value("angular velocity x", &target[0])?,
+                    value("angular velocity y", &target[1])?,
+                    value("angular velocity z", &target[2])?,
+                );
             }
         }
         if !self.loads.is_empty() {
             parts.loads.forces.fill(Vector3::zeros());
             parts.loads.torques.fill(Vector3::zeros());
             for load in &self.loads {
-                let s = load.scale.eval(at(load.timing));
+                let tau = at(load.timing);
+                let s = finite(
+                    load.scale.eval(tau),
+                    tau,
+                    || format!("load `{}`: scale", load.name),
+                    &load.scale,
+                )?;
                 let out = if load.torque {
                     &mut parts.loads.torques
                 } else {
@@ -486,23 +514,69 @@ impl Scripts {
             if rf.applied && !rf.time_dependent {
                 continue;
             }
-            let tau = at(rf.timing);
-            let shell = &mut parts.shells[rf.shell];
-            let points = &rf.points;
-            let (curv, frame, growth) = (&rf.curvature, rf.frame, &rf.growth);
-            shell.set_rest_fields_dyn(&mut |p| {
-                let x = &points[p];
-                let g = growth.as_ref().map(|s| (2.0 * s.eval(x, tau)).exp());
-                let c = (!curv.is_empty()).then(|| {
-                    let mut m = Matrix3::zeros();
-                    for (i, j, f) in curv {
-                        m[(*i, *j)] += f.eval(x, tau);
-                    }
-                    frame.map_or(m, |q| q.transpose() * m * q)
-                });
-                (g, c)
-            });
+            let values = rf.values(at(rf.timing))?;
+            parts.shells[rf.shell].set_rest_fields_dyn(&mut |p| values[p]);
             rf.applied = true;
         }
+        Ok(())
+    }
+}
+
+impl RestFieldScript {
+    /// The growth factor and the rest curvature at every point at time `tau`.
+    ///
+    /// # Errors
+    /// [`ScriptError`] naming the entry, its expression and the point where a value is not finite.
+    fn values(&self, tau: f64) -> Result<Vec<RestFieldValues>, ScriptError> {
+        let check = |v: f64, what: &dyn Fn() -> String, f: &FieldFunction, x: &Vector3<f64>| {
+            if v.is_finite() {
+                Ok(v)
+            } else {
+                Err(ScriptError(format!(
+                    "shell {}: {} `{}` is {v} at t = {tau}, X = ({}, {}, {})",
+                    self.shell,
+                    what(),
+                    f.description(),
+                    x.x,
+                    x.y,
+                    x.z
+                )))
+            }
+        };
+        self.points
+            .iter()
+            .map(|x| {
+                let g = match &self.growth {
+                    Some(f) => Some((2.0 * check(f.eval(x, tau), &|| "rest-metric growth".into(), f, x)?).exp()),
+                    None => None,
+                };
+                let c = if self.curvature.is_empty() {
+                    None
+                } else {
+                    let mut m = Matrix3::zeros();
+                    for (i, j, f) in &self.curvature {
+                        m[(*i, *j)] += check(f.eval(x, tau), &|| format!("rest curvature ({i}, {j})"), f, x)?;
+                    }
+                    Some(self.frame.map_or(m, |q| q.transpose() * m * q))
+                };
+                Ok((g, c))
+            })
+            .collect()
+    }
+}
+
+/// The growth factor `exp(2 s)` and the rest curvature of one point, as the shell term takes them.
+type RestFieldValues = (Option<f64>, Option<Matrix3<f64>>);
+
+/// `value` if it is finite; otherwise the error naming the item and the expression.
+fn finite(value: f64, tau: f64, item: impl FnOnce() -> String, f: &TimeFunction) -> Result<f64, ScriptError> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(ScriptError(format!(
+            "{} `{}` is {value} at t = {tau}",
+            item(),
+            f.description()
+        )))
     }
 }

@@ -8,8 +8,10 @@ use crate::contact_run::{ContactMonitor, build_contact_term, contact_parts};
 use crate::error::SimulationError;
 use crate::frames::{OutputMesh, append_obstacles};
 use crate::kl_model::{self, KlModel};
+use crate::memory::{MemoryEstimate, MemoryLimit};
 use crate::probes::Probes;
 use crate::scripts::Scripts;
+use crate::stop::{StopReason, StopRequest};
 use crate::volume_model::{self, VolumeModel};
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{
@@ -17,14 +19,17 @@ use cosserat_assembly::{
 };
 use cosserat_contact::ContactTerm;
 use cosserat_scene::output::VtuFrame;
-use cosserat_scene::output::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
+use cosserat_scene::output::{
+    Attempt, BoundingBox, FailedStep, RunStatus, RunSummary, RunWriter, write_failure_summary,
+};
 use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, SurfaceMesh, TimeSpec};
-use cosserat_solver::{QuasiStaticSettings, StepError, StepReport, TimeStepSettings, TimeStepper, solve_quasi_static};
+use cosserat_solver::{
+    LevelFailure, LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, StaticError, StepError, StepReport,
+    TimeStepSettings, TimeStepper,
+};
 use nalgebra::Vector3;
 use serde_json::json;
-use std::cell::RefCell;
 use std::path::Path;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 /// What the run loop reports after every step (for progress displays).
@@ -88,6 +93,8 @@ pub struct Simulation {
     advice: Vec<String>,
     /// The mechanical model and what it needs beyond the system.
     model: Model,
+    /// The time (or load factor) of the last committed state.
+    t_reached: f64,
 }
 
 /// The mechanical model of a scene: the Cosserat shells of `cosserat-assembly`, or one of the
@@ -132,12 +139,25 @@ fn element_names(pairs: &[ElementPair]) -> (String, String) {
 }
 
 impl Simulation {
-    /// Builds the system, boundary conditions, loads, rest fields and probes of a scene.
+    /// Builds the system, boundary conditions, loads, rest fields and probes of a scene, after checking
+    /// that it fits into the machine's available memory ([`MemoryLimit::of_machine`]).
     ///
     /// # Errors
-    /// Invalid meshes or materials (named by shell), unusable loads.
+    /// Invalid meshes or materials (named by shell), unusable loads, a scene too large for the memory.
     pub fn new(spec: SceneSpec) -> Result<Self, SimulationError> {
-        let advice = crate::advice::advise(&spec);
+        Self::with_memory_limit(spec, MemoryLimit::of_machine(None))
+    }
+
+    /// [`Simulation::new`] with the memory check against `limit` (`None`: no check).
+    ///
+    /// # Errors
+    /// As [`Simulation::new`].
+    pub fn with_memory_limit(spec: SceneSpec, limit: Option<MemoryLimit>) -> Result<Self, SimulationError> {
+        if let Some(limit) = &limit {
+            MemoryEstimate::of_scene(&spec).check(limit)?;
+        }
+        let mut advice = crate::advice::advise(&spec);
+        advice.extend(spec.warnings.iter().cloned());
         let inputs: Vec<ShellInput> = spec
             .shells
             .iter()
@@ -236,6 +256,7 @@ impl Simulation {
             contact,
             advice,
             model,
+            t_reached: 0.0,
         })
     }
 
@@ -335,21 +356,41 @@ impl Simulation {
     /// solve with its retries, and the run statistics (contact included). Writes no output.
     ///
     /// # Errors
-    /// [`StepError`] when every allowed attempt failed; the state is then unchanged.
+    /// [`StepError`] when every allowed attempt failed or a script value was not finite; the state is
+    /// then unchanged.
     pub fn step(&mut self, stepper: &mut TimeStepper) -> Result<StepReport, StepError> {
         let t0 = Instant::now();
         let (scripts, model) = (&mut self.scripts, &mut self.model);
-        let report = stepper.step(&mut self.system.potential, &mut |p, t, dt| {
-            scripts.apply(p, t, dt);
+        let result = stepper.try_step(&mut self.system.potential, &mut |p, t, dt| {
+            scripts.apply(p, t, dt)?;
             model.apply(t, dt);
-        })?;
+            Ok(())
+        });
+        let report = match result {
+            Ok(report) => report,
+            Err(e) => {
+                self.stats.reductions += e.attempts().len();
+                self.stats.wasted_iterations += e
+                    .attempts()
+                    .iter()
+                    .map(|a| a.error.residuals().len().saturating_sub(1))
+                    .sum::<usize>();
+                return Err(e);
+            }
+        };
+        self.record_contact();
+        self.record_step(&report, t0.elapsed().as_secs_f64());
+        Ok(report)
+    }
+
+    /// Adds the contact term's statistics of the committed state to the run's, when the scene has
+    /// contact.
+    fn record_contact(&mut self) {
         if let Some((index, monitor)) = &mut self.contact
             && let Some((term, ..)) = contact_parts(&mut self.system.potential, *index)
         {
             monitor.record(term);
         }
-        self.record_step(&report, t0.elapsed().as_secs_f64());
-        Ok(report)
     }
 
     /// The system (potential, state and shell layouts).
@@ -401,6 +442,22 @@ impl Simulation {
         Ok(())
     }
 
+    /// Adds a reached load level to the run's statistics (a level counts as a step).
+    fn record_level(&mut self, r: &LoadLevelReport, seconds: f64) {
+        let s = &mut self.stats;
+        s.steps += 1;
+        s.newton_iterations += r.total_iterations;
+        s.max_newton_iterations = s.max_newton_iterations.max(r.total_iterations);
+        s.reductions += r.bisections;
+        s.assembly_seconds += r.newton.assembly_seconds;
+        s.solve_seconds += r.newton.linear_solve_seconds;
+        s.factorisation_seconds += r.newton.factorisation_seconds;
+        s.step_seconds += seconds;
+        let f = &r.newton.factorisations;
+        s.factorisations += f.llt + f.lblt + f.lu;
+        s.cg_iterations += r.newton.cg_iterations;
+    }
+
     fn record_step(&mut self, r: &StepReport, seconds: f64) {
         let s = &mut self.stats;
         s.steps += 1;
@@ -419,37 +476,43 @@ impl Simulation {
 
     /// Runs the scene and writes its outputs into `dir` (frames, `probes.csv`, `summary.json`).
     ///
-    /// `progress` is called after every step; setting `stop` ends the run after the current step with
-    /// status `interrupted`. A failed step (Newton failure after all reductions) ends the run with status
-    /// `error`; then `dir` holds only `summary.json` with the diagnostic.
+    /// `progress` is called after every step (or load level). A `stop` request ends the run after the
+    /// current step with status `interrupted`; a failed step (Newton failure after all reductions, a
+    /// script value that is not finite) ends it with status `error`. Either way every complete step's
+    /// frame and probe row stays, and the summary says where and why the run ended.
     ///
     /// # Errors
-    /// Only I/O failures of the outputs; physics failures are reported in the returned summary.
+    /// Only I/O failures of the outputs that leave no summary written; physics failures are reported
+    /// in the returned summary.
     pub fn run(
         &mut self,
         dir: &Path,
         progress: &mut dyn FnMut(&StepInfo),
-        stop: &AtomicBool,
+        stop: &StopRequest,
     ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
         let mut writer = RunWriter::create(dir, &self.probes.columns())?;
-        self.record_output(&mut writer, 0.0)?;
-        let outcome = match self.time.clone() {
-            TimeSpec::Dynamic {
-                dt,
-                end,
-                adaptive,
-                output_interval,
-            } => self.run_dynamic(&mut writer, dt, end, adaptive, output_interval, progress, stop)?,
-            TimeSpec::QuasiStatic { levels } => self.run_quasi_static(&mut writer, &levels, progress)?,
+        let outcome = match self.record_output(&mut writer, 0.0) {
+            Ok(()) => match self.time.clone() {
+                TimeSpec::Dynamic {
+                    dt,
+                    end,
+                    adaptive,
+                    output_interval,
+                } => self.run_dynamic(&mut writer, dt, end, adaptive, output_interval, progress, stop),
+                TimeSpec::QuasiStatic { levels } => self.run_quasi_static(&mut writer, &levels, progress, stop),
+            },
+            Err(e) => Err(e),
         };
-        let wall = start.elapsed().as_secs_f64();
-        let summary = self.summary(wall, outcome);
-        if summary.status == RunStatus::Error {
-            writer.fail(&summary)?;
-        } else {
-            writer.finish(&summary)?;
-        }
+        // An output failure ends the run like a failed step: what was written stays, and the summary
+        // says why the run stopped.
+        let outcome = outcome.unwrap_or_else(|e| Outcome::Failed {
+            t: self.t_reached,
+            reason: format!("writing outputs: {e}"),
+            step: None,
+        });
+        let summary = self.summary(start.elapsed().as_secs_f64(), outcome);
+        writer.finish(&summary)?;
         Ok(summary)
     }
 
@@ -461,35 +524,33 @@ impl Simulation {
         adaptive: bool,
         output_interval: f64,
         progress: &mut dyn FnMut(&StepInfo),
-        stop: &AtomicBool,
+        stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
         let mut stepper = TimeStepper::new(&self.system.potential, self.time_step_settings(dt, adaptive))?;
-        let mut next_output = output_interval;
+        let mut schedule = OutputSchedule::new(output_interval, dt);
         // Fixed steps end exactly at `end` up to round-off; half a step of slack avoids an extra step.
         while stepper.time() < end - 0.5 * stepper.dt().min(dt) {
-            if stop.load(Ordering::Relaxed) {
-                return Ok(Outcome::Interrupted(stepper.time()));
+            if let Some(reason) = stop.reason() {
+                return Ok(Outcome::Interrupted(stepper.time(), reason));
             }
-            match self.step(&mut stepper) {
-                Ok(report) => {
-                    progress(&StepInfo {
-                        step: self.stats.steps,
-                        t: report.t,
-                        end,
-                        dt: report.dt,
-                        newton_iterations: report.newton.iterations,
-                        residual: report.newton.residual(),
-                    });
-                    if report.t >= next_output - 1e-9 * dt {
-                        self.record_output(writer, report.t)?;
-                        while next_output <= report.t + 1e-9 * dt {
-                            next_output += output_interval;
-                        }
-                    }
-                }
-                Err(e) => return Ok(Outcome::Failed(stepper.time(), e.to_string())),
-            }
+            let result = self.step(&mut stepper);
             self.stats.factor = stepper.solver().linear_solver().symmetric_stats();
+            let report = match result {
+                Ok(report) => report,
+                Err(e) => return Ok(Outcome::failed_step(&e)),
+            };
+            self.t_reached = report.t;
+            progress(&StepInfo {
+                step: self.stats.steps,
+                t: report.t,
+                end,
+                dt: report.dt,
+                newton_iterations: report.newton.iterations,
+                residual: report.newton.residual(),
+            });
+            if schedule.due(report.t) {
+                self.record_output(writer, report.t)?;
+            }
         }
         Ok(Outcome::Completed)
     }
@@ -499,89 +560,49 @@ impl Simulation {
         writer: &mut RunWriter,
         levels: &[f64],
         progress: &mut dyn FnMut(&StepInfo),
+        stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
         let settings = QuasiStaticSettings {
             newton: self.time_step_settings(1.0, false).newton,
             ..QuasiStaticSettings::default()
         };
+        let mut stepper = QuasiStaticStepper::new(&mut self.system.potential, &settings)?;
         let end = levels.last().copied().unwrap_or(1.0);
-        let scripts = RefCell::new(&mut self.scripts);
-        let model = RefCell::new(&mut self.model);
-        let output_mesh = &self.output_mesh;
-        let (probes, shells, write_frames) = (&self.probes, &self.system.shells, self.write_frames);
-        let mut output_error = None;
-        let mut frames = 0;
-        let mut min_area = f64::INFINITY;
-        let mut step = 0;
-        let t0 = Instant::now();
-        let result = solve_quasi_static(
-            &mut self.system.potential,
-            levels,
-            &settings,
-            &mut |p, lambda| {
-                scripts.borrow_mut().apply(p, lambda, 0.0);
-                model.borrow_mut().apply(lambda, 0.0);
-            },
-            &mut |p, lambda| {
-                let state = &p.parts.state;
-                for s in &p.parts.shells {
-                    min_area = min_area.min(s.min_area_ratio(state));
-                }
-                let mut write = || -> Result<(), SimulationError> {
-                    if write_frames {
-                        let mut frame = model.borrow().frame(output_mesh, shells, state, lambda);
-                        append_obstacles(&mut frame, &scripts.borrow().obstacles());
-                        writer.write_frame(&frame)?;
-                        frames += 1;
-                    }
-                    writer.write_probes(lambda, &probes.values(shells, state))?;
-                    Ok(())
-                };
-                if output_error.is_none()
-                    && let Err(e) = write()
-                {
-                    output_error = Some(e);
-                }
-                step += 1;
-                progress(&StepInfo {
-                    step,
-                    t: lambda,
-                    end,
-                    dt: 0.0,
-                    newton_iterations: 0,
-                    residual: 0.0,
-                });
-            },
-        );
-        if let Some(e) = output_error {
-            return Err(e);
-        }
-        self.stats.frames += frames;
-        self.stats.min_area_ratio = self.stats.min_area_ratio.min(min_area);
-        // Contact statistics of the last equilibrium reached (load levels have no per-step hook here).
-        if let Some((index, monitor)) = &mut self.contact
-            && let Some((term, ..)) = contact_parts(&mut self.system.potential, *index)
-        {
-            monitor.record(term);
-        }
-        match result {
-            Ok(reports) => {
-                for r in &reports {
-                    let s = &mut self.stats;
-                    s.steps += 1;
-                    s.newton_iterations += r.total_iterations;
-                    s.max_newton_iterations = s.max_newton_iterations.max(r.total_iterations);
-                    s.reductions += r.bisections;
-                    s.assembly_seconds += r.newton.assembly_seconds;
-                    s.solve_seconds += r.newton.linear_solve_seconds;
-                    s.factorisation_seconds += r.newton.factorisation_seconds;
-                    s.cg_iterations += r.newton.cg_iterations;
-                }
-                self.stats.step_seconds += t0.elapsed().as_secs_f64();
-                Ok(Outcome::Completed)
+        let mut previous = 0.0;
+        for &target in levels {
+            if let Some(reason) = stop.reason() {
+                return Ok(Outcome::Interrupted(stepper.load_factor(), reason));
             }
-            Err(e) => Ok(Outcome::Failed(e.from, e.to_string())),
+            let t0 = Instant::now();
+            let (scripts, model) = (&mut self.scripts, &mut self.model);
+            let result = stepper.advance(&mut self.system.potential, target, &mut |p, lambda| {
+                scripts.apply(p, lambda, 0.0)?;
+                model.apply(lambda, 0.0);
+                Ok(())
+            });
+            self.stats.factor = stepper.solver().linear_solver().symmetric_stats();
+            let report = match result {
+                Ok(report) => report,
+                Err(e) => {
+                    self.stats.reductions += e.bisections;
+                    return Ok(Outcome::failed_level(&e));
+                }
+            };
+            self.record_contact();
+            self.record_level(&report, t0.elapsed().as_secs_f64());
+            self.t_reached = target;
+            progress(&StepInfo {
+                step: self.stats.steps,
+                t: target,
+                end,
+                dt: target - previous,
+                newton_iterations: report.total_iterations,
+                residual: report.newton.residual(),
+            });
+            self.record_output(writer, target)?;
+            previous = target;
         }
+        Ok(Outcome::Completed)
     }
 
     fn summary(&mut self, wall: f64, outcome: Outcome) -> RunSummary {
@@ -593,14 +614,10 @@ impl Simulation {
         let s = &self.stats;
         let layouts = &self.system.shells;
         let potential = &self.system.potential;
-        let (status, reason, stopped_at) = match outcome {
-            Outcome::Completed => (RunStatus::Ok, None, None),
-            Outcome::Interrupted(t) => (
-                RunStatus::Interrupted,
-                Some("interrupted by the user".to_string()),
-                Some(t),
-            ),
-            Outcome::Failed(t, reason) => (RunStatus::Error, Some(reason), Some(t)),
+        let (status, reason, stopped_at, failed_step) = match outcome {
+            Outcome::Completed => (RunStatus::Ok, None, None, None),
+            Outcome::Interrupted(t, why) => (RunStatus::Interrupted, Some(why.describe().to_string()), Some(t), None),
+            Outcome::Failed { t, reason, step } => (RunStatus::Error, Some(reason), Some(t), step),
         };
         let dt = match &self.time {
             TimeSpec::Dynamic { dt, .. } => *dt,
@@ -707,6 +724,7 @@ impl Simulation {
             status,
             reason,
             stopped_at,
+            failed_step,
             extra,
         }
     }
@@ -723,8 +741,87 @@ fn peak_memory_mb() -> Option<f64> {
 /// How a run ended.
 enum Outcome {
     Completed,
-    Interrupted(f64),
-    Failed(f64, String),
+    /// Stopped on request at this time (or load factor).
+    Interrupted(f64, StopReason),
+    /// A step failed (`step` has its attempts) or an output could not be written.
+    Failed {
+        t: f64,
+        reason: String,
+        step: Option<FailedStep>,
+    },
+}
+
+impl Outcome {
+    /// The outcome of a time step that failed.
+    fn failed_step(e: &StepError) -> Self {
+        let reason = e.to_string();
+        Outcome::Failed {
+            t: e.t(),
+            step: Some(FailedStep {
+                t: e.t(),
+                attempts: e.attempts().iter().map(|a| attempt(a.dt, &a.error)).collect(),
+                reason: reason.clone(),
+            }),
+            reason,
+        }
+    }
+
+    /// The outcome of a load level that could not be reached.
+    fn failed_level(e: &StaticError) -> Self {
+        let reason = e.to_string();
+        let attempts = match &e.error {
+            LevelFailure::Newton(error) => vec![attempt(e.to - e.from, error)],
+            LevelFailure::Scripts(_) => Vec::new(),
+        };
+        Outcome::Failed {
+            t: e.from,
+            step: Some(FailedStep {
+                t: e.from,
+                attempts,
+                reason: reason.clone(),
+            }),
+            reason,
+        }
+    }
+}
+
+/// The summary's record of a failed Newton attempt.
+fn attempt(dt: f64, error: &cosserat_solver::NewtonError) -> Attempt {
+    Attempt {
+        dt,
+        reason: error.to_string(),
+        residuals: error.residuals().iter().copied().filter(|r| r.is_finite()).collect(),
+    }
+}
+
+/// When a dynamic run writes its frames: at multiples of the output interval, the first step at or
+/// after each. The next output time comes from the index of the last one, not from repeated
+/// additions, so it always moves past the current time and the schedule cannot stall.
+struct OutputSchedule {
+    interval: f64,
+    /// Slack for round-off in the step times.
+    slack: f64,
+    next: f64,
+}
+
+impl OutputSchedule {
+    fn new(interval: f64, dt: f64) -> Self {
+        Self {
+            interval,
+            slack: 1e-9 * dt,
+            next: interval,
+        }
+    }
+
+    /// Whether a frame is due at time `t`; if so, the schedule moves to the next multiple after `t`.
+    fn due(&mut self, t: f64) -> bool {
+        if t < self.next - self.slack {
+            return false;
+        }
+        let index = ((t + self.slack) / self.interval).floor() + 1.0;
+        self.next = (index * self.interval).max(t + self.slack);
+        true
+    }
 }
 
 /// Writes a summary for a scene that could not even be set up (invalid input): `dir` then holds only

@@ -4,3 +4,4 @@ mod dynamic;
 mod finite;
 mod pattern;
 mod potential;
+mod quadrature_rank;

@@ -3,17 +3,17 @@
 //!
 //! A scene writes a scripted quantity either as a plain number or as a string such as
 //! `"2*pi*t"`, `"50*ramp(t, 0, 1)"` or `"4*pi*ramp(t, 0, 2.5)*sgn(x)"`. [`ExprContext::compile`]
-//! parses the string with standard precedence, checks every name, inlines user functions, folds
-//! constants and hands a fully parenthesised form to [`exmex`], which compiles it into a flat operator
-//! list (evaluated on the stack for up to 32 operands). The front end is our own
-//! because exmex has no functions of three arguments (`ramp`, `clamp`), binds unary minus tighter than
-//! `^` (`-x^2` would be `x²`), reads `1e-9` as `1·e − 9`, and reports errors without a column; here
-//! each of these is handled before exmex sees the text.
+//! parses the string with standard precedence, checks every name, folds constants, and keeps the
+//! syntax tree, which [`Expr::eval`] walks. User functions are parsed once per compiled expression
+//! and called, not copied into the tree, so helpers that call each other stay small; the operations of
+//! one evaluation are counted at compile time and bounded ([`MAX_OPERATIONS`]), so a chain of helpers
+//! that each call the next twice is refused instead of running for ever.
 //!
-//! Cost (release build, `examples/expr_eval.rs`): about 55 ns per evaluation for the cylinder's
-//! `4*pi*ramp(t, 0, 2.5)`, 70 ns for the curvature modes' entry, 150 ns for the buckling circle's
-//! growth and 280 ns for a lotus entry (the profile inlined three times), against 5–25 ns for the same
-//! formulas written as Rust closures.
+//! Why not a crate: the expression crates we tried (exmex among them) have no functions of three
+//! arguments (`ramp`, `clamp`), bind unary minus tighter than `^` (`-x^2` would be `x²`), read `1e-9`
+//! as `1·e − 9`, or report errors without a column; the parser here handles those, and evaluating its
+//! tree is a few lines. An evaluation costs tens to a few hundred nanoseconds for the paper's formulas
+//! (`examples/expr_eval.rs` measures them), small beside a time step.
 //!
 //! Syntax (highest precedence last):
 //! - `a || b`, `a && b` (logical; operands are true when non-zero; results are 1 or 0);
@@ -29,21 +29,25 @@
 //! (two or more arguments); `atan2(y, x)`; `clamp(x, lo, hi)` = `min(max(x, lo), hi)`;
 //! `ramp(t, t0, t1)` = `clamp((t − t0)/(t1 − t0), 0, 1)`. Constants: `pi`, `e`.
 //!
-//! User functions ([`ExprContext::define`]) have named parameters and a body that may use those
-//! parameters, constants, built-ins and other user functions (not the scene variables, and not
-//! recursively); calls are inlined. The Lotus scene, for example, defines its profile
-//! `p(u) = −0.2314286 + 10.89881u − 14.28571u² + 4.427083u³` once and calls it twice.
+//! User functions ([`ExprContext::define`]) have up to [`MAX_PARAMS`] named parameters and a body that
+//! may use those parameters, constants, built-ins and other user functions (not the scene variables,
+//! and not recursively). A call with constant arguments is folded to its value. The Lotus scene, for
+//! example, defines its profile `p(u) = −0.2314286 + 10.89881u − 14.28571u² + 4.427083u³` once and
+//! calls it twice.
 
 mod ops;
 mod parse;
+mod program;
 
 use crate::error::ExprError;
 use crate::spec::{FieldFunction, TimeFunction};
-use exmex::{Express, FlatEx};
 use nalgebra::Vector3;
-use ops::{Node, SceneOps};
-use parse::{Parser, Scope, is_builtin_function, is_identifier};
+use ops::Node;
+use parse::{FunctionTable, Parser, Scope, is_builtin_function, is_identifier};
+use program::Program;
+use std::cell::RefCell;
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 /// The most variables an expression can have (`x, y, z, t`).
 pub const MAX_VARIABLES: usize = 4;
@@ -56,6 +60,13 @@ const MAX_CALL_DEPTH: usize = 32;
 
 /// How deeply parentheses, calls and unary operators may nest (bounds the recursion of the parser).
 const MAX_NESTING: usize = 100;
+
+/// The most parameters a user function may have.
+pub const MAX_PARAMS: usize = 8;
+
+/// The most operations one evaluation of an expression may perform, calls of user functions
+/// included: far above any formula of a scene, far below one that would slow a run down.
+pub const MAX_OPERATIONS: u64 = 100_000;
 
 /// A user function: parameter names and body text.
 #[derive(Debug, Clone, PartialEq)]
@@ -107,6 +118,12 @@ impl ExprContext {
         if self.functions.contains_key(name) {
             return Err(definition_error("defined twice".into()));
         }
+        if params.len() > MAX_PARAMS {
+            return Err(definition_error(format!(
+                "has {} parameters; at most {MAX_PARAMS} are allowed",
+                params.len()
+            )));
+        }
         for (i, p) in params.iter().enumerate() {
             if !is_identifier(p) || is_builtin_function(p) || CONSTANTS.iter().any(|(c, _)| c == p) {
                 return Err(definition_error(format!("parameter `{p}` is not a usable name")));
@@ -131,17 +148,31 @@ impl ExprContext {
     /// The first function whose body does not parse, as [`ExprError::Definition`] wrapping the reason.
     pub fn check_functions(&self) -> Result<(), ExprError> {
         for (name, function) in &self.functions {
-            self.parse_body(name, function, &[])?;
+            let table = RefCell::new(FunctionTable::default());
+            let body = self.parse_body(name, function, &[], &table)?;
+            let cost = body.cost(&table.borrow().costs);
+            if cost > MAX_OPERATIONS {
+                return Err(ExprError::Definition {
+                    name: name.clone(),
+                    reason: too_costly(cost),
+                });
+            }
         }
         Ok(())
     }
 
-    fn parse_body(&self, name: &str, function: &UserFunction, stack: &[&str]) -> Result<Node, ExprError> {
+    fn parse_body<'a>(
+        &'a self,
+        name: &'a str,
+        function: &'a UserFunction,
+        stack: &[&'a str],
+        table: &'a RefCell<FunctionTable>,
+    ) -> Result<Node, ExprError> {
         let wrap = |e: ExprError| ExprError::Definition {
             name: name.to_string(),
             reason: e.to_string(),
         };
-        let mut parser = Parser::new(self, &function.body).map_err(wrap)?;
+        let mut parser = Parser::new(self, table, &function.body).map_err(wrap)?;
         let mut stack: Vec<&str> = stack.to_vec();
         stack.push(name);
         let mut scope = Scope {
@@ -149,11 +180,19 @@ impl ExprContext {
             params: &function.params,
             stack,
         };
-        parser.parse_all(&mut scope).map_err(|e| match e {
+        let body = parser.parse_all(&mut scope).map_err(|e| match e {
             // Errors from nested definitions are already wrapped.
             e @ ExprError::Definition { .. } => e,
             e => wrap(e),
-        })
+        })?;
+        if let Some(value) = body.non_finite_constant() {
+            return Err(wrap(ExprError::NonFinite {
+                expression: function.body.clone(),
+                value,
+                at: "a constant part of the body".into(),
+            }));
+        }
+        Ok(body)
     }
 
     /// Compiles `text` as a function of the named `variables` (at most [`MAX_VARIABLES`]), which are
@@ -180,50 +219,39 @@ impl ExprContext {
                 max: MAX_VARIABLES,
             });
         }
-        let mut parser = Parser::new(self, text)?;
+        let table = RefCell::new(FunctionTable::default());
+        let mut parser = Parser::new(self, &table, text)?;
         let mut scope = Scope {
             variables,
             params: &[],
             stack: Vec::new(),
         };
-        let node = parser.parse_all(&mut scope)?;
-        if let Some(value) = node.non_finite_constant() {
+        let root = parser.parse_all(&mut scope)?;
+        drop(parser);
+        let table = table.into_inner();
+        if let Some(value) = root.non_finite_constant() {
             return Err(ExprError::NonFinite {
                 expression: text.to_string(),
                 value,
                 at: "a constant part of the expression".into(),
             });
         }
+        let cost = root.cost(&table.costs);
+        if cost > MAX_OPERATIONS {
+            return Err(ExprError::Parse {
+                expression: text.to_string(),
+                column: 1,
+                reason: too_costly(cost),
+            });
+        }
         let mut used = [false; MAX_VARIABLES];
-        node.collect_variables(&mut used);
-        let backend = match node {
-            Node::Num(v) => Backend::Constant(v),
-            ref node => {
-                let mut flat_text = String::new();
-                node.emit(&mut flat_text);
-                let flat = FlatEx::<f64, SceneOps>::parse(&flat_text).map_err(|e| ExprError::Backend {
-                    expression: text.to_string(),
-                    message: e.to_string(),
-                })?;
-                let mut slots = [0; MAX_VARIABLES];
-                let names = flat.var_names();
-                for (k, var) in names.iter().enumerate() {
-                    slots[k] = var[1..].parse().map_err(|_| ExprError::Backend {
-                        expression: text.to_string(),
-                        message: format!("unexpected variable `{var}` in the compiled form"),
-                    })?;
-                }
-                Backend::Flat {
-                    n_slots: names.len(),
-                    slots,
-                    flat: Box::new(flat),
-                }
-            }
-        };
+        root.collect_variables(&mut used);
         Ok(Expr {
             text: text.to_string(),
             used,
-            backend,
+            constant: matches!(root, Node::Num(_)),
+            program: Program::new(&root),
+            functions: table.bodies.iter().map(Program::new).collect(),
         })
     }
 
@@ -259,17 +287,12 @@ impl ExprContext {
     }
 }
 
-/// How a compiled expression is evaluated.
-#[derive(Clone)]
-enum Backend {
-    /// The whole expression folded to a number.
-    Constant(f64),
-    /// An exmex flat expression; its `k`-th variable is the caller's variable `slots[k]`.
-    Flat {
-        flat: Box<FlatEx<f64, SceneOps>>,
-        slots: [usize; MAX_VARIABLES],
-        n_slots: usize,
-    },
+/// The reason for refusing an expression that costs `cost` operations per evaluation.
+fn too_costly(cost: u64) -> String {
+    format!(
+        "one evaluation would take {cost} operations (user functions calling each other), more than the \
+         limit of {MAX_OPERATIONS}"
+    )
 }
 
 /// A compiled expression. Cheap to evaluate from many threads (`Send + Sync`, no interior state).
@@ -277,7 +300,10 @@ enum Backend {
 pub struct Expr {
     text: String,
     used: [bool; MAX_VARIABLES],
-    backend: Backend,
+    constant: bool,
+    program: Program,
+    /// The bodies of the user functions the expression calls.
+    functions: Arc<[Program]>,
 }
 
 impl std::fmt::Debug for Expr {
@@ -293,17 +319,7 @@ impl Expr {
     /// If `vars` is shorter than the variable list the expression was compiled with.
     #[inline]
     pub fn eval(&self, vars: &[f64]) -> f64 {
-        match &self.backend {
-            Backend::Constant(v) => *v,
-            Backend::Flat { flat, slots, n_slots } => {
-                let mut gathered = [0.0; MAX_VARIABLES];
-                for k in 0..*n_slots {
-                    gathered[k] = vars[slots[k]];
-                }
-                flat.eval(&gathered[..*n_slots])
-                    .expect("the compiled expression's variable count is the gathered count by construction")
-            }
-        }
+        self.program.eval(vars, &[], &self.functions)
     }
 
     /// The source text.
@@ -318,7 +334,7 @@ impl Expr {
 
     /// Whether the expression folded to a constant.
     pub fn is_constant(&self) -> bool {
-        matches!(self.backend, Backend::Constant(_))
+        self.constant
     }
 }
 
@@ -358,37 +374,30 @@ impl Predicate {
 #[cfg(test)]
 mod tests {
     use super::ops::{Binary, Unary};
-    use super::parse::{Parser, Scope, TokenKind, tokenize};
+    use super::parse::{TokenKind, tokenize};
     use super::*;
-
-    fn emitted(text: &str, vars: &[&str]) -> String {
-        let ctx = ExprContext::new();
-        let mut parser = Parser::new(&ctx, text).unwrap();
-        let mut scope = Scope {
-            variables: vars,
-            params: &[],
-            stack: Vec::new(),
-        };
-        let mut out = String::new();
-        parser.parse_all(&mut scope).unwrap().emit(&mut out);
-        out
-    }
-
-    #[test]
-    fn emission_is_fully_parenthesised() {
-        assert_eq!(emitted("-x^2", &["x"]), "(-(((v0)^(2))))");
-        assert_eq!(emitted("a - b - c", &["a", "b", "c"]), "((((v0)-(v1)))-(v2))");
-        assert_eq!(emitted("sgn(x) * -0.5", &["x"]), "((sgn((v0)))*((-0.5)))");
-    }
 
     #[test]
     fn constants_fold() {
-        assert_eq!(
-            emitted("x * (2 + 3) * pi", &["x"]),
-            format!("((((v0)*(5)))*({}))", std::f64::consts::PI)
-        );
         let ctx = ExprContext::new();
         assert!(ctx.compile("ramp(2, 0, 4) * 3", &[]).unwrap().is_constant());
+        let expected = Node::Binary(
+            Binary::Mul,
+            Box::new(Node::Binary(
+                Binary::Mul,
+                Box::new(Node::Var(0)),
+                Box::new(Node::Num(5.0)),
+            )),
+            Box::new(Node::Num(std::f64::consts::PI)),
+        );
+        assert_eq!(
+            ctx.compile("x * (2 + 3) * pi", &["x"]).unwrap().program,
+            Program::new(&expected)
+        );
+        let mut ctx = ExprContext::new();
+        ctx.define("sq", &["u".into()], "u*u").unwrap();
+        assert!(ctx.compile("sq(3) + 1", &[]).unwrap().is_constant());
+        assert!(!ctx.compile("sq(t)", &["t"]).unwrap().is_constant());
     }
 
     #[test]
@@ -408,26 +417,39 @@ mod tests {
     }
 
     #[test]
-    fn folding_and_exmex_agree_on_every_operator() {
-        // Each operator evaluated once by folding (both arguments constant) and once by exmex (one
-        // argument a variable): the same function pointer must give the same bits.
+    fn folding_and_evaluation_agree_on_every_operator() {
+        // Each operator once folded at compile time (both arguments constant) and once evaluated (one
+        // argument a variable): the same bits; constants that fold to a non-finite value are refused.
         let ctx = ExprContext::new();
         let samples = [-2.5, -1.0, 0.0, 0.3, 1.0, 2.0];
+        let check = |constant: String, variable: String, a: f64| {
+            let evaluated = ctx.compile(&variable, &["v"]).unwrap().eval(&[a]);
+            match ctx.compile(&constant, &[]) {
+                Ok(folded) => {
+                    let folded = folded.eval(&[]);
+                    assert!(
+                        folded.is_finite() && folded.to_bits() == evaluated.to_bits(),
+                        "{constant}: folded {folded}, evaluated {evaluated}"
+                    );
+                }
+                Err(ExprError::NonFinite { .. }) => {
+                    assert!(!evaluated.is_finite(), "{constant}: refused, evaluated {evaluated}")
+                }
+                Err(e) => panic!("{constant}: {e}"),
+            }
+        };
         for op in Binary::ALL {
+            let call = matches!(op, Binary::Min | Binary::Max | Binary::Atan2);
             for &a in &samples {
                 for &b in &samples {
-                    let folded = op.function()(a, b);
-                    let text = format!("(v {} {b})", op.repr());
-                    let text = match op {
-                        Binary::Min | Binary::Max | Binary::Atan2 => format!("{}(v, {b})", op.repr()),
-                        _ => text,
+                    let text = |x: String| {
+                        if call {
+                            format!("{}({x}, {b})", op.repr())
+                        } else {
+                            format!("({x} {} {b})", op.repr())
+                        }
                     };
-                    let e = ctx.compile(&text, &["v"]).unwrap();
-                    let evaluated = e.eval(&[a]);
-                    assert!(
-                        folded.to_bits() == evaluated.to_bits() || (folded.is_nan() && evaluated.is_nan()),
-                        "{text} at v = {a}: folded {folded}, exmex {evaluated}"
-                    );
+                    check(text(format!("({a})")), text("v".into()), a);
                 }
             }
         }
@@ -436,14 +458,7 @@ mod tests {
                 continue;
             }
             for &a in &samples {
-                let folded = op.function()(a);
-                let e = ctx.compile(&format!("{}(v)", op.repr()), &["v"]).unwrap();
-                let evaluated = e.eval(&[a]);
-                assert!(
-                    folded.to_bits() == evaluated.to_bits() || (folded.is_nan() && evaluated.is_nan()),
-                    "{}({a}): folded {folded}, exmex {evaluated}",
-                    op.repr()
-                );
+                check(format!("{}({a})", op.repr()), format!("{}(v)", op.repr()), a);
             }
         }
     }

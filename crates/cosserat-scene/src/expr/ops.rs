@@ -1,9 +1,7 @@
 //! The operators of scene expressions and their syntax tree: one function per operator, shared by
-//! constant folding and by the exmex operator table, and the fully parenthesised text handed to exmex.
+//! constant folding and by evaluation, so both agree bit for bit.
 
-use super::MAX_VARIABLES;
-use exmex::{BinOp, MakeOperators, Operator};
-use std::fmt::Write as _;
+use super::{MAX_PARAMS, MAX_VARIABLES};
 
 /// Operators of one argument.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,7 +29,7 @@ pub(super) enum Unary {
 }
 
 impl Unary {
-    /// Every operator with a function-call name (all but `Neg`, which exmex provides with `-`).
+    /// Every operator with a function-call name (all but `Neg`, written `-`).
     pub(super) const NAMED: [Unary; 19] = [
         Unary::Not,
         Unary::Abs,
@@ -54,7 +52,7 @@ impl Unary {
         Unary::Clamp01,
     ];
 
-    /// The representation in the text handed to exmex.
+    /// The operator's name as written in expressions (`clamp01` is internal, behind `ramp`).
     pub(super) fn repr(self) -> &'static str {
         match self {
             Unary::Neg => "-",
@@ -90,29 +88,36 @@ impl Unary {
         }
     }
 
-    /// The function, shared by constant folding and the exmex operator table so both agree bit for bit.
-    pub(super) fn function(self) -> fn(f64) -> f64 {
+    /// The value of the operator, shared by constant folding and evaluation so both agree bit for bit.
+    #[inline(always)]
+    pub(super) fn apply(self, a: f64) -> f64 {
         match self {
-            Unary::Neg => |a| -a,
-            Unary::Not => |a| truth(a == 0.0),
-            Unary::Abs => f64::abs,
-            Unary::Sgn => |a| if a > 0.0 { 1.0 } else { -1.0 },
-            Unary::Sqrt => f64::sqrt,
-            Unary::Exp => f64::exp,
-            Unary::Ln => f64::ln,
-            Unary::Sin => f64::sin,
-            Unary::Cos => f64::cos,
-            Unary::Tan => f64::tan,
-            Unary::Asin => f64::asin,
-            Unary::Acos => f64::acos,
-            Unary::Atan => f64::atan,
-            Unary::Sinh => f64::sinh,
-            Unary::Cosh => f64::cosh,
-            Unary::Tanh => f64::tanh,
-            Unary::Floor => f64::floor,
-            Unary::Ceil => f64::ceil,
-            Unary::Round => f64::round,
-            Unary::Clamp01 => |a| a.clamp(0.0, 1.0),
+            Unary::Neg => -a,
+            Unary::Not => truth(a == 0.0),
+            Unary::Abs => a.abs(),
+            Unary::Sgn => {
+                if a > 0.0 {
+                    1.0
+                } else {
+                    -1.0
+                }
+            }
+            Unary::Sqrt => a.sqrt(),
+            Unary::Exp => a.exp(),
+            Unary::Ln => a.ln(),
+            Unary::Sin => a.sin(),
+            Unary::Cos => a.cos(),
+            Unary::Tan => a.tan(),
+            Unary::Asin => a.asin(),
+            Unary::Acos => a.acos(),
+            Unary::Atan => a.atan(),
+            Unary::Sinh => a.sinh(),
+            Unary::Cosh => a.cosh(),
+            Unary::Tanh => a.tanh(),
+            Unary::Floor => a.floor(),
+            Unary::Ceil => a.ceil(),
+            Unary::Round => a.round(),
+            Unary::Clamp01 => a.clamp(0.0, 1.0),
         }
     }
 }
@@ -179,24 +184,26 @@ impl Binary {
         }
     }
 
-    pub(super) fn function(self) -> fn(f64, f64) -> f64 {
+    /// The value of the operator, shared by constant folding and evaluation so both agree bit for bit.
+    #[inline(always)]
+    pub(super) fn apply(self, a: f64, b: f64) -> f64 {
         match self {
-            Binary::Add => |a, b| a + b,
-            Binary::Sub => |a, b| a - b,
-            Binary::Mul => |a, b| a * b,
-            Binary::Div => |a, b| a / b,
-            Binary::Pow => f64::powf,
-            Binary::Min => f64::min,
-            Binary::Max => f64::max,
-            Binary::Atan2 => f64::atan2,
-            Binary::Lt => |a, b| truth(a < b),
-            Binary::Le => |a, b| truth(a <= b),
-            Binary::Gt => |a, b| truth(a > b),
-            Binary::Ge => |a, b| truth(a >= b),
-            Binary::Eq => |a, b| truth(a == b),
-            Binary::Ne => |a, b| truth(a != b),
-            Binary::And => |a, b| truth(a != 0.0 && b != 0.0),
-            Binary::Or => |a, b| truth(a != 0.0 || b != 0.0),
+            Binary::Add => a + b,
+            Binary::Sub => a - b,
+            Binary::Mul => a * b,
+            Binary::Div => a / b,
+            Binary::Pow => a.powf(b),
+            Binary::Min => a.min(b),
+            Binary::Max => a.max(b),
+            Binary::Atan2 => a.atan2(b),
+            Binary::Lt => truth(a < b),
+            Binary::Le => truth(a <= b),
+            Binary::Gt => truth(a > b),
+            Binary::Ge => truth(a >= b),
+            Binary::Eq => truth(a == b),
+            Binary::Ne => truth(a != b),
+            Binary::And => truth(a != 0.0 && b != 0.0),
+            Binary::Or => truth(a != 0.0 || b != 0.0),
         }
     }
 
@@ -217,34 +224,8 @@ pub(super) fn truth(b: bool) -> f64 {
     if b { 1.0 } else { 0.0 }
 }
 
-/// The operator table of the compiled expressions. The text given to exmex is fully parenthesised,
-/// so every parenthesis group holds one operator and the priorities below never decide anything.
-#[derive(Debug, Clone)]
-pub(super) struct SceneOps;
-
-impl MakeOperators<f64> for SceneOps {
-    fn make<'a>() -> Vec<Operator<'a, f64>> {
-        let mut ops = Vec::with_capacity(40);
-        for op in Binary::ALL {
-            let bin = BinOp {
-                apply: op.function(),
-                prio: 0,
-                is_commutative: false,
-            };
-            if op == Binary::Sub {
-                ops.push(Operator::make_bin_unary(op.repr(), bin, Unary::Neg.function()));
-            } else {
-                ops.push(Operator::make_bin(op.repr(), bin));
-            }
-        }
-        for op in Unary::NAMED {
-            ops.push(Operator::make_unary(op.repr(), op.function()));
-        }
-        ops
-    }
-}
-
-/// The syntax tree of an expression. `Param` only occurs in user-function bodies.
+/// The syntax tree of an expression. `Param` only occurs in user-function bodies; `Call` refers to a
+/// body in the function table of the compiled expression.
 #[derive(Debug, Clone, PartialEq)]
 pub(super) enum Node {
     Num(f64),
@@ -252,13 +233,14 @@ pub(super) enum Node {
     Param(usize),
     Unary(Unary, Box<Node>),
     Binary(Binary, Box<Node>, Box<Node>),
+    Call(usize, Vec<Node>),
 }
 
 impl Node {
     /// `op(a)`, folded if `a` is a number.
     pub(super) fn unary(op: Unary, a: Node) -> Node {
         match a {
-            Node::Num(v) => Node::Num(op.function()(v)),
+            Node::Num(v) => Node::Num(op.apply(v)),
             a => Node::Unary(op, Box::new(a)),
         }
     }
@@ -266,18 +248,53 @@ impl Node {
     /// `a op b`, folded if both are numbers.
     pub(super) fn binary(op: Binary, a: Node, b: Node) -> Node {
         match (a, b) {
-            (Node::Num(x), Node::Num(y)) => Node::Num(op.function()(x, y)),
+            (Node::Num(x), Node::Num(y)) => Node::Num(op.apply(x, y)),
             (a, b) => Node::Binary(op, Box::new(a), Box::new(b)),
         }
     }
 
-    /// The node with every `Param(i)` replaced by `args[i]` (and constants folded again).
-    pub(super) fn substitute(&self, args: &[Node]) -> Node {
+    /// A call of function `index` of `functions`, folded if every argument is a number.
+    pub(super) fn call(index: usize, args: Vec<Node>, functions: &[Node]) -> Node {
+        if args.iter().all(|a| matches!(a, Node::Num(_))) {
+            let values: Vec<f64> = args
+                .iter()
+                .map(|a| match a {
+                    Node::Num(v) => *v,
+                    _ => unreachable!("all arguments are numbers"),
+                })
+                .collect();
+            return Node::Num(functions[index].eval(&[], &values, functions));
+        }
+        Node::Call(index, args)
+    }
+
+    /// The value for scene variables `vars` and, inside a function body, its arguments `params`.
+    pub(super) fn eval(&self, vars: &[f64], params: &[f64], functions: &[Node]) -> f64 {
         match self {
-            Node::Param(i) => args[*i].clone(),
-            Node::Num(_) | Node::Var(_) => self.clone(),
-            Node::Unary(op, a) => Node::unary(*op, a.substitute(args)),
-            Node::Binary(op, a, b) => Node::binary(*op, a.substitute(args), b.substitute(args)),
+            Node::Num(v) => *v,
+            Node::Var(i) => vars[*i],
+            Node::Param(i) => params[*i],
+            Node::Unary(op, a) => op.apply(a.eval(vars, params, functions)),
+            Node::Binary(op, a, b) => op.apply(a.eval(vars, params, functions), b.eval(vars, params, functions)),
+            Node::Call(f, args) => {
+                let mut values = [0.0; MAX_PARAMS];
+                for (value, arg) in values.iter_mut().zip(args) {
+                    *value = arg.eval(vars, params, functions);
+                }
+                // Bodies use their parameters only, never the scene variables.
+                functions[*f].eval(&[], &values[..args.len()], functions)
+            }
+        }
+    }
+
+    /// The number of operations one evaluation performs, a call counting its arguments and the cost
+    /// of its body (`costs[f]` for function `f`), saturating.
+    pub(super) fn cost(&self, costs: &[u64]) -> u64 {
+        match self {
+            Node::Num(_) | Node::Var(_) | Node::Param(_) => 1,
+            Node::Unary(_, a) => a.cost(costs).saturating_add(1),
+            Node::Binary(_, a, b) => a.cost(costs).saturating_add(b.cost(costs)).saturating_add(1),
+            Node::Call(f, args) => args.iter().fold(costs[*f], |total, a| total.saturating_add(a.cost(costs))),
         }
     }
 
@@ -291,46 +308,7 @@ impl Node {
                 a.collect_variables(used);
                 b.collect_variables(used);
             }
-        }
-    }
-
-    /// Writes the fully parenthesised exmex form. Numbers are finite (checked before).
-    pub(super) fn emit(&self, out: &mut String) {
-        match self {
-            Node::Num(v) => {
-                // `{}` prints the shortest decimal that round-trips, never in exponent form.
-                if *v == 0.0 {
-                    out.push('0');
-                } else if *v > 0.0 {
-                    let _ = write!(out, "{v}");
-                } else {
-                    let _ = write!(out, "(-{})", -v);
-                }
-            }
-            Node::Var(i) => {
-                let _ = write!(out, "v{i}");
-            }
-            Node::Param(_) => unreachable!("parameters are substituted before emission"),
-            Node::Unary(Unary::Neg, a) => {
-                out.push_str("(-(");
-                a.emit(out);
-                out.push_str("))");
-            }
-            Node::Unary(op, a) => {
-                out.push_str(op.repr());
-                out.push_str("((");
-                a.emit(out);
-                out.push_str("))");
-            }
-            Node::Binary(op, a, b) => {
-                out.push_str("((");
-                a.emit(out);
-                out.push(')');
-                out.push_str(op.repr());
-                out.push('(');
-                b.emit(out);
-                out.push_str("))");
-            }
+            Node::Call(_, args) => args.iter().for_each(|a| a.collect_variables(used)),
         }
     }
 
@@ -341,6 +319,7 @@ impl Node {
             Node::Var(_) | Node::Param(_) => None,
             Node::Unary(_, a) => a.non_finite_constant(),
             Node::Binary(_, a, b) => a.non_finite_constant().or_else(|| b.non_finite_constant()),
+            Node::Call(_, args) => args.iter().find_map(Node::non_finite_constant),
         }
     }
 }

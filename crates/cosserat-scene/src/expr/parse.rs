@@ -1,9 +1,20 @@
 //! Tokenizer and recursive-descent parser of scene expressions: standard precedence, named checks
-//! of every variable and function, user functions inlined, errors with the column.
+//! of every variable and function, user functions parsed once into a table and called, errors with
+//! the column.
 
 use super::ops::{Binary, Node, Unary};
 use super::{CONSTANTS, ExprContext, MAX_CALL_DEPTH, MAX_NESTING};
 use crate::error::ExprError;
+use std::cell::RefCell;
+
+/// The user functions one compiled expression calls: each body parsed once, with the cost of one
+/// evaluation of it.
+#[derive(Debug, Default)]
+pub(super) struct FunctionTable {
+    pub(super) names: Vec<String>,
+    pub(super) bodies: Vec<Node>,
+    pub(super) costs: Vec<u64>,
+}
 
 /// A token with its 1-based character column.
 #[derive(Debug, Clone, PartialEq)]
@@ -133,6 +144,7 @@ pub(super) struct Scope<'a> {
 
 pub(super) struct Parser<'a> {
     context: &'a ExprContext,
+    functions: &'a RefCell<FunctionTable>,
     text: &'a str,
     tokens: Vec<Token>,
     pos: usize,
@@ -140,9 +152,14 @@ pub(super) struct Parser<'a> {
 }
 
 impl<'a> Parser<'a> {
-    pub(super) fn new(context: &'a ExprContext, text: &'a str) -> Result<Self, ExprError> {
+    pub(super) fn new(
+        context: &'a ExprContext,
+        functions: &'a RefCell<FunctionTable>,
+        text: &'a str,
+    ) -> Result<Self, ExprError> {
         Ok(Self {
             context,
+            functions,
             text,
             tokens: tokenize(text)?,
             pos: 0,
@@ -379,11 +396,23 @@ impl<'a> Parser<'a> {
             });
         };
         arity(&function.params.len().to_string(), args.len() == function.params.len())?;
-        if scope.stack.contains(&key.as_str()) || scope.stack.len() >= MAX_CALL_DEPTH {
-            return Err(self.error(column, format!("function `{name}` calls itself")));
-        }
-        let body = self.context.parse_body(key, function, &scope.stack)?;
-        Ok(body.substitute(&args))
+        let known = self.functions.borrow().names.iter().position(|n| n == key);
+        let index = match known {
+            Some(index) => index,
+            None => {
+                if scope.stack.contains(&key.as_str()) || scope.stack.len() >= MAX_CALL_DEPTH {
+                    return Err(self.error(column, format!("function `{name}` calls itself")));
+                }
+                let body = self.context.parse_body(key, function, &scope.stack, self.functions)?;
+                let mut table = self.functions.borrow_mut();
+                let cost = body.cost(&table.costs);
+                table.names.push(key.clone());
+                table.bodies.push(body);
+                table.costs.push(cost);
+                table.names.len() - 1
+            }
+        };
+        Ok(Node::call(index, args, &self.functions.borrow().bodies))
     }
 }
 

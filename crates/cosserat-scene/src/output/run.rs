@@ -7,14 +7,16 @@
 //! | `DIR/frames/frame_00000.vtu`, `frame_00001.vtu`, ... | one per [`RunWriter::write_frame`], atomically |
 //! | `DIR/frames/run.pvd` | rewritten atomically after every frame; lists the frames relative to `frames/` |
 //! | `DIR/probes.csv` | header at creation, one row per [`RunWriter::write_probes`] |
-//! | `DIR/summary.json` | at the end, by [`RunWriter::finish`], [`RunWriter::fail`] or [`write_failure_summary`] |
+//! | `DIR/summary.json` | at the end, by [`RunWriter::finish`] (every run that started, whatever its status) or [`write_failure_summary`] (a run that could not start) |
 //!
 //! The collection lives next to the frames so that the frames directory is self-contained: it can be
 //! moved or archived and still opens in ParaView. Frame numbers have five digits and simply grow wider
 //! past 99 999 frames; the `.pvd` keeps the order either way.
 //!
 //! Starting a run removes what an earlier run left in `DIR`: the files above and the temporary files of
-//! interrupted atomic writes. Nothing else in `DIR` is touched.
+//! interrupted atomic writes. Nothing else in `DIR` is touched. A run that ends early (an error, an
+//! interrupt) keeps every frame and probe row written before, and the collection lists exactly the
+//! frames that exist.
 
 use std::fs;
 use std::path::{Path, PathBuf};
@@ -99,19 +101,18 @@ pub fn clear_run_outputs(dir: &Path) -> Result<(), OutputError> {
     remove_run_files(dir, false)
 }
 
-/// Reports a run that failed before or while writing outputs: clears the earlier outputs in `dir`
-/// (see [`clear_run_outputs`]) and writes only `dir/summary.json`. Returns the path of the summary.
+/// Reports a run that could not start (an invalid scene): writes `dir/summary.json` and touches nothing
+/// else. Returns the path of the summary.
 ///
 /// # Errors
 /// [`OutputError::NotAFailure`] if the summary's status is `ok`, the errors of
-/// [`RunSummary::validate`] (nothing is removed then), and I/O errors naming the path.
+/// [`RunSummary::validate`], and I/O errors naming the path.
 pub fn write_failure_summary(dir: &Path, summary: &RunSummary) -> Result<PathBuf, OutputError> {
     if summary.status == RunStatus::Ok {
         return Err(OutputError::NotAFailure);
     }
     summary.validate()?;
     create_dir_all(dir)?;
-    clear_run_outputs(dir)?;
     let path = dir.join(SUMMARY_FILE);
     write_summary(&path, summary)?;
     Ok(path)
@@ -219,8 +220,8 @@ impl RunWriter {
         self.probes.write_row(t, values)
     }
 
-    /// Ends the run: writes `DIR/summary.json` and keeps every frame and probe row written. Use this for
-    /// `ok` and for `interrupted` runs whose outputs so far are valid. Returns the summary's path.
+    /// Ends the run, whatever its status: writes `DIR/summary.json` and keeps every frame and probe row
+    /// written. Returns the summary's path.
     ///
     /// # Errors
     /// The errors of [`write_summary`].
@@ -228,18 +229,6 @@ impl RunWriter {
         let path = self.summary_path();
         write_summary(&path, summary)?;
         Ok(path)
-    }
-
-    /// Ends a failed run: removes the frames, the collection and the probes written so far, and writes
-    /// only `DIR/summary.json` (see [`write_failure_summary`]). Returns the summary's path.
-    ///
-    /// # Errors
-    /// The errors of [`write_failure_summary`].
-    pub fn fail(self, summary: &RunSummary) -> Result<PathBuf, OutputError> {
-        let Self { dir, probes, .. } = self;
-        // Close the probes file before removing it.
-        drop(probes);
-        write_failure_summary(&dir, summary)
     }
 }
 

@@ -48,6 +48,28 @@ impl BoundingBox {
     }
 }
 
+/// The step (or load level) a run failed at, with every attempt made.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FailedStep {
+    /// Time (or load factor) at the start of the step.
+    pub t: f64,
+    /// The attempts in order; each after the first halved the time step (or bisected the load step).
+    pub attempts: Vec<Attempt>,
+    /// Why the step ended without an equilibrium.
+    pub reason: String,
+}
+
+/// One attempt of a failed step.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Attempt {
+    /// Time step of the attempt (load increment for a load level).
+    pub dt: f64,
+    /// Why Newton failed.
+    pub reason: String,
+    /// Newton's residual after each iteration (finite values only).
+    pub residuals: Vec<f64>,
+}
+
 /// Contents of `DIR/summary.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
@@ -89,6 +111,9 @@ pub struct RunSummary {
     pub reason: Option<String>,
     /// Simulation time at which the run stopped (`null` if it stopped before the first step).
     pub stopped_at: Option<f64>,
+    /// The step that failed, with every attempt (`null` unless a step failed).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub failed_step: Option<FailedStep>,
     /// Experiment-specific numbers, e.g. a measured tip deflection.
     pub extra: BTreeMap<String, serde_json::Value>,
 }
@@ -121,6 +146,7 @@ impl RunSummary {
             status,
             reason: Some(reason.into()),
             stopped_at: None,
+            failed_step: None,
             extra: BTreeMap::new(),
         }
     }
@@ -156,13 +182,26 @@ impl RunSummary {
                 });
             }
         }
-        match self.stopped_at {
-            Some(value) if !value.is_finite() => Err(OutputError::NonFiniteSummary {
+        if let Some(value) = self.stopped_at.filter(|v| !v.is_finite()) {
+            return Err(OutputError::NonFiniteSummary {
                 field: "stopped_at".to_owned(),
                 value,
-            }),
-            _ => Ok(()),
+            });
         }
+        if let Some(step) = &self.failed_step {
+            let attempts = step.attempts.iter().enumerate();
+            let numbers = std::iter::once(("failed_step.t".to_owned(), step.t)).chain(attempts.flat_map(|(k, a)| {
+                let residuals = a.residuals.iter().enumerate();
+                std::iter::once((format!("failed_step.attempts[{k}].dt"), a.dt))
+                    .chain(residuals.map(move |(i, r)| (format!("failed_step.attempts[{k}].residuals[{i}]"), *r)))
+            }));
+            for (field, value) in numbers {
+                if !value.is_finite() {
+                    return Err(OutputError::NonFiniteSummary { field, value });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The pretty-printed JSON text; `path` is only used in error messages.

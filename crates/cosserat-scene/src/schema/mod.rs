@@ -268,6 +268,9 @@ pub struct MeshSection {
     pub generator: Option<GeneratorName>,
     /// An OBJ file, relative to the scene file's directory or absolute (exclusive with `generator`).
     pub path: Option<String>,
+    /// OBJ input: merge vertices closer than this distance \[m\] (files split along seams; default: no
+    /// merging, and a warning when vertices coincide).
+    pub weld: Option<f64>,
     /// Displacement element (default `"tri6"`, the paper's).
     pub element: Option<ElementName>,
     /// Rotation element (default `"tri3"`, the paper's).
@@ -547,7 +550,11 @@ pub struct RegionSection {
     pub aabb: Option<BoxSection>,
     /// A boolean expression of `x, y, z`.
     pub predicate: Option<String>,
-    /// Corner vertex indices (0-based, file or generator order).
+    /// Corner vertex indices (0-based, in the OBJ file's order or the generator's). With quadratic
+    /// elements the mid-edge nodes of every edge whose two corners are listed are selected too, so
+    /// the vertices of an edge select the whole edge. The `rectangle` generator numbers its vertices
+    /// column by column: vertex `(i, j)` (`i ≤ nx` along x, `j ≤ ny` along y) is `i·(ny + 1) + j`, so
+    /// the edge `x = −lx/2` is `0..=ny`. Boxes and predicates are usually easier.
     pub nodes: Option<Vec<usize>>,
     /// Boundary loop index.
     pub boundary_loop: Option<usize>,

@@ -23,6 +23,7 @@ mod time;
 
 use crate::error::{ExprError, Location, SceneError};
 use crate::expr::ExprContext;
+use crate::mesh_source::ElementBudget;
 use crate::overrides::{self, Override};
 use crate::schema::{AxisValue, ExprValue, RotationStep, SceneFile};
 use crate::spec::{FieldFunction, SceneSpec, TimeFunction};
@@ -34,19 +35,33 @@ use toml::de::DeTable;
 
 impl SceneSpec {
     /// Reads, parses and checks a scene file. Relative mesh paths are resolved against the file's
-    /// directory; `overrides` are `key=value` strings as given to `--set`.
+    /// directory, those set by `overrides` against the working directory; `overrides` are `key=value`
+    /// strings as given to `--set`.
     ///
     /// # Errors
     /// [`SceneError::ReadScene`] if the file cannot be read; otherwise as [`SceneSpec::from_str`],
     /// with the file's path in every location.
     pub fn from_file(path: impl AsRef<Path>, overrides: &[String]) -> Result<SceneSpec, SceneError> {
+        Self::from_file_within(path, overrides, &ElementBudget::default())
+    }
+
+    /// [`SceneSpec::from_file`] with a limit on the size of every mesh, checked before it is built
+    /// (a caller that knows the memory at hand passes what fits into it).
+    ///
+    /// # Errors
+    /// As [`SceneSpec::from_file`].
+    pub fn from_file_within(
+        path: impl AsRef<Path>,
+        overrides: &[String],
+        budget: &ElementBudget,
+    ) -> Result<SceneSpec, SceneError> {
         let path = path.as_ref();
         let text = std::fs::read_to_string(path).map_err(|source| SceneError::ReadScene {
             path: path.to_path_buf(),
             source,
         })?;
         let base_dir = path.parent().unwrap_or_else(|| Path::new("."));
-        let mut spec = Self::from_str(&text, &path.display().to_string(), base_dir, overrides)?;
+        let mut spec = Self::parse(&text, &path.display().to_string(), base_dir, overrides, budget)?;
         spec.source = Some(path.to_path_buf());
         Ok(spec)
     }
@@ -102,6 +117,16 @@ impl SceneSpec {
         base_dir: &Path,
         overrides: &[String],
     ) -> Result<SceneSpec, SceneError> {
+        Self::parse(text, source_name, base_dir, overrides, &ElementBudget::default())
+    }
+
+    fn parse(
+        text: &str,
+        source_name: &str,
+        base_dir: &Path,
+        overrides: &[String],
+        budget: &ElementBudget,
+    ) -> Result<SceneSpec, SceneError> {
         let overrides: Vec<Override> = overrides.iter().map(|o| Override::parse(o)).collect::<Result<_, _>>()?;
         let document = DeTable::parse(text).map_err(|e| {
             let line = e.span().map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
@@ -140,6 +165,7 @@ impl SceneSpec {
         let mut ctx = Ctx {
             source,
             base_dir,
+            budget,
             exprs: ExprContext::new(),
             sample_times: Vec::new(),
         };
@@ -151,6 +177,8 @@ impl SceneSpec {
 pub(crate) struct Ctx<'a> {
     source: Source<'a>,
     base_dir: &'a Path,
+    /// The largest mesh to build.
+    budget: &'a ElementBudget,
     exprs: ExprContext,
     /// Times at which scripted functions are checked for finite values.
     sample_times: Vec<f64>,
@@ -158,8 +186,16 @@ pub(crate) struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn scene(&mut self, file: SceneFile) -> Result<SceneSpec, SceneError> {
-        if file.name.trim().is_empty() {
-            return Err(self.invalid("name", "must not be empty"));
+        let safe = |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.');
+        if file.name.is_empty() || file.name.len() > 100 || file.name.starts_with('.') || !file.name.chars().all(safe) {
+            return Err(self.invalid(
+                "name",
+                format!(
+                    "`{}` is not a usable name: the name becomes the output folder `out/<name>`, so use 1 to 100 \
+                     letters, digits, `_`, `-` and `.`, not starting with `.`",
+                    file.name
+                ),
+            ));
         }
         if let Some(functions) = &file.functions {
             for (name, f) in functions {
@@ -196,9 +232,11 @@ impl Ctx<'_> {
                 contact: contact.as_ref(),
             },
         )?;
+        let warnings = shells.iter().flat_map(|s| s.warnings.iter().cloned()).collect();
         Ok(SceneSpec {
             name: file.name,
             source: None,
+            warnings,
             shells: shells.into_iter().map(|s| s.spec).collect(),
             time,
             solver,
@@ -214,6 +252,18 @@ impl Ctx<'_> {
 
     fn location(&self, field: &str) -> Location {
         self.source.location(field)
+    }
+
+    /// A file path given at `field`: relative paths in the scene file are relative to the file's
+    /// folder; those given by a `--set` override are relative to the working directory, like every
+    /// other path typed on the command line.
+    fn resolve_path(&self, field: &str, path: &str) -> std::path::PathBuf {
+        let path = Path::new(path);
+        if path.is_absolute() || matches!(self.location(field), Location::Override { .. }) {
+            path.to_path_buf()
+        } else {
+            self.base_dir.join(path)
+        }
     }
 
     fn invalid(&self, field: &str, reason: impl Into<String>) -> SceneError {

@@ -5,7 +5,7 @@ use super::Ctx;
 use crate::error::{MeshSourceError, SceneError};
 use crate::grid::PlanarGrid;
 use crate::mesh_source::{
-    Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh,
+    Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh_within,
 };
 use crate::region::ShellNodes;
 use crate::schema::{
@@ -34,6 +34,8 @@ pub(crate) struct ValidShell {
     pub nodes: ShellNodes,
     /// Points at which rest fields are checked: displacement nodes and element centroids.
     pub sample_points: Vec<Vector3<f64>>,
+    /// What the mesh input does that is allowed but probably not meant.
+    pub warnings: Vec<String>,
 }
 
 impl Ctx<'_> {
@@ -129,7 +131,7 @@ impl Ctx<'_> {
             }
         };
         let recipe = self.recipe(&m, mesh, pair)?;
-        let mut built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(&m, e))?;
+        let mut built = build_mesh_within(&recipe, self.budget).map_err(|e| self.mesh_source_error(&m, e))?;
         if let Some(d) = &mesh.displace {
             self.displace(&m, d, &mut built.mesh)?;
             built.initial_positions = recipe.initial.map(|motion| {
@@ -142,6 +144,17 @@ impl Ctx<'_> {
         }
         let quadrature = match mesh.quadrature_degree {
             None => None,
+            Some(d) if d < pair.min_quadrature_degree() => {
+                return Err(self.invalid(
+                    &format!("{m}.quadrature_degree"),
+                    format!(
+                        "a rule of degree {d} leaves zero-energy modes in {:?} elements (they deform without \
+                         resistance); use at least degree {} or leave the key out for the default",
+                        pair.displacement(),
+                        pair.min_quadrature_degree()
+                    ),
+                ));
+            }
             Some(d) => Some(QuadratureRule::for_degree(d).ok_or_else(|| {
                 self.invalid(
                     &format!("{m}.quadrature_degree"),
@@ -184,6 +197,7 @@ impl Ctx<'_> {
             },
             nodes,
             sample_points,
+            warnings: built.warnings,
         })
     }
 
@@ -246,7 +260,7 @@ impl Ctx<'_> {
             ));
         }
         let recipe = self.recipe(m, mesh, ElementPair::Tri3Tri3)?;
-        let mut built = build_mesh(&recipe).map_err(|e| self.mesh_source_error(m, e))?;
+        let mut built = build_mesh_within(&recipe, self.budget).map_err(|e| self.mesh_source_error(m, e))?;
         if let Some(d) = &mesh.displace {
             self.displace(m, d, &mut built.mesh)?;
         }
@@ -307,12 +321,7 @@ impl Ctx<'_> {
                 if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
                     return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
                 }
-                let path = std::path::Path::new(path);
-                MeshSource::Obj(if path.is_absolute() {
-                    path.to_path_buf()
-                } else {
-                    self.base_dir.join(path)
-                })
+                MeshSource::Obj(self.resolve_path(&format!("{m}.path"), path))
             }
             (Some(generator), None) => MeshSource::Generator(self.generator(m, generator, mesh, &given)?),
         };
@@ -383,10 +392,16 @@ impl Ctx<'_> {
                 })
             }
         };
+        let weld = match (mesh.weld, &mesh.path) {
+            (None, _) => None,
+            (Some(_), None) => return Err(self.invalid(&format!("{m}.weld"), "only used with an OBJ `path`")),
+            (Some(d), Some(_)) => Some(self.positive(&format!("{m}.weld"), d)?),
+        };
         Ok(MeshRecipe {
             source,
             pair,
             refine,
+            weld,
             project_to_sphere,
             flatten_cap,
             transform,
@@ -446,13 +461,11 @@ impl Ctx<'_> {
                 nx: n(mesh.nx),
                 ny: n(mesh.ny),
             },
-            GeneratorName::Disk => Generator::Annulus(AnnulusSettings {
-                inner_radius: 0.0,
-                outer_radius: f(mesh.radius),
+            GeneratorName::Disk => Generator::Disk {
+                radius: f(mesh.radius),
                 n_radial: n(mesh.n_radial),
                 n_angular: n(mesh.n_angular),
-                slit: false,
-            }),
+            },
             GeneratorName::Annulus => Generator::Annulus(AnnulusSettings {
                 inner_radius: f(mesh.inner_radius),
                 outer_radius: f(mesh.radius),
@@ -485,11 +498,12 @@ impl Ctx<'_> {
                 n_lon: n(mesh.n_lon),
                 n_lat: n(mesh.n_lat),
                 polar_hole: match mesh.polar_hole_degrees {
-                    Some(d) if d.is_finite() => Some(d.to_radians()),
+                    Some(d) if (0.0..90.0).contains(&d) => Some(d.to_radians()),
                     Some(d) => {
-                        return Err(
-                            self.invalid(&format!("{m}.polar_hole_degrees"), format!("must be finite (got {d})"))
-                        );
+                        return Err(self.invalid(
+                            &format!("{m}.polar_hole_degrees"),
+                            format!("must lie in [0, 90): the polar angle of the hole's rim in degrees (got {d})"),
+                        ));
                     }
                     None => None,
                 },

@@ -18,6 +18,12 @@ const N_SAMPLE_TIMES: usize = 200;
 /// Highest allowed frame subdivision level (each level multiplies the output triangles by 4).
 const MAX_SUBDIVISION: usize = 4;
 
+/// The most load levels of a quasi-static run (each is a Newton solve and an output).
+const MAX_LEVELS: usize = 100_000;
+
+/// The most time steps a dynamic run may ask for (`end / dt`): far beyond any run that finishes.
+const MAX_STEPS: f64 = 1e9;
+
 impl Ctx<'_> {
     pub(super) fn time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
         match time.mode.unwrap_or(TimeMode::Dynamic) {
@@ -33,6 +39,15 @@ impl Ctx<'_> {
                 if !(end.is_finite() && end >= 0.0) {
                     return Err(self.invalid("time.end", format!("must be finite and non-negative (got {end})")));
                 }
+                if end / dt > MAX_STEPS {
+                    return Err(self.invalid(
+                        "time.dt",
+                        format!(
+                            "end / dt = {:.3e} steps is more than the limit of {MAX_STEPS:e}",
+                            end / dt
+                        ),
+                    ));
+                }
                 let output_interval = match (time.output_fps, time.output_interval) {
                     (Some(_), Some(_)) => {
                         return Err(self.invalid(
@@ -44,6 +59,24 @@ impl Ctx<'_> {
                     (None, Some(interval)) => self.positive("time.output_interval", interval)?,
                     (None, None) => 1.0 / DEFAULT_OUTPUT_FPS,
                 };
+                // The run's times go up to end + dt; an interval that vanishes next to them cannot
+                // advance the output schedule.
+                let latest = end + dt;
+                if latest + output_interval == latest {
+                    let field = if time.output_fps.is_some() {
+                        "time.output_fps"
+                    } else {
+                        "time.output_interval"
+                    };
+                    return Err(self.invalid(
+                        field,
+                        format!(
+                            "an output interval of {output_interval:e} s is below the resolution of the run's times \
+                             (up to {latest} s); frames are written at most once per step, so an interval of \
+                             time.dt = {dt} s already writes every step"
+                        ),
+                    ));
+                }
                 // Scripts are evaluated at tⁿ or tⁿ + Δt, and the last step may pass the end by up to Δt.
                 let last = end + dt;
                 self.sample_times = (0..=N_SAMPLE_TIMES).map(|k| last * k as f64 / N_SAMPLE_TIMES as f64).collect();
@@ -77,6 +110,9 @@ impl Ctx<'_> {
                         return Err(self.invalid("time", "quasi-static mode needs `levels` or `n_levels`"));
                     }
                     (None, Some(0)) => return Err(self.invalid("time.n_levels", "must be at least 1")),
+                    (None, Some(n)) if n > MAX_LEVELS => {
+                        return Err(self.invalid("time.n_levels", format!("must be at most {MAX_LEVELS} (got {n})")));
+                    }
                     (None, Some(n)) => (1..=n).map(|k| k as f64 / n as f64).collect(),
                     (Some(levels), None) => {
                         let valid = !levels.is_empty()

@@ -118,21 +118,31 @@ fn frame_times_must_increase_and_bad_frames_are_not_listed() {
 }
 
 #[test]
-fn a_failed_run_leaves_only_its_summary() {
+fn a_failed_run_keeps_its_frames_and_probes() {
     let dir = test_dir("run_fail");
     let mut writer = RunWriter::create(&dir, &["tip.ux"]).expect("create");
-    writer.write_frame(&frame(0.0)).expect("frame");
-    writer.write_probes(0.0, &[0.0]).expect("probes");
+    for (k, t) in [0.0, 0.1, 0.2].into_iter().enumerate() {
+        writer.write_frame(&frame(t)).expect("frame");
+        writer.write_probes(t, &[k as f64]).expect("probes");
+    }
     let summary = RunSummary::failed("demo", RunStatus::Error, "Newton did not converge at t = 0.25");
-    let path = writer.fail(&summary).expect("fail");
-    assert_eq!(entries(&dir), [SUMMARY_FILE]);
+    let path = writer.finish(&summary).expect("finish");
+    assert_eq!(entries(&dir), [FRAMES_DIR, PROBES_FILE, SUMMARY_FILE]);
+    assert_eq!(
+        entries(&dir.join(FRAMES_DIR)),
+        ["frame_00000.vtu", "frame_00001.vtu", "frame_00002.vtu", PVD_FILE]
+    );
+    let listed = cosserat_scene::output::read_pvd(&dir.join(FRAMES_DIR).join(PVD_FILE)).expect("pvd");
+    assert_eq!(listed.len(), 3);
+    let probes = std::fs::read_to_string(dir.join(PROBES_FILE)).expect("probes");
+    assert_eq!(probes.lines().count(), 4, "header and three rows: {probes}");
     let read = read_summary(&path).expect("summary");
     assert_eq!(read.status, RunStatus::Error);
     assert_eq!(read.reason.as_deref(), Some("Newton did not converge at t = 0.25"));
 }
 
 #[test]
-fn failure_summary_helper_clears_and_refuses_ok() {
+fn failure_summary_helper_touches_nothing_else_and_refuses_ok() {
     let dir = test_dir("run_failure_helper");
     let mut writer = RunWriter::create(&dir, &["tip.ux"]).expect("create");
     writer.write_frame(&frame(0.0)).expect("frame");
@@ -140,11 +150,11 @@ fn failure_summary_helper_clears_and_refuses_ok() {
 
     let error = write_failure_summary(&dir, &ok_summary()).expect_err("status ok");
     assert!(matches!(error, OutputError::NotAFailure), "{error:?}");
-    assert_eq!(entries(&dir), [FRAMES_DIR, PROBES_FILE], "nothing removed on refusal");
+    assert_eq!(entries(&dir), [FRAMES_DIR, PROBES_FILE], "nothing written on refusal");
 
     let summary = RunSummary::failed("demo", RunStatus::Interrupted, "stopped by the user");
     write_failure_summary(&dir, &summary).expect("failure summary");
-    assert_eq!(entries(&dir), [SUMMARY_FILE]);
+    assert_eq!(entries(&dir), [FRAMES_DIR, PROBES_FILE, SUMMARY_FILE]);
 
     let fresh = dir.join("never_started");
     write_failure_summary(

@@ -29,6 +29,7 @@ fn sample_summary() -> RunSummary {
         assembly_share: 0.625,
         linear_solve_share: 0.25,
         n_step_reductions: 2,
+        failed_step: None,
         rest_bbox: BoundingBox {
             min: [0.0, -0.5, 0.0],
             max: [10.0, 0.5, 1e-17],

@@ -144,11 +144,16 @@ fn time_values_are_checked() {
 }
 
 #[test]
-fn a_poisson_ratio_of_one_half_is_rejected() {
+fn poisson_ratios_at_either_bound_are_rejected_for_that_bound() {
     assert_eq!(
         message(&[("poisson_ratio = 0.3", "poisson_ratio = 0.5")], &[]),
-        "scene.toml:19: material.poisson_ratio: must lie in (-1, 0.5); 0.5 would make the Lamé parameter λ \
-         infinite (got 0.5)"
+        "scene.toml:19: material.poisson_ratio: must be below 0.5; 0.5 would make the Lamé parameter \
+         λ = Eν/((1 + ν)(1 − 2ν)) infinite (got 0.5)"
+    );
+    assert_eq!(
+        message(&[("poisson_ratio = 0.3", "poisson_ratio = -1.0")], &[]),
+        "scene.toml:19: material.poisson_ratio: must be above −1; −1 would make the shear modulus \
+         μ = E/(2(1 + ν)) infinite (got -1)"
     );
 }
 
@@ -348,5 +353,99 @@ fn errors_inside_arrays_of_inline_tables_point_at_their_line() {
         err,
         "scene.toml:37: rest_field.0.curvature.1.row: rows and columns are numbered 1 to 3, as in the paper's Γ_ij \
          (got 4)"
+    );
+}
+
+#[test]
+fn sizes_that_exhaust_memory_are_refused_against_the_field_that_sets_them() {
+    assert_eq!(
+        message(&[], &["mesh.nx=100000000"]),
+        "override `mesh.nx=100000000`: mesh.nx: the generator would make 400000000 triangles, more than the \
+         limit of 10000000 (the largest mesh the simulator builds)"
+    );
+    let sphere = [(MESH, "generator = \"icosphere\"\nradius = 1.0\nlevel = 12\n\n\n")];
+    assert_eq!(
+        message(&sphere, &[]),
+        "scene.toml:10: mesh.level: the generator would make 335544320 triangles, more than the limit of \
+         10000000 (the largest mesh the simulator builds)"
+    );
+    assert_eq!(
+        message(&[], &["mesh.refine=8", "mesh.nx=100"]),
+        "override `mesh.refine=8`: mesh.refine: the mesh would have 26214400 elements, more than the limit of \
+         10000000 (the largest mesh the simulator builds)"
+    );
+    let quasi_static = [(
+        "dt = 0.01\nend = 1.0",
+        "mode = \"quasi_static\"\nn_levels = 1000000000000",
+    )];
+    assert_eq!(
+        message(&quasi_static, &[]),
+        "scene.toml:5: time.n_levels: must be at most 100000 (got 1000000000000)"
+    );
+    assert!(message(&[], &["time.dt=1e-12"]).starts_with("override `time.dt=1e-12`: time.dt: end / dt = 1.000e12"));
+}
+
+#[test]
+fn an_output_interval_that_cannot_advance_is_refused() {
+    let err = message(&[], &["time.output_fps=1e300"]);
+    assert!(
+        err.starts_with("override `time.output_fps=1e300`: time.output_fps: an output interval of 1e-300 s is below"),
+        "{err}"
+    );
+    // Shorter than a step is fine: a frame every step.
+    load(&scene(&[]), &["time.output_fps=1e6"]).unwrap();
+}
+
+#[test]
+fn quadrature_rules_with_zero_energy_modes_are_refused() {
+    assert_eq!(
+        message(&[], &["mesh.quadrature_degree=1"]),
+        "override `mesh.quadrature_degree=1`: mesh.quadrature_degree: a rule of degree 1 leaves zero-energy modes \
+         in Tri6 elements (they deform without resistance); use at least degree 2 or leave the key out for the \
+         default"
+    );
+    assert!(message(&[], &["mesh.quadrature_degree=0"]).contains("a rule of degree 0 leaves zero-energy modes"));
+    load(&scene(&[]), &["mesh.quadrature_degree=2"]).unwrap();
+    load(&scene(&[]), &["mesh.quadrature_degree=1", "mesh.element=tri3"]).unwrap();
+}
+
+#[test]
+fn scene_names_are_safe_folder_names() {
+    for bad in ["../../x", "/tmp/x", ".hidden", "a b", ""] {
+        let err = message(&[("name = \"base\"", &format!("name = \"{bad}\""))], &[]);
+        assert!(
+            err.starts_with(&format!("scene.toml:1: name: `{bad}` is not a usable name")),
+            "{err}"
+        );
+    }
+    load(&scene(&[("name = \"base\"", "name = \"plate_tri6.v2-a\"")]), &[]).unwrap();
+}
+
+#[test]
+fn generator_errors_name_the_generator_and_field() {
+    let disk = [(
+        MESH,
+        "generator = \"disk\"\nradius = 1.0\nn_radial = 0\nn_angular = 8\n\n",
+    )];
+    assert_eq!(
+        message(&disk, &[]),
+        "scene.toml:10: mesh.n_radial: disk: parameter `n_radial` = 0 is invalid: must be at least 1"
+    );
+    let hole = |degrees: &str| {
+        let body = format!(
+            "generator = \"hemisphere\"\nradius = 10.0\nn_lon = 16\nn_lat = 8\npolar_hole_degrees = {degrees}\n"
+        );
+        message(&[(MESH, &body)], &[])
+    };
+    assert_eq!(
+        hole("95.0"),
+        "scene.toml:12: mesh.polar_hole_degrees: must lie in [0, 90): the polar angle of the hole's rim in degrees \
+         (got 95)"
+    );
+    let err = hole("89.0");
+    assert!(
+        err.starts_with("scene.toml:12: mesh.polar_hole_degrees: hemisphere: parameter `polar_hole_degrees` = 89")
+            && err.contains("leaves no face"),
+        "{err}"
     );
 }

@@ -185,3 +185,40 @@ fn pathological_nesting_is_an_error_not_a_stack_overflow() {
     let fifty = format!("{}t{}", "(".repeat(50), ")".repeat(50));
     assert_eq!(ExprContext::new().compile(&fifty, &["t"]).unwrap().eval(&[2.0]), 2.0);
 }
+
+#[test]
+fn helpers_that_call_each_other_are_called_not_copied() {
+    // f0(u) = u + 1 and f_k(u) = f_{k-1}(u) + f_{k-1}(2u): copied into one another, the formula of f_k
+    // would double with every k; called, each body is parsed once. f_k(u) = 2^k u + Σ… is checked
+    // against the recursion evaluated here.
+    fn reference(k: usize, u: f64) -> f64 {
+        if k == 0 {
+            u + 1.0
+        } else {
+            reference(k - 1, u) + reference(k - 1, 2.0 * u)
+        }
+    }
+    let mut ctx = ExprContext::new();
+    ctx.define("f0", &["u".into()], "u + 1").unwrap();
+    for k in 1..=12 {
+        let body = format!("f{}(u) + f{}(2*u)", k - 1, k - 1);
+        ctx.define(&format!("f{k}"), &["u".into()], &body).unwrap();
+    }
+    let f6 = ctx.compile("f6(t)", &["t"]).unwrap();
+    for t in [0.0, 0.5, -3.0] {
+        assert_eq!(f6.eval(&[t]), reference(6, t));
+    }
+    // Twelve levels take 2^12 calls per evaluation: allowed. A chain whose evaluation would pass the
+    // limit of operations is refused when it is compiled, naming the cost.
+    assert_eq!(ctx.compile("f12(t)", &["t"]).unwrap().eval(&[1.0]), reference(12, 1.0));
+    for k in 13..=20 {
+        let body = format!("f{}(u) + f{}(2*u)", k - 1, k - 1);
+        ctx.define(&format!("f{k}"), &["u".into()], &body).unwrap();
+    }
+    let err = ctx.compile("f20(t)", &["t"]).unwrap_err().to_string();
+    assert!(
+        err.contains("one evaluation would take") && err.contains("more than the limit of 100000"),
+        "{err}"
+    );
+    assert!(ctx.check_functions().is_err(), "the costly definition is reported too");
+}

@@ -76,6 +76,7 @@ fn every_scene_parses_and_validates() {
             SceneSpec::from_file(path, &[]).unwrap_or_else(|e| panic!("{} does not validate: {e}", path.display()));
         assert!(!spec.shells.is_empty());
         assert_eq!(spec.source.as_deref(), Some(path.as_path()));
+        assert!(spec.warnings.is_empty(), "{}: {:?}", path.display(), spec.warnings);
     }
 }
 

@@ -14,6 +14,7 @@ fn recipe(source: MeshSource, pair: ElementPair) -> MeshRecipe {
         source,
         pair,
         refine: 0,
+        weld: None,
         project_to_sphere: None,
         flatten_cap: None,
         transform: None,
@@ -244,7 +245,7 @@ fn impossible_steps_are_errors() {
     };
     assert!(huge.element_count() > MAX_ELEMENTS);
     let err = build_mesh(&recipe(MeshSource::Generator(huge), ElementPair::Tri3Tri3)).unwrap_err();
-    assert!(matches!(err, MeshSourceError::Invalid { step: "refine", .. }));
+    assert!(matches!(err, MeshSourceError::Invalid { step: "nx", .. }), "{err:?}");
     let mut r = recipe(fixture("octahedron.obj"), ElementPair::Tri3Tri3);
     r.refine = 12; // 8 · 4¹² ≈ 1.3e8 triangles
     assert!(matches!(

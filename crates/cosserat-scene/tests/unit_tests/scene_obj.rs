@@ -118,3 +118,73 @@ fn malformed_statements_are_rejected_with_their_line() {
     }
     assert!(matches!(parse_obj("v 0 0 0\n", path), Err(ObjError::Empty { .. })));
 }
+
+/// Two unit squares side by side, written as two pieces: the shared edge's vertices appear twice.
+const SPLIT: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nv 2 1 0\n\
+                     f 1 2 3\nf 1 3 4\nf 5 7 8\nf 5 8 6\n";
+
+#[test]
+fn coincident_vertices_are_reported_and_can_be_welded() {
+    let path = Path::new("split.obj");
+    let obj = parse_obj(SPLIT, path).unwrap();
+    let warnings = obj.warnings(path);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].starts_with("`split.obj`: 2 vertices lie exactly on earlier ones (first: line 5 on line 2)"),
+        "{}",
+        warnings[0]
+    );
+    let (welded, merged) = obj.welded(1e-9, path).unwrap();
+    assert_eq!(merged, 2);
+    assert_eq!(welded.mesh.n_nodes(), 6);
+    assert_eq!(welded.mesh.elements, [[0, 1, 2], [0, 2, 3], [1, 4, 5], [1, 5, 2]]);
+    assert_eq!(welded.vertex_lines, [1, 2, 3, 4, 7, 8]);
+    assert!(welded.warnings(path).is_empty());
+    // A tolerance that merges the corners of a face is an error on that face's line.
+    let err = obj.welded(1.5, path).unwrap_err();
+    assert!(matches!(err, ObjError::DegenerateFace { line: 9, .. }), "{err:?}");
+}
+
+#[test]
+fn bowtie_vertices_are_reported() {
+    let path = Path::new("bowtie.obj");
+    let bowtie = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv -1 0 0\nv 0 -1 0\nf 1 2 3\nf 1 4 5\n";
+    let warnings = parse_obj(bowtie, path).unwrap().warnings(path);
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("1 vertices join faces that share no edge there (first: line 1)"),
+        "{}",
+        warnings[0]
+    );
+    // A fan around a vertex is no bowtie.
+    assert!(
+        parse_obj(SPLIT, path)
+            .unwrap()
+            .welded(1e-9, path)
+            .unwrap()
+            .0
+            .warnings(path)
+            .is_empty()
+    );
+}
+
+#[test]
+fn a_scene_welds_when_asked_and_warns_when_not() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("obj_weld");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("split.obj"), SPLIT).unwrap();
+    let scene = |weld: &str| {
+        format!(
+            "name = \"w\"\n[time]\ndt = 0.01\nend = 0.1\n[mesh]\npath = \"split.obj\"\n{weld}\n[material]\nmodel = \"plate\"\n\
+             thickness = 1e-3\nyoungs_modulus = 1e6\npoisson_ratio = 0.3\ndensity = 1000.0\nlength_scale = 1e-4\n"
+        )
+    };
+    let spec = cosserat_scene::spec::SceneSpec::from_str(&scene(""), "w.toml", &dir, &[]).unwrap();
+    assert_eq!(spec.warnings.len(), 1);
+    assert_eq!(spec.shells[0].mesh.corners.n_nodes(), 8);
+    let spec = cosserat_scene::spec::SceneSpec::from_str(&scene("weld = 1e-6"), "w.toml", &dir, &[]).unwrap();
+    assert!(spec.warnings.is_empty(), "{:?}", spec.warnings);
+    assert_eq!(spec.shells[0].mesh.corners.n_nodes(), 6);
+    let err = cosserat_scene::spec::SceneSpec::from_str(&scene("weld = -1.0"), "w.toml", &dir, &[]).unwrap_err();
+    assert_eq!(err.to_string(), "w.toml:7: mesh.weld: must be positive (got -1)");
+}

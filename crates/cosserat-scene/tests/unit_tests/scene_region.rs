@@ -186,6 +186,37 @@ fn vertex_lists_and_all() {
 }
 
 #[test]
+fn listed_vertices_of_an_edge_select_its_mid_edge_nodes() {
+    // The left edge x = −2: vertices 0, 1, 2 (column by column) and, with Tri6, the two mid-edge
+    // nodes between them, all at x = −2; the edge's own rotation nodes are the three vertices.
+    for pair in [ElementPair::Tri6Tri3, ElementPair::Tri6Tri6] {
+        let nodes = grid(pair);
+        let s = Region::Vertices(vec![2, 0, 1]).select(&nodes).unwrap();
+        assert_eq!(s.disp_nodes.len(), 5, "{pair:?}");
+        assert!(
+            s.disp_nodes.iter().all(|&i| nodes.disp_positions()[i].x == -2.0),
+            "{pair:?}"
+        );
+        let expected_rot = if pair == ElementPair::Tri6Tri6 { 5 } else { 3 };
+        assert_eq!(s.rot_nodes.len(), expected_rot, "{pair:?}");
+        assert!(
+            s.rot_nodes.iter().all(|&k| nodes.rot_positions()[k].x == -2.0),
+            "{pair:?}"
+        );
+        // The same edge by a predicate: the same nodes.
+        let ctx = ExprContext::new();
+        let by_predicate = Region::Predicate(ctx.predicate("x <= -2 + 1e-9").unwrap())
+            .select(&nodes)
+            .unwrap();
+        assert_eq!(by_predicate, s, "{pair:?}");
+    }
+    // Two vertices that share no edge select no mid-edge node.
+    let nodes = grid(ElementPair::Tri6Tri3);
+    let s = Region::Vertices(vec![0, 2]).select(&nodes).unwrap();
+    assert_eq!(s.disp_nodes.len(), 2);
+}
+
+#[test]
 fn line_loads_count_the_boundary_edges_inside_a_selection() {
     let nodes = grid(ElementPair::Tri3Tri3);
     // The right edge x = 2: vertices 12, 13, 14 and its two boundary edges.

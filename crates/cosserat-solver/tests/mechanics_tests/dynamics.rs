@@ -216,9 +216,9 @@ fn a_failed_step_is_retried_with_half_the_time_step_and_then_stops_with_a_diagno
     settings.max_reductions = 3;
     let mut stepper = TimeStepper::new(&sys.potential, settings).unwrap();
     let err = stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap_err();
-    assert_eq!(err.attempts.len(), 4);
+    assert_eq!(err.attempts().len(), 4);
     assert_eq!(
-        err.attempts.iter().map(|a| a.dt).collect::<Vec<_>>(),
+        err.attempts().iter().map(|a| a.dt).collect::<Vec<_>>(),
         [0.04, 0.02, 0.01, 0.005]
     );
     assert!(

@@ -46,7 +46,6 @@ fn linear_displacements_on_elements_longer_than_the_thickness_are_flagged() {
 
 #[test]
 fn an_element_turned_inside_out_is_reported_in_the_summary() {
-    use std::sync::atomic::AtomicBool;
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/validation/stability_strip.toml");
     let overrides = vec!["time.end=0".to_string(), "output.frames=false".to_string()];
     let run = |mirror: bool| {
@@ -59,7 +58,7 @@ fn an_element_turned_inside_out_is_reported_in_the_summary() {
             }
         }
         let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("inverted_{mirror}"));
-        sim.run(&dir, &mut |_| {}, &AtomicBool::new(false))
+        sim.run(&dir, &mut |_| {}, &cosserat::StopRequest::new())
             .expect("the run writes its outputs")
     };
     let warnings = |s: &cosserat::scene::output::RunSummary| s.extra.get("warnings").cloned();

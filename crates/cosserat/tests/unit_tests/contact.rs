@@ -361,11 +361,7 @@ fn a_scene_without_contact_builds_and_reports_no_contact() {
     assert!(sim.system().potential.parts.extra.is_empty());
     assert!(sim.contact_forces().unwrap().is_none());
     let summary = sim
-        .run(
-            &run_dir("no_contact"),
-            &mut |_| {},
-            &std::sync::atomic::AtomicBool::new(false),
-        )
+        .run(&run_dir("no_contact"), &mut |_| {}, &cosserat::StopRequest::new())
         .unwrap();
     assert!(!summary.extra.contains_key("contact"));
     assert!(!summary.active_terms.iter().any(|t| t.starts_with("contact")));
@@ -405,7 +401,7 @@ motion = {{ translate = ["t", 0.0, 0.0], rotate = {{ axis = "z", center = [0.0, 
     );
     let mut sim = load(&plain_plate(0.0, 0.1, &contact));
     let dir = run_dir("kinematic");
-    let summary = sim.run(&dir, &mut |_| {}, &std::sync::atomic::AtomicBool::new(false)).unwrap();
+    let summary = sim.run(&dir, &mut |_| {}, &cosserat::StopRequest::new()).unwrap();
     assert_eq!(summary.extra["max_obstacle_lag"].as_f64(), Some(0.0));
     let frame = cosserat::scene::output::read_vtu(&dir.join("frames").join("frame_00010.vtu")).unwrap();
     assert!((frame.time - 0.1).abs() < 1e-12);

@@ -1,10 +1,9 @@
 //! Runs of small scenes through the facade and the CLI.
 
-use cosserat::Simulation;
 use cosserat::cli::{RunArgs, run_scene};
 use cosserat::scene::output::{RunStatus, read_pvd, read_summary, read_vtu};
+use cosserat::{Simulation, StopReason, StopRequest};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 const STRIP: &str = r#"
 name = "strip"
@@ -74,6 +73,7 @@ fn args(scene: PathBuf, out: PathBuf, overrides: &[&str]) -> RunArgs {
         overrides: overrides.iter().map(|s| s.to_string()).collect(),
         threads: Some(1),
         quiet: true,
+        max_memory: None,
     }
 }
 
@@ -139,22 +139,129 @@ fn invalid_input_leaves_only_a_summary_with_the_reason() {
 }
 
 #[test]
-fn a_newton_failure_stops_the_run_and_leaves_only_the_diagnostic() {
+fn a_newton_failure_stops_the_run_and_reports_every_attempt() {
     let d = dir("newton_failure");
     let scene = write_scene(&d, STRIP);
     let out = d.join("out");
-    // An unreachable tolerance with one iteration and no step reduction allowed.
+    // An unreachable tolerance with one iteration and one step reduction allowed.
     let overrides = [
         "solver.tolerance=1e-300",
         "solver.max_newton_iterations=1",
-        "solver.max_step_reductions=0",
+        "solver.max_step_reductions=1",
     ];
     assert_eq!(run_scene(&args(scene, out.clone(), &overrides)).unwrap(), 1);
-    assert_eq!(files(&out), ["summary.json"]);
+    // The initial state is a complete output: it stays.
+    assert_eq!(files(&out), ["frames", "probes.csv", "summary.json"]);
+    assert_eq!(read_pvd(&out.join("frames").join("run.pvd")).unwrap().len(), 1);
     let summary = read_summary(&out.join("summary.json")).unwrap();
     assert_eq!(summary.status, RunStatus::Error);
     assert_eq!(summary.stopped_at, Some(0.0));
-    assert!(summary.reason.unwrap().contains("failed"));
+    assert!(summary.reason.unwrap().contains("failed after 2 attempt(s)"));
+    assert_eq!(summary.n_step_reductions, 2);
+    let failed = summary.failed_step.expect("the failed step is recorded");
+    assert_eq!(failed.t, 0.0);
+    let dts: Vec<f64> = failed.attempts.iter().map(|a| a.dt).collect();
+    assert_eq!(dts, [0.01, 0.005]);
+    for a in &failed.attempts {
+        // The residual before and after the one allowed iteration.
+        assert_eq!(a.residuals.len(), 2, "{a:?}");
+        assert!(
+            a.reason.contains("no convergence in 1 Newton iterations"),
+            "{}",
+            a.reason
+        );
+    }
+}
+
+#[test]
+fn a_run_that_fails_later_keeps_every_complete_step() {
+    let d = dir("late_failure");
+    // A load that jumps to a value eight Newton iterations cannot follow, for the steps from t = 0.05 on
+    // (loads take their value at the start of a step).
+    let scene = write_scene(
+        &d,
+        &STRIP.replace(
+            "scale = \"ramp(t, 0, 0.05)\"",
+            "scale = \"ramp(t, 0, 0.05) + 1e7*(t > 0.045)\"",
+        ),
+    );
+    let out = d.join("out");
+    let overrides = ["solver.max_newton_iterations=8", "solver.max_step_reductions=0"];
+    assert_eq!(run_scene(&args(scene, out.clone(), &overrides)).unwrap(), 1);
+    let summary = read_summary(&out.join("summary.json")).unwrap();
+    assert_eq!(summary.status, RunStatus::Error);
+    assert_eq!(summary.n_steps, 5, "the steps before the jump converged");
+    assert!((summary.stopped_at.unwrap() - 0.05).abs() < 1e-12);
+    // Outputs at t = 0, 0.02, 0.04: every one a complete frame, listed once in the collection.
+    let frames = read_pvd(&out.join("frames").join("run.pvd")).unwrap();
+    assert_eq!(frames.iter().map(|f| f.time).collect::<Vec<_>>(), [0.0, 0.02, 0.04]);
+    for f in &frames {
+        read_vtu(&out.join("frames").join(&f.file)).unwrap();
+    }
+    assert_eq!(
+        std::fs::read_dir(out.join("frames")).unwrap().count(),
+        4,
+        "three frames and the collection"
+    );
+    let probes = std::fs::read_to_string(out.join("probes.csv")).unwrap();
+    assert_eq!(probes.lines().count(), 4, "{probes}");
+    assert_eq!(
+        summary.extra.get("n_frames").and_then(serde_json::Value::as_u64),
+        Some(3)
+    );
+}
+
+#[test]
+fn a_load_scale_that_is_not_finite_is_named_and_not_retried() {
+    let d = dir("non_finite_scale");
+    let scene = write_scene(
+        &d,
+        &STRIP.replace("scale = \"ramp(t, 0, 0.05)\"", "scale = \"1/(t - 0.02)\""),
+    );
+    let out = d.join("out");
+    assert_eq!(run_scene(&args(scene, out.clone(), &[])).unwrap(), 1);
+    let summary = read_summary(&out.join("summary.json")).unwrap();
+    assert_eq!(summary.status, RunStatus::Error);
+    // Loads take their value at the start of a step: the steps to t = 0.01 and 0.02 are complete.
+    assert_eq!(summary.n_steps, 2);
+    assert_eq!(summary.stopped_at, Some(0.02));
+    let reason = summary.reason.unwrap();
+    assert!(
+        reason.contains("load `tip`: scale `1/(t - 0.02)` is inf at t = 0.02"),
+        "{reason}"
+    );
+    assert_eq!(
+        summary.n_step_reductions, 0,
+        "a script failure is not Newton's: no halving"
+    );
+    assert!(summary.failed_step.unwrap().attempts.is_empty());
+}
+
+#[test]
+fn an_invalid_scene_leaves_an_earlier_run_untouched() {
+    let d = dir("rerun_invalid");
+    let good = write_scene(&d, STRIP);
+    let out = d.join("out");
+    assert_eq!(run_scene(&args(good, out.clone(), &[])).unwrap(), 0);
+    let before: Vec<(String, Vec<u8>)> = ["summary.json", "probes.csv", "frames/run.pvd", "frames/frame_00005.vtu"]
+        .iter()
+        .map(|f| (f.to_string(), std::fs::read(out.join(f)).unwrap()))
+        .collect();
+    let bad = d.join("bad.toml");
+    std::fs::write(&bad, "name = \"strip\"\n[time\n").unwrap();
+    assert_eq!(run_scene(&args(bad, out.clone(), &[])).unwrap(), 1);
+    // A scene that validates but cannot be built (a line load on a single node) is refused the same way.
+    let line_load_on_a_node = STRIP.replace(
+        "name = \"tip\"\nregion = { predicate = \"x >= 0.05 - 1e-9\" }\nforce",
+        "name = \"tip\"\nregion = { nodes = [0] }\ndistribution = \"per_length\"\nforce",
+    );
+    assert_ne!(line_load_on_a_node, STRIP);
+    let unbuildable = d.join("unbuildable.toml");
+    std::fs::write(&unbuildable, line_load_on_a_node).unwrap();
+    assert_eq!(run_scene(&args(unbuildable, out.clone(), &[])).unwrap(), 1);
+    for (file, bytes) in before {
+        assert_eq!(std::fs::read(out.join(&file)).unwrap(), bytes, "{file} changed");
+    }
 }
 
 #[test]
@@ -164,19 +271,20 @@ fn an_interrupted_run_keeps_complete_frames_and_says_where_it_stopped() {
     let out = d.join("out");
     let spec = cosserat::scene::load_scene(&scene, &[]).unwrap();
     let mut sim = Simulation::new(spec).unwrap();
-    let stop = AtomicBool::new(false);
+    let stop = StopRequest::new();
     let summary = sim
         .run(
             &out,
             &mut |info| {
                 if info.step == 4 {
-                    stop.store(true, Ordering::Relaxed)
+                    stop.request(StopReason::Requested)
                 }
             },
             &stop,
         )
         .unwrap();
     assert_eq!(summary.status, RunStatus::Interrupted);
+    assert_eq!(summary.reason.as_deref(), Some("stopped on request"));
     assert!((summary.stopped_at.unwrap() - 0.04).abs() < 1e-12);
     assert_eq!(summary.n_steps, 4);
     let frames = read_pvd(&out.join("frames").join("run.pvd")).unwrap();

@@ -5,7 +5,6 @@
 use cosserat::Simulation;
 use cosserat::scene::output::{RunStatus, RunSummary, read_pvd, read_pvd_frame};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::AtomicBool;
 
 fn dir(name: &str) -> PathBuf {
     let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
@@ -38,7 +37,7 @@ fn run(text: &str, name: &str, overrides: &[String]) -> (PathBuf, RunSummary) {
     let spec = cosserat::scene::load_scene(&path, overrides).unwrap_or_else(|e| panic!("{e}"));
     let mut sim = Simulation::new(spec).unwrap_or_else(|e| panic!("{e}"));
     let out = d.join("out");
-    let summary = sim.run(&out, &mut |_| {}, &AtomicBool::new(false)).unwrap();
+    let summary = sim.run(&out, &mut |_| {}, &cosserat::StopRequest::new()).unwrap();
     (out, summary)
 }
 

@@ -1,0 +1,66 @@
+//! Which quadrature rules leave spurious zero-energy modes: the null space of a free patch's Hessian
+//! at rest, counted for every element pair and rule degree.
+
+use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, SystemOptions, build_system};
+use cosserat_fem::QuadratureRule;
+use cosserat_fem::mesh::{chord_placement, procedural};
+use cosserat_material::rest::RestOptions;
+use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use nalgebra::{DMatrix, Vector3};
+
+/// The number of zero eigenvalues (relative to the largest) of a free 2 × 2 patch's Hessian at rest.
+fn zero_modes(pair: ElementPair, model: ShellModel, degree: usize) -> usize {
+    let grid = procedural::rectangle_grid(0.1, 0.1, 2, 2).unwrap();
+    let input = ShellInput {
+        name: "patch".into(),
+        mesh: ShellMesh::from_tri3(grid.mesh, pair, chord_placement),
+        pair,
+        material: MaterialParameters::new(1e-2, 1e6, 0.3, 1000.0, 1e-2),
+        rest: RestOptions::new(ModelOptions::new(model)),
+        quadrature: Some(QuadratureRule::for_degree(degree).unwrap()),
+        damping: 0.0,
+        angular_inertia_density: 0.0,
+    };
+    let options = SystemOptions {
+        gravity: Vector3::zeros(),
+        dynamic: false,
+        dt: 1.0,
+    };
+    let mut p = build_system(&[input], Vec::new(), &options).unwrap().potential;
+    let n = p.n_dofs();
+    let mut g = vec![0.0; n];
+    let mut values = vec![0.0; p.pattern().nnz()];
+    p.hessian(&vec![0.0; n], &mut g, &mut values).unwrap();
+    let sym = p.pattern().symbolic();
+    let mut h = DMatrix::zeros(n, n);
+    for j in 0..n {
+        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
+            let i = sym.row_idx()[k];
+            h[(i, j)] = values[k];
+            h[(j, i)] = values[k];
+        }
+    }
+    let eigenvalues = h.symmetric_eigenvalues();
+    let largest = eigenvalues.iter().fold(0.0f64, |a, e| a.max(e.abs()));
+    eigenvalues.iter().filter(|e| e.abs() < 1e-9 * largest).count()
+}
+
+#[test]
+fn rules_from_the_minimum_degree_leave_only_the_rigid_modes() {
+    for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3, ElementPair::Tri6Tri6] {
+        for model in [ShellModel::Plate, ShellModel::Shell] {
+            let min = pair.min_quadrature_degree();
+            for degree in min..=6 {
+                assert_eq!(zero_modes(pair, model, degree), 6, "{pair:?} {model:?} degree {degree}");
+            }
+            if min > 1 {
+                let spurious = zero_modes(pair, model, min - 1);
+                assert!(
+                    spurious > 6,
+                    "{pair:?} {model:?} degree {}: {spurious} zero modes",
+                    min - 1
+                );
+            }
+        }
+    }
+}
