@@ -62,6 +62,15 @@ pub trait NewtonProblem {
         1.0
     }
 
+    /// Moves unknowns of a trial state `x`, reached from the iterate `from`, that run towards a
+    /// singularity of the problem's parametrisation across it, to where the descent can continue (for
+    /// example a rotation update whose parameter grows without bound as the rotation approaches a half
+    /// turn). Newton's method calls it on every trial state before evaluating it; the line search then
+    /// judges the moved state by its energy like any other. The default moves nothing.
+    fn cross_singularities(&self, from: &[f64], x: &mut [f64]) {
+        let _ = (from, x);
+    }
+
     /// The size of the external loads in the units of the gradient (for example the largest nodal force
     /// times the time step), the scale of a [relative tolerance](crate::Tolerance::Relative). The
     /// default, 0, leaves the scale to the reactions of fixed unknowns and the first residual.

@@ -4,8 +4,8 @@
 //!
 //! The shift is Levenberg's with Marquardt's scaling: `H + μ D` with `D = |diag H|`, so that it acts
 //! alike on unknowns of different units (velocities and angular velocities). `μ` runs through factors of
-//! ten from a tenth of the last shift that worked (or [`MIN_SHIFT`]), so that a run of indefinite
-//! Hessians costs about one extra Cholesky attempt each. The shifted step is a descent direction whose
+//! [`SHIFT_GROWTH`] from a fraction of the last shift that worked (or [`MIN_SHIFT`]), so that a run
+//! of indefinite Hessians costs about two extra Cholesky attempts each. The shifted step is a descent direction whose
 //! length shrinks and whose direction turns towards the scaled gradient as `μ` grows: the model
 //! minimiser of a trust region whose radius the line search then adjusts. An unshifted indefinite
 //! factorisation, by contrast, solves for the saddle of the quadratic model, and its direction (negated
@@ -21,6 +21,12 @@ use crate::problem::NewtonProblem;
 
 /// The smallest shift tried.
 const MIN_SHIFT: f64 = 1e-6;
+
+/// The factor between the shifts tried. The shift found exceeds the smallest that works by up to this
+/// factor, and the step along a direction of negative curvature `−|κ|` is about
+/// `|g|/(μ D − |κ|)`: a coarse grid over-damps the escape from a saddle, a fine one costs failed
+/// factorisations.
+const SHIFT_GROWTH: f64 = 4.0;
 
 /// Beyond this shift `H + μ D` is diagonally dominant for any Hessian met in practice; one that is
 /// still not positive definite fails the iteration.
@@ -43,6 +49,7 @@ impl NewtonSolver {
     ) -> Result<f64, NewtonError> {
         let k = run.iterations;
         run.decrement = None;
+        run.shifted = false;
         if chord && let Some(slope) = self.chord_direction(run) {
             run.report.chord_iterations += 1;
             return Ok(slope);
@@ -72,6 +79,7 @@ impl NewtonSolver {
         if !shifted && !flipped && matches!(used, Factorisation::Llt) {
             run.decrement = Some(-slope);
         }
+        run.shifted = shifted;
         Ok(slope)
     }
 
@@ -109,7 +117,7 @@ impl NewtonSolver {
         for (d, &k) in self.shift_scale.iter_mut().zip(&self.diagonal_slots) {
             *d = self.hess_values[k].abs().max(MIN_RELATIVE_DIAGONAL * largest);
         }
-        let mut mu = (0.1 * self.last_shift).max(MIN_SHIFT);
+        let mut mu = (self.last_shift / SHIFT_GROWTH).max(MIN_SHIFT);
         let mut applied = 0.0;
         loop {
             add_to_diagonal(
@@ -124,7 +132,7 @@ impl NewtonSolver {
                     self.last_shift = mu;
                     return Ok(used);
                 }
-                Err(LinearSolveError::NotPositiveDefinite { .. }) if mu < MAX_SHIFT => mu *= 10.0,
+                Err(LinearSolveError::NotPositiveDefinite { .. }) if mu < MAX_SHIFT => mu *= SHIFT_GROWTH,
                 Err(e) => return Err(e),
             }
         }

@@ -68,6 +68,8 @@ pub struct NewtonSolver {
     diagonal_slots: Vec<usize>,
     /// `D` of the shift `H + μ D` (see [`direction`]).
     shift_scale: Vec<f64>,
+    /// Trial states of the line search's extrapolation along negative curvature.
+    x_extra: Vec<f64>,
     /// The last shift `μ` that made an indefinite Hessian positive definite (the next one starts near
     /// it).
     last_shift: f64,
@@ -95,6 +97,8 @@ struct Run {
     decrement: Option<f64>,
     /// Whether the round-off floor has been estimated in this solve.
     floor_known: bool,
+    /// Whether the last direction came from a shifted (indefinite) Hessian.
+    shifted: bool,
 }
 
 impl Run {
@@ -138,6 +142,7 @@ impl NewtonSolver {
             start_with_hessian: true,
             diagonal_slots: diagonal_slots(pattern),
             shift_scale: vec![0.0; n],
+            x_extra: Vec::new(),
             last_shift: 0.0,
         })
     }
@@ -193,6 +198,7 @@ impl NewtonSolver {
             test: ConvergenceTest::new(self.settings.tolerance, 0.0, 0.0, 0.0),
             decrement: None,
             floor_known: false,
+            shifted: false,
         };
         let result = self.minimise(problem, x, &mut run);
         // A solve that stopped where it started lets the next one evaluate the gradient alone first, so

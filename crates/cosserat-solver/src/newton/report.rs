@@ -48,6 +48,8 @@ pub struct NewtonReport {
     /// Iterations whose Hessian was not positive definite and was shifted
     /// ([`IndefiniteHessian::Shift`](crate::IndefiniteHessian::Shift)).
     pub shifted_iterations: usize,
+    /// Doublings of shifted steps along negative curvature.
+    pub extrapolations: usize,
     /// The test the solve passed, its tolerance, load scale and round-off floor.
     pub convergence: Convergence,
     /// Which factorisation solved each step, counted.
@@ -81,6 +83,7 @@ impl NewtonReport {
             feasibility_halvings: 0,
             direction_flips: 0,
             shifted_iterations: 0,
+            extrapolations: 0,
             convergence: Convergence {
                 criterion: Criterion::Residual,
                 tolerance: f64::NAN,

@@ -224,3 +224,79 @@ fn is_local_minimum(problem: &mut Rosenbrock, x: &[f64]) -> bool {
     };
     g.iter().all(|v| v.abs() < 1e-6) && upper.to_dense().cholesky().is_some()
 }
+
+/// One angle parametrised like a rotation update, `θ(v) = 2 arctan(v/2)` (the Cayley angle, which
+/// approaches a half turn as `v` grows without bound), with the periodic energy `1 − cos(θ − θ*)`.
+/// With `crosses`, a trial moving `|v|` outwards beyond 1000 is reflected to `−v`, across the half
+/// turn.
+struct HalfTurn {
+    target: f64,
+    crosses: bool,
+    pattern: faer::sparse::SymbolicSparseColMat<usize>,
+}
+
+impl HalfTurn {
+    fn angle(v: f64) -> f64 {
+        2.0 * (0.5 * v).atan()
+    }
+}
+
+impl NewtonProblem for HalfTurn {
+    fn n_dofs(&self) -> usize {
+        1
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        Ok(1.0 - (Self::angle(x[0]) - self.target).cos())
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        let d = 1.0 / (1.0 + 0.25 * x[0] * x[0]);
+        g[0] = (Self::angle(x[0]) - self.target).sin() * d;
+        self.value(x)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        let (v, a) = (x[0], Self::angle(x[0]) - self.target);
+        let d = 1.0 / (1.0 + 0.25 * v * v);
+        h[0] = a.cos() * d * d - a.sin() * 0.5 * v * d * d;
+        self.gradient(x, g)
+    }
+    fn cross_singularities(&self, from: &[f64], x: &mut [f64]) {
+        if self.crosses && x[0].abs() > 1e3 && x[0].abs() >= from[0].abs() {
+            x[0] = -x[0];
+        }
+    }
+}
+
+#[test]
+fn a_parameter_running_to_a_half_turn_is_taken_across_it() {
+    // From 100° towards a minimum at 200°: the descent raises the angle through 180°, which the
+    // parameter reaches only as v → ∞. Crossing over, Newton's method reaches 200° = −160°,
+    // v = 2 tan(−80°); without, it runs out along v. (The energy is concave in v near the half turn,
+    // and the indefinite factorisation's steps land better there than the shifted ones in one
+    // dimension; the shell's rotations cross with the default shift, docs/stability.md.)
+    let target = 200f64.to_radians();
+    let start = 2.0 * 50f64.to_radians().tan();
+    let solve_from = |crosses: bool| {
+        let mut p = HalfTurn {
+            target,
+            crosses,
+            pattern: super::toy::pattern_of(1, [(0, 0)]),
+        };
+        let mut x = [start];
+        let settings = NewtonSettings {
+            indefinite_hessian: IndefiniteHessian::Factorise,
+            ..absolute(1e-12)
+        };
+        let result = solve(&mut p, &mut x, settings);
+        (result, x[0])
+    };
+    let (crossed, v) = solve_from(true);
+    crossed.unwrap();
+    assert!((v - 2.0 * (-80f64).to_radians().tan()).abs() < 1e-9, "v = {v}");
+    // Without crossing, the descent runs out along v (where, in one dimension, the gradient
+    // vanishes like 1/v²: it may even pass the tolerance there, far from the minimum).
+    let (_, v) = solve_from(false);
+    assert!(v > 1e3, "the parameter did not run out: v = {v}");
+}
