@@ -19,7 +19,7 @@
 //! - [`TimeStepper`], [`QuasiStaticStepper`] and [`solve_quasi_static`]: time steps and load levels with
 //!   the same Newton solver.
 //! - [`continuation`]: arc-length path following through limit points ([`trace_path`] for any
-//!   [`PathProblem`], [`trace_quasi_static`] for a quasi-static potential).
+//!   [`PathProblem`], [`PathStepper`] and [`trace_quasi_static`] for a quasi-static potential).
 //!
 //! Non-goals: this crate knows nothing about meshes, elements or energies: the assembly layer adapts
 //! its incremental potential to [`NewtonProblem`]. It does not project Hessians to positive
@@ -84,7 +84,8 @@ pub mod statics;
 pub mod time_step;
 
 pub use continuation::{
-    ArcLengthSettings, CorrectorError, PathError, PathPoint, PathProblem, trace_path, trace_quasi_static,
+    ArcLengthSettings, CorrectorError, LoadScript, PathError, PathPoint, PathProblem, PathStepper, trace_path,
+    trace_quasi_static,
 };
 pub use error::{
     Factorisation, LinearSolveError, LinearSolveStage, NewtonError, NonFiniteQuantity, ProblemError, ScriptError,

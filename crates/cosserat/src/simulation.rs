@@ -5,6 +5,7 @@
 //! scripts, the probes, the output sampling — and only orchestrates them.
 
 use crate::contact_run::{ContactMonitor, build_contact_term, contact_parts};
+use crate::convergence::ConvergenceStats;
 use crate::error::SimulationError;
 use crate::frames::{OutputMesh, append_obstacles};
 use crate::kl_model::{self, KlModel};
@@ -31,6 +32,8 @@ use nalgebra::Vector3;
 use serde_json::json;
 use std::path::Path;
 use std::time::Instant;
+
+mod arc_length;
 
 /// What the run loop reports after every step (for progress displays).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -72,6 +75,8 @@ struct RunStats {
     cg_iterations: usize,
     /// Structure of the symmetric factor (last symbolic analysis).
     factor: Option<cosserat_solver::FactorStats>,
+    /// Tolerances and residuals of the converged solves.
+    convergence: ConvergenceStats,
 }
 
 /// A scene ready to run.
@@ -174,7 +179,7 @@ impl Simulation {
             .collect();
         let (dynamic, dt) = match &spec.time {
             TimeSpec::Dynamic { dt, .. } => (true, *dt),
-            TimeSpec::QuasiStatic { .. } => (false, 1.0),
+            TimeSpec::QuasiStatic { .. } | TimeSpec::ArcLength { .. } => (false, 1.0),
         };
         let options = SystemOptions {
             gravity: spec.gravity,
@@ -346,7 +351,7 @@ impl Simulation {
                 &self.system.potential,
                 self.time_step_settings(*dt, *adaptive),
             )?),
-            TimeSpec::QuasiStatic { .. } => Err(SimulationError::Setup(
+            TimeSpec::QuasiStatic { .. } | TimeSpec::ArcLength { .. } => Err(SimulationError::Setup(
                 "a quasi-static scene has no time stepper; use `run`".into(),
             )),
         }
@@ -413,12 +418,22 @@ impl Simulation {
         s.adaptive = adaptive;
         s.max_reductions = self.solver.max_step_reductions;
         s.initial_guess = self.solver.initial_guess;
-        s.newton.tolerance = cosserat_solver::Tolerance::Absolute(self.solver.tolerance);
+        s.newton.tolerance = self.solver.tolerance;
         s.newton.max_iterations = self.solver.max_newton_iterations;
         s.newton.max_line_search_iterations = self.solver.max_line_search_iterations;
         s.newton.linear_solver.kind = self.solver.linear_solver;
         s.newton.linear_solver.domains = self.solver.domain_split;
         s
+    }
+
+    /// The columns of `probes.csv` after `t`: the probes', and first the load factor on an arc-length
+    /// path, `path.load_factor` (where `t` counts the steps, since the load factor falls and rises).
+    fn probe_columns(&self) -> Vec<String> {
+        let mut columns = self.probes.columns();
+        if matches!(self.time, TimeSpec::ArcLength { .. }) {
+            columns.insert(0, "path.load_factor".into());
+        }
+        columns
     }
 
     fn record_output(&mut self, writer: &mut RunWriter, t: f64) -> Result<(), SimulationError> {
@@ -438,7 +453,11 @@ impl Simulation {
             writer.write_frame(&frame)?;
             self.stats.frames += 1;
         }
-        writer.write_probes(t, &self.probes.values(&self.system.shells, state))?;
+        let mut row = self.probes.values(&self.system.shells, state);
+        if matches!(self.time, TimeSpec::ArcLength { .. }) {
+            row.insert(0, self.t_reached);
+        }
+        writer.write_probes(t, &row)?;
         Ok(())
     }
 
@@ -456,6 +475,7 @@ impl Simulation {
         let f = &r.newton.factorisations;
         s.factorisations += f.llt + f.lblt + f.lu;
         s.cg_iterations += r.newton.cg_iterations;
+        s.convergence.record_newton(&r.newton);
     }
 
     fn record_step(&mut self, r: &StepReport, seconds: f64) {
@@ -472,6 +492,7 @@ impl Simulation {
         let f = &r.newton.factorisations;
         s.factorisations += f.llt + f.lblt + f.lu;
         s.cg_iterations += r.newton.cg_iterations;
+        s.convergence.record_newton(&r.newton);
     }
 
     /// Runs the scene and writes its outputs into `dir` (frames, `probes.csv`, `summary.json`).
@@ -491,7 +512,7 @@ impl Simulation {
         stop: &StopRequest,
     ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
-        let mut writer = RunWriter::create(dir, &self.probes.columns())?;
+        let mut writer = RunWriter::create(dir, &self.probe_columns())?;
         let outcome = match self.record_output(&mut writer, 0.0) {
             Ok(()) => match self.time.clone() {
                 TimeSpec::Dynamic {
@@ -501,6 +522,11 @@ impl Simulation {
                     output_interval,
                 } => self.run_dynamic(&mut writer, dt, end, adaptive, output_interval, progress, stop),
                 TimeSpec::QuasiStatic { levels } => self.run_quasi_static(&mut writer, &levels, progress, stop),
+                TimeSpec::ArcLength {
+                    initial_increment,
+                    end,
+                    max_steps,
+                } => self.run_arc_length(&mut writer, initial_increment, end, max_steps, progress, stop),
             },
             Err(e) => Err(e),
         };
@@ -621,12 +647,13 @@ impl Simulation {
         };
         let dt = match &self.time {
             TimeSpec::Dynamic { dt, .. } => *dt,
-            TimeSpec::QuasiStatic { .. } => 1.0,
+            TimeSpec::QuasiStatic { .. } | TimeSpec::ArcLength { .. } => 1.0,
         };
         let steps = s.steps.max(1) as f64;
         let mut extra = std::collections::BTreeMap::new();
         extra.insert("max_newton_iterations".into(), json!(s.max_newton_iterations));
         let mut warnings = self.advice.clone();
+        warnings.extend(s.convergence.warning());
         if s.min_area_ratio <= 0.0 {
             warnings.push(format!(
                 "an element turned inside out during the run (smallest deformed-to-rest area ratio {:.3}): \
@@ -725,6 +752,7 @@ impl Simulation {
             reason,
             stopped_at,
             failed_step,
+            convergence: s.convergence.summary(self.solver.tolerance),
             extra,
         }
     }

@@ -22,6 +22,9 @@ pub use error::OutputError;
 pub use probes::ProbeWriter;
 pub use pvd::{PvdEntry, read_pvd, read_pvd_frame, write_pvd};
 pub use run::{RunWriter, clear_run_outputs, write_failure_summary};
-pub use summary::{Attempt, BoundingBox, FailedStep, RunStatus, RunSummary, read_summary, write_summary};
+pub use summary::{
+    Attempt, BoundingBox, ConvergenceSummary, FailedStep, RunStatus, RunSummary, ToleranceMode, read_summary,
+    write_summary,
+};
 pub use vtu::{DataArray, VtuFrame, write_vtu};
 pub use vtu_read::read_vtu;

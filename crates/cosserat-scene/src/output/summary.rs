@@ -70,6 +70,40 @@ pub struct Attempt {
     pub residuals: Vec<f64>,
 }
 
+/// Whether the residual tolerance was relative to the load scale or absolute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToleranceMode {
+    /// A fraction of the step's load scale (its largest external load, reaction or first residual),
+    /// never below the residual's round-off floor (`"relative"`).
+    Relative,
+    /// A residual in force and torque units (`"absolute"`).
+    Absolute,
+}
+
+/// How the run's Newton solves met their tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ConvergenceSummary {
+    /// Relative or absolute.
+    pub tolerance_mode: ToleranceMode,
+    /// The scene's tolerance: a fraction of the load scale, or a residual in force (and torque)
+    /// units.
+    pub tolerance: f64,
+    /// The largest residual bound a step used, in force (and torque) units: the absolute tolerance,
+    /// or the relative one times the step's load scale, or the round-off floor where that is higher.
+    pub max_step_tolerance: f64,
+    /// The largest final residual of a step, in force (and torque) units.
+    pub max_residual: f64,
+    /// The largest final residual of a step over its load scale (steps without any load, reaction or
+    /// first residual have none and are left out).
+    pub max_relative_residual: f64,
+    /// Steps accepted although their residual stayed above the tolerance, because it had stopped
+    /// decreasing at the round-off floor with a Newton step below the energy's round-off (a warning).
+    pub stagnated_steps: usize,
+    /// Newton iterations whose Hessian was not positive definite and was shifted.
+    pub shifted_iterations: usize,
+}
+
 /// Contents of `DIR/summary.json`.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
@@ -114,6 +148,9 @@ pub struct RunSummary {
     /// The step that failed, with every attempt (`null` unless a step failed).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub failed_step: Option<FailedStep>,
+    /// How the Newton solves converged (`null` if no step finished).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub convergence: Option<ConvergenceSummary>,
     /// Experiment-specific numbers, e.g. a measured tip deflection.
     pub extra: BTreeMap<String, serde_json::Value>,
 }
@@ -147,6 +184,7 @@ impl RunSummary {
             reason: Some(reason.into()),
             stopped_at: None,
             failed_step: None,
+            convergence: None,
             extra: BTreeMap::new(),
         }
     }
@@ -179,6 +217,20 @@ impl RunSummary {
                 return Err(OutputError::NonFiniteSummary {
                     field: format!("rest_bbox.{corner}[{k}]"),
                     value: values[k],
+                });
+            }
+        }
+        if let Some(c) = &self.convergence {
+            let values = [
+                ("convergence.tolerance", c.tolerance),
+                ("convergence.max_step_tolerance", c.max_step_tolerance),
+                ("convergence.max_residual", c.max_residual),
+                ("convergence.max_relative_residual", c.max_relative_residual),
+            ];
+            if let Some((field, value)) = values.into_iter().find(|(_, v)| !v.is_finite()) {
+                return Err(OutputError::NonFiniteSummary {
+                    field: field.to_owned(),
+                    value,
                 });
             }
         }

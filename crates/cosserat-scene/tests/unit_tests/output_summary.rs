@@ -2,7 +2,9 @@
 
 use std::collections::BTreeMap;
 
-use cosserat_scene::output::{BoundingBox, OutputError, RunStatus, RunSummary, read_summary, write_summary};
+use cosserat_scene::output::{
+    BoundingBox, ConvergenceSummary, OutputError, RunStatus, RunSummary, ToleranceMode, read_summary, write_summary,
+};
 
 use super::{entries, test_dir};
 
@@ -37,12 +39,21 @@ fn sample_summary() -> RunSummary {
         status: RunStatus::Ok,
         reason: None,
         stopped_at: Some(1.0),
+        convergence: Some(ConvergenceSummary {
+            tolerance_mode: ToleranceMode::Relative,
+            tolerance: 1e-6,
+            max_step_tolerance: 2.5e-6,
+            max_residual: 1.25e-6,
+            max_relative_residual: 5e-7,
+            stagnated_steps: 0,
+            shifted_iterations: 3,
+        }),
         extra,
     }
 }
 
 /// The keys of the output contract, with the JSON names used for them.
-const CONTRACT_KEYS: [&str; 20] = [
+const CONTRACT_KEYS: [&str; 21] = [
     "scene",
     "displacement_element",
     "rotation_element",
@@ -62,6 +73,7 @@ const CONTRACT_KEYS: [&str; 20] = [
     "status",
     "reason",
     "stopped_at",
+    "convergence",
     "extra",
 ];
 
@@ -101,6 +113,7 @@ fn json_holds_every_contract_key() {
         serde_json::json!(["membrane", "bending", "inertia"])
     );
     assert_eq!(object["extra"]["tip_deflection"].as_f64(), Some(0.1 + 0.2));
+    assert_eq!(object["convergence"]["tolerance_mode"], "relative");
 }
 
 #[test]
@@ -126,7 +139,7 @@ fn non_finite_numbers_are_refused_and_nothing_is_written() {
     let dir = test_dir("summary_non_finite");
     let path = dir.join("summary.json");
     type Poison = fn(&mut RunSummary);
-    let cases: [(&str, Poison); 9] = [
+    let cases: [(&str, Poison); 10] = [
         ("dt", |s| s.dt = f64::NAN),
         ("avg_newton_iterations", |s| s.avg_newton_iterations = f64::INFINITY),
         ("wall_seconds", |s| s.wall_seconds = f64::NAN),
@@ -136,6 +149,11 @@ fn non_finite_numbers_are_refused_and_nothing_is_written() {
         ("rest_bbox.min[1]", |s| s.rest_bbox.min[1] = f64::NAN),
         ("rest_bbox.max[2]", |s| s.rest_bbox.max[2] = f64::INFINITY),
         ("stopped_at", |s| s.stopped_at = Some(f64::NAN)),
+        ("convergence.max_relative_residual", |s| {
+            if let Some(c) = &mut s.convergence {
+                c.max_relative_residual = f64::INFINITY;
+            }
+        }),
     ];
     for (field, poison) in cases {
         let mut summary = sample_summary();

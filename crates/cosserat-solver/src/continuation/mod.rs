@@ -30,7 +30,7 @@ use thiserror::Error;
 mod corrector;
 mod potential;
 
-pub use potential::trace_quasi_static;
+pub use potential::{LoadScript, PathStepper, trace_quasi_static};
 
 /// A problem `Π(x; λ)` whose load factor can be set, evaluated at increments from its last committed
 /// equilibrium.
@@ -195,6 +195,9 @@ pub enum PathError {
         /// The last attempt's failure.
         error: CorrectorError,
     },
+    /// The scripts could not set the loads of a load factor (no shorter step helps).
+    #[error("{0}")]
+    Scripts(#[source] crate::error::ScriptError),
     /// A term of the problem that path following does not support.
     #[error("arc-length continuation does not support {0}")]
     Unsupported(&'static str),

@@ -94,6 +94,7 @@ fn a_shallow_arch_snaps_through_at_the_limit_load_of_shallow_arch_theory() {
             for (i, f) in p.parts.loads.forces.iter_mut().enumerate() {
                 *f = Vector3::new(0.0, 0.0, -lambda * q_ref * (PI * rest[i].x / l).cos() * weights[i]);
             }
+            Ok(())
         },
         &mut |p, point| {
             let rise = crown.iter().map(|&i| p.parts.state.x[i].z).sum::<f64>() / crown.len() as f64;
