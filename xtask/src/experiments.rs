@@ -6,13 +6,16 @@
 //! and a check that reads the written outputs back.
 
 use crate::paper;
-use crate::postprocess::{ProbeTable, boundary_loops, fit_circle, hausdorff, rim_waves};
+use crate::postprocess::{ProbeTable, boundary_loops, fit_circle, hausdorff, rim_shape};
 use anyhow::{Context, Result};
+pub use check::Check;
+use check::within;
 use cosserat::Simulation;
 use cosserat::io::{RunStatus, RunSummary, VtuFrame, read_pvd, read_pvd_frame};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
+mod check;
 mod comparison;
 mod contact;
 
@@ -79,8 +82,9 @@ pub struct Experiment {
     pub title: &'static str,
     /// The runs.
     pub runs: fn(&Options) -> Vec<RunSpec>,
-    /// What it should show, measured on the outputs: report lines (markdown).
-    pub check: fn(&[RunResult]) -> Vec<String>,
+    /// What it should show, measured on the outputs: report lines (markdown) and the expected
+    /// behaviours tested.
+    pub check: fn(&[RunResult]) -> Check,
     /// Render every run's last frame for the README (`false`: only the last run, the finest mesh).
     pub render_each: bool,
 }
@@ -213,38 +217,44 @@ fn twisting_runs(o: &Options) -> Vec<RunSpec> {
     vec![run("-", "tri6", "scenes/twisting_strip.toml", &quick_end(o, 0.05))]
 }
 
-fn twisting_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines = Vec::new();
+fn twisting_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
     for res in r {
         let s = &res.summary;
-        lines.push(format!(
+        c.say(format!(
             "- {} steps completed ({:?}), {:.2} Newton iterations per step (at most {}).",
             s.n_steps, s.status, s.avg_newton_iterations, s.max_newton_iterations
         ));
-        if let Some(p) = &res.probes
-            && let (Ok(d3), Ok(t)) = (p.last_vec("right_director", ["d3x", "d3y", "d3z"]), p.last("t"))
-        {
+        let end_angle = res.probes.as_ref().and_then(|p| {
+            let d3 = p.last_vec("right_director", ["d3x", "d3y", "d3z"]).ok()?;
+            let t = p.last("t").ok()?;
             let theta = 2.0 * std::f64::consts::PI * t;
             let target = [0.0, -theta.sin(), theta.cos()];
             let dot = (d3[0] * target[0] + d3[1] * target[1] + d3[2] * target[2]).clamp(-1.0, 1.0);
-            lines.push(format!(
-                "- Right end at t = {t:.2} s: twist {:.1}°; angle between its d₃ and the target R_x(θ) e_z: {:.3}°.",
-                theta.to_degrees(),
-                dot.acos().to_degrees()
-            ));
-        }
-        if let Some(a) = s.min_area_ratio {
-            lines.push(format!(
-                "- Smallest signed area ratio over all quadrature points and frames: {a:.3} ({}).",
-                if a > 0.0 {
-                    "no inverted element"
-                } else {
-                    "INVERTED ELEMENT"
-                }
-            ));
-        }
+            Some((t, theta, dot.acos().to_degrees()))
+        });
+        c.expect(
+            "the right end follows its prescribed turn of 2π rad/s (d₃ within 1° of R_x(θ) e_z; the rotation \
+             condition is a penalty whose error is far below a degree)",
+            end_angle.and_then(|(t, theta, angle)| {
+                within(
+                    angle,
+                    0.0,
+                    1.0,
+                    format!(
+                        "{angle:.3}° after a twist of {:.1}° at t = {t:.2} s",
+                        theta.to_degrees()
+                    ),
+                )
+            }),
+        );
+        c.expect(
+            "no element turns inside out (smallest signed area ratio over all quadrature points and frames above 0)",
+            s.min_area_ratio
+                .and_then(|a| within(a, f64::MIN_POSITIVE, f64::INFINITY, format!("{a:.3}"))),
+        );
     }
-    lines
+    c
 }
 
 /// Tip deflections (mm) of the reference code on this kind of machine (docs/references.md).
@@ -283,7 +293,9 @@ fn plate_runs(o: &Options) -> Vec<RunSpec> {
     runs
 }
 
-fn plate_check(r: &[RunResult]) -> Vec<String> {
+fn plate_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
+    let mut deviation: f64 = 0.0;
     let mut lines = vec![
         "| element | mesh | tip u_z at t = end [mm] | reference code [mm] | change from previous mesh [mm] |"
             .to_string(),
@@ -297,10 +309,11 @@ fn plate_check(r: &[RunResult]) -> Vec<String> {
                 continue;
             };
             let ny: usize = res.spec.variant.split('x').nth(1).and_then(|s| s.parse().ok()).unwrap_or(0);
-            let reference = REFERENCE_PLATE_TIP
-                .iter()
-                .find(|x| x.0 == element && x.1 == ny)
-                .map_or("–".into(), |x| format!("{:.4}", x.2));
+            let reference = REFERENCE_PLATE_TIP.iter().find(|x| x.0 == element && x.1 == ny);
+            if let Some(x) = reference {
+                deviation = deviation.max((tip - x.2).abs() / x.2);
+            }
+            let reference = reference.map_or("–".into(), |x| format!("{:.4}", x.2));
             let change = prev.map_or("–".into(), |p| format!("{:+.4}", tip - p));
             lines.push(format!(
                 "| {element} | {} | {tip:.4} | {reference} | {change} |",
@@ -319,7 +332,18 @@ fn plate_check(r: &[RunResult]) -> Vec<String> {
             }
         }
     }
-    lines
+    c.extend(lines);
+    c.expect(
+        "every mesh's tip deflection equals the reference code's on the same discretisation within 0.05 % \
+         (both solve the same equations; only the Newton tolerances differ)",
+        within(
+            deviation,
+            0.0,
+            5e-4,
+            format!("largest relative difference {:.1e}", deviation),
+        ),
+    );
+    c
 }
 
 fn coiling_runs(o: &Options) -> Vec<RunSpec> {
@@ -343,7 +367,8 @@ fn coiling_runs(o: &Options) -> Vec<RunSpec> {
     runs
 }
 
-fn coiling_check(r: &[RunResult]) -> Vec<String> {
+fn coiling_check(r: &[RunResult]) -> Check {
+    let mut finest = None;
     let target = 1.0 / (4.0 * std::f64::consts::PI);
     let mut lines = vec![
         format!(
@@ -361,6 +386,9 @@ fn coiling_check(r: &[RunResult]) -> Vec<String> {
             Some(1e3 * ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt())
         });
         let fit = res.frame.as_ref().and_then(|f| fit_circle(&f.points, 0, 2).ok());
+        if res.spec.element == "tri6" {
+            finest = fit.map(|(_, _, rad, _)| (res.spec.variant.clone(), (rad - target) / target, gap));
+        }
         let (radius, err, rms) = fit.map_or(("–".into(), "–".into(), "–".into()), |(_, _, rad, rms)| {
             (
                 format!("{:.3}", 1e3 * rad),
@@ -375,7 +403,20 @@ fn coiling_check(r: &[RunResult]) -> Vec<String> {
             gap.map_or("–".into(), |g| format!("{g:.2}"))
         ));
     }
-    lines
+    let mut c = Check::new();
+    c.extend(lines);
+    c.expect(
+        "the finest Tri6 strip closes into the target circle: radius within 1 % and the free end within 5 mm \
+         (1 % of the strip's length) of the clamp (Tri6 errors fall about threefold per refinement)",
+        finest.and_then(|(mesh, err, gap)| {
+            let gap = gap?;
+            Some((
+                err.abs() <= 0.01 && gap <= 5.0,
+                format!("{mesh}: radius {:+.2} %, gap {gap:.2} mm", 100.0 * err),
+            ))
+        }),
+    );
+    c
 }
 
 fn lotus_runs(o: &Options) -> Vec<RunSpec> {
@@ -391,61 +432,213 @@ fn lotus_runs(o: &Options) -> Vec<RunSpec> {
         .collect()
 }
 
-fn lotus_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines = vec![
-        "Paper rows are for one layer; this scene runs the three layers (b = 0.1, 0.2, 0.35) in one system, so cells and DOFs are three times the paper's.\n".to_string(),
-        "| mesh | edge-midpoint height b = 0.1 / 0.2 / 0.35 [m] | corner height [m] |".to_string(),
-        "|---|---|---|".to_string(),
+fn lotus_check(r: &[RunResult]) -> Check {
+    const PROBES: [&str; 6] = [
+        "b010_edge_mid",
+        "b020_edge_mid",
+        "b035_edge_mid",
+        "b010_corner",
+        "b020_corner",
+        "b035_corner",
     ];
+    let mut c = Check::new();
+    c.say("Paper rows are for one layer; this scene runs the three layers (b = 0.1, 0.2, 0.35) in one system, so cells and DOFs are three times the paper's.\n");
+    c.say("| mesh | edge-midpoint height b = 0.1 / 0.2 / 0.35 [m] | corner height [m] |");
+    c.say("|---|---|---|");
+    let mut heights: Vec<Vec<f64>> = Vec::new();
     for res in r {
         let Some(p) = &res.probes else { continue };
-        let z = |name: &str| p.last(&format!("{name}.z")).map_or("–".into(), |v| format!("{v:.3}"));
-        lines.push(format!(
-            "| {} | {} / {} / {} | {} / {} / {} |",
-            res.spec.variant,
-            z("b010_edge_mid"),
-            z("b020_edge_mid"),
-            z("b035_edge_mid"),
-            z("b010_corner"),
-            z("b020_corner"),
-            z("b035_corner")
+        let z: Vec<f64> = PROBES
+            .iter()
+            .map(|name| p.last(&format!("{name}.z")).unwrap_or(f64::NAN))
+            .collect();
+        c.say(format!(
+            "| {} | {:.3} / {:.3} / {:.3} | {:.3} / {:.3} / {:.3} |",
+            res.spec.variant, z[0], z[1], z[2], z[3], z[4], z[5]
         ));
+        heights.push(z);
     }
-    lines
+    c.say("");
+    let converging = (heights.len() >= 3).then(|| {
+        let n = heights.len();
+        let worst = (0..PROBES.len())
+            .map(|k| {
+                let (before, last) = (
+                    (heights[n - 2][k] - heights[n - 3][k]).abs(),
+                    (heights[n - 1][k] - heights[n - 2][k]).abs(),
+                );
+                if last <= 2e-3 { 0.0 } else { last / before }
+            })
+            .fold(0.0, f64::max);
+        (
+            worst <= 0.6,
+            format!("largest ratio of the last change to the one before {worst:.2}"),
+        )
+    });
+    c.expect(
+        "the heights converge under refinement: on the last mesh each changes by at most 0.6 times its change \
+         on the mesh before, or by under 2 mm (second-order elements halve their error per refinement at least)",
+        converging,
+    );
+    c
 }
 
+/// The paper's 16 × 2 strips and the strips refined once (twice with `--large`): the across-width
+/// modes have only two elements across the width on the paper's mesh, so their check is convergence.
 fn modes_runs(o: &Options) -> Vec<RunSpec> {
-    vec![run(
+    let mut runs = vec![run(
         "top left",
         "tri6",
         "scenes/curvature_modes.toml",
         &quick_end(o, 0.05),
-    )]
+    )];
+    if !o.quick {
+        let refinements: &[usize] = if o.large { &[2, 4] } else { &[2] };
+        for &n in refinements {
+            let ov: Vec<String> = (0..6)
+                .flat_map(|s| {
+                    [
+                        format!("shell.{s}.mesh.nx={}", 16 * n),
+                        format!("shell.{s}.mesh.ny={}", 2 * n),
+                    ]
+                })
+                .collect();
+            runs.push(run(
+                &format!("{}x{}", 16 * n, 2 * n),
+                "tri6",
+                "scenes/curvature_modes.toml",
+                &ov,
+            ));
+        }
+    }
+    runs
 }
 
-fn modes_check(r: &[RunResult]) -> Vec<String> {
-    let names = [
-        "Γ₁₁ twist",
-        "Γ₂₁ bending",
-        "Γ₃₁ in-plane bending",
-        "Γ₁₂ width bending",
-        "Γ₂₂ width twist",
-        "Γ₃₂ width drilling",
-    ];
-    let mut lines = vec![
-        "Paper row: one strip; this scene runs all six strips (0.8 m apart in y) in one system. Angles and chords are measured between the strip's centre and its tip (x = 0.5 m), so the free rigid rotation about the pinned centre line does not enter.\n".to_string(),
-        "| strip | rotation centre → tip: d₁ / d₂ / d₃ | chord centre → tip [m] | expected |".to_string(),
-        "|---|---|---|---|".to_string(),
-    ];
-    let expected = [
-        "d₁ 0°, d₂ d₃ 180°; chord 0.5",
-        "d₁ d₃ 180°, d₂ 0°; chord 1/π = 0.318",
-        "d₁ d₂ 180°, d₃ 0°; chord 0.318",
-        "across the width (135°)",
-        "across the width (90°)",
-        "across the width (90°)",
-    ];
+// Strips 0–2 turn along the length (centre → tip, π per half); strips 3–5 across the width
+// (edge → edge at x = 0.25 m, f · 2π · 0.125 m).
+/// One strip of the curvature modes scene.
+struct Mode {
+    name: &'static str,
+    along_length: bool,
+    /// Expected angle of d₁, d₂, d₃ \[°\].
+    angles: [f64; 3],
+    /// Expected chord centre → tip \[m\].
+    chord: Option<f64>,
+    /// Whether the mode bends without stretching (in-plane bending of the wide strip stretches its
+    /// edges by ±w/2R, so its centre line need not keep its length).
+    isometric: bool,
+}
+/// The six strips of the curvature modes scene and what each should show.
+fn curvature_modes() -> [Mode; 6] {
+    let semicircle = 1.0 / std::f64::consts::PI;
+    [
+        Mode {
+            name: "Γ₁₁ twist",
+            along_length: true,
+            angles: [0.0, 180.0, 180.0],
+            chord: Some(0.5),
+            isometric: true,
+        },
+        Mode {
+            name: "Γ₂₁ bending",
+            along_length: true,
+            angles: [180.0, 0.0, 180.0],
+            chord: Some(semicircle),
+            isometric: true,
+        },
+        Mode {
+            name: "Γ₃₁ in-plane bending",
+            along_length: true,
+            angles: [180.0, 180.0, 0.0],
+            chord: Some(semicircle),
+            isometric: false,
+        },
+        Mode {
+            name: "Γ₁₂ width bending",
+            along_length: false,
+            angles: [0.0, 135.0, 135.0],
+            chord: None,
+            isometric: true,
+        },
+        Mode {
+            name: "Γ₂₂ width twist",
+            along_length: false,
+            angles: [90.0, 0.0, 90.0],
+            chord: None,
+            isometric: true,
+        },
+        Mode {
+            name: "Γ₃₂ width drilling",
+            along_length: false,
+            angles: [90.0, 90.0, 0.0],
+            chord: None,
+            isometric: true,
+        },
+    ]
+}
+
+/// Half the strip width of the curvature modes scene \[m\].
+const MODES_HALF_WIDTH: f64 = 0.0625;
+
+/// The curvature modes' convergence expectations from each run's per-mode angle errors (coarsest
+/// mesh first).
+fn expect_convergence(c: &mut Check, modes: &[Mode; 6], errors: &[(String, [f64; 6])]) {
+    let turns: Vec<f64> = modes.iter().map(|m| m.angles.iter().fold(0.0, |a: f64, b| a.max(*b))).collect();
+    let history = |k: usize| {
+        errors
+            .iter()
+            .map(|(mesh, e)| format!("{mesh} {:.1}°", e[k]))
+            .collect::<Vec<_>>()
+            .join(" → ")
+    };
+    c.expect(
+        "every mode converges to its prescribed turn: under each refinement every mode's angle error falls at \
+         least 2.8-fold (a convergence order of 1.5 or more; the elements are of second order)",
+        (errors.len() >= 2).then(|| {
+            let slowest = errors
+                .windows(2)
+                // Errors below a tenth of a degree are converged already.
+                .flat_map(|w| {
+                    (0..6)
+                        .filter(move |&k| w[0].1[k] > 0.1)
+                        .map(move |k| w[0].1[k] / w[1].1[k].max(1e-3))
+                })
+                .fold(f64::INFINITY, f64::min);
+            let worst = (0..6)
+                .min_by(|&a, &b| {
+                    let fall = |k: usize| errors[0].1[k] / errors[1].1[k].max(1e-3);
+                    fall(a).total_cmp(&fall(b))
+                })
+                .unwrap_or(0);
+            (
+                slowest >= 2.8,
+                format!("slowest fall {slowest:.1}-fold (strip {worst}: {})", history(worst)),
+            )
+        }),
+    );
+    c.expect(
+        "on the refined mesh every mode realises its turn within 5 % of it",
+        errors.get(1).map(|(mesh, e)| {
+            let worst = (0..6).map(|k| e[k] / turns[k]).fold(0.0, f64::max);
+            (
+                worst <= 0.05,
+                format!("largest error {:.1} % of the turn on {mesh}", 100.0 * worst),
+            )
+        }),
+    );
+}
+
+fn modes_check(r: &[RunResult]) -> Check {
+    let modes = curvature_modes();
+    let mut c = Check::new();
+    c.say("Paper row: one strip; this scene runs all six strips (0.8 m apart in y) in one system. Strips 0–2 are measured from the strip's centre to its tip (x = 0.5 m), strips 3–5 across the width from edge to edge at x = 0.25 m, so the free rigid rotation about the pinned centre line does not enter.\n");
+    c.say("| mesh, strip | measured | director angles d₁ / d₂ / d₃ | expected | chord centre → tip [m] | expected |");
+    c.say("|---|---|---|---|---|---|");
+    // Per run: each mode's largest director angle error, and the expected turn.
+    let mut errors: Vec<(String, [f64; 6])> = Vec::new();
+    let mut worst_chord: Option<f64> = None;
     for res in r {
+        let mut mode_errors = [0.0_f64; 6];
         let Some(f) = &res.frame else { continue };
         let Ok(rest) = crate::postprocess::rest_positions(f) else {
             continue;
@@ -462,25 +655,58 @@ fn modes_check(r: &[RunResult]) -> Vec<String> {
             |name: &str, i: usize| f.point_array(name).map(|a| [a.tuple(i)[0], a.tuple(i)[1], a.tuple(i)[2]]);
         let angle =
             |a: [f64; 3], b: [f64; 3]| (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]).clamp(-1.0, 1.0).acos().to_degrees();
-        for (k, name) in names.iter().enumerate() {
+        for (k, mode) in modes.iter().enumerate() {
             let y = 0.8 * k as f64;
-            let (c, t) = (nearest([0.0, y, 0.0]), nearest([0.5, y, 0.0]));
-            let angles: Vec<String> = ["director1", "director2", "director3"]
+            let (a, b, measured) = if mode.along_length {
+                (nearest([0.0, y, 0.0]), nearest([0.5, y, 0.0]), "centre → tip")
+            } else {
+                (
+                    nearest([0.25, y - MODES_HALF_WIDTH, 0.0]),
+                    nearest([0.25, y + MODES_HALF_WIDTH, 0.0]),
+                    "across the width",
+                )
+            };
+            let angles: Vec<Option<f64>> = ["director1", "director2", "director3"]
                 .iter()
-                .map(|d| match (director(d, c), director(d, t)) {
-                    (Some(a), Some(b)) => format!("{:.1}°", angle(a, b)),
-                    _ => "–".into(),
-                })
+                .map(|d| Some(angle(director(d, a)?, director(d, b)?)))
                 .collect();
-            let chord = (0..3).map(|i| (f.points[t][i] - f.points[c][i]).powi(2)).sum::<f64>().sqrt();
-            lines.push(format!(
-                "| {k}: {name} | {} | {chord:.3} | {} |",
-                angles.join(" / "),
-                expected[k]
+            for (got, want) in angles.iter().zip(mode.angles) {
+                let error = got.map_or(f64::INFINITY, |g| (g - want).abs());
+                mode_errors[k] = mode_errors[k].max(error);
+            }
+            let text: Vec<String> = angles.iter().map(|g| g.map_or("–".into(), |g| format!("{g:.1}°"))).collect();
+            let (chord, chord_expected) = match mode.chord {
+                Some(want) if !mode.isometric => {
+                    let got = (0..3).map(|i| (f.points[b][i] - f.points[a][i]).powi(2)).sum::<f64>().sqrt();
+                    (format!("{got:.3}"), format!("({want:.3})"))
+                }
+                Some(want) => {
+                    let got = (0..3).map(|i| (f.points[b][i] - f.points[a][i]).powi(2)).sum::<f64>().sqrt();
+                    worst_chord = Some(worst_chord.unwrap_or(0.0).max((got - want).abs() / want));
+                    (format!("{got:.3}"), format!("{want:.3}"))
+                }
+                None => ("–".into(), "–".into()),
+            };
+            c.say(format!(
+                "| {} {k}: {} | {measured} | {} | {:.0}° / {:.0}° / {:.0}° | {chord} | {chord_expected} |",
+                res.spec.variant,
+                mode.name,
+                text.join(" / "),
+                mode.angles[0],
+                mode.angles[1],
+                mode.angles[2]
             ));
         }
+        errors.push((res.spec.variant.clone(), mode_errors));
     }
-    lines
+    c.say("");
+    expect_convergence(&mut c, &modes, &errors);
+    c.expect(
+        "the twisted and the bent strip keep their length (isometric modes): chords within 2 % of the straight \
+         and the semicircular one",
+        worst_chord.and_then(|w| within(w, 0.0, 0.02, format!("largest deviation {:.2} %", 100.0 * w))),
+    );
+    c
 }
 
 fn armadillo_runs(o: &Options) -> Vec<RunSpec> {
@@ -500,9 +726,10 @@ fn armadillo_runs(o: &Options) -> Vec<RunSpec> {
     )]
 }
 
-fn armadillo_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines =
-        vec!["Head displacement of the three armadillos (A: Γ₁₃ bend, B: Γ₂₃ bend, C: Γ₃₃ twist):\n".to_string()];
+fn armadillo_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
+    c.say("Head displacement of the three armadillos (A: Γ₁₃ bend, B: Γ₂₃ bend, C: Γ₃₃ twist):\n");
+    let mut moved = Vec::new();
     for res in r {
         let Some(p) = &res.probes else { continue };
         for (k, label) in ["a", "b", "c"].iter().enumerate() {
@@ -512,16 +739,27 @@ fn armadillo_check(r: &[RunResult]) -> Vec<String> {
             });
             if let (Some(a), Ok(b)) = (first, p.last_vec(&format!("head_{label}"), ["x", "y", "z"])) {
                 let d = ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2) + (b[2] - a[2]).powi(2)).sqrt();
-                lines.push(format!(
+                c.say(format!(
                     "- armadillo {} ({}): head moved {:.1} mm.",
                     label.to_uppercase(),
                     ["bend", "bend", "twist"][k],
                     1e3 * d
                 ));
+                moved.push(d);
             }
         }
     }
-    lines
+    c.say("");
+    c.expect(
+        "the bends are realised: heads A and B move by more than half the 0.2 m height (a full half-turn bend \
+         moves the head by 1.2 times the height; the body's shape realises only part of the prescribed \
+         curvature)",
+        (moved.len() == 3).then(|| {
+            let least = moved[0].min(moved[1]);
+            (least > 0.1, format!("{:.1} mm at least", 1e3 * least))
+        }),
+    );
+    c
 }
 
 fn buckling_runs(o: &Options) -> Vec<RunSpec> {
@@ -541,23 +779,56 @@ fn buckling_runs(o: &Options) -> Vec<RunSpec> {
     ]
 }
 
-fn buckling_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines = Vec::new();
+fn buckling_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
+    let mut shapes = Vec::new();
     for res in r {
         let Some(f) = &res.frame else { continue };
-        let (zmin, zmax) = f
-            .points
-            .iter()
-            .fold((f64::MAX, f64::MIN), |(a, b), p| (a.min(p[2]), b.max(p[2])));
-        let waves = rim_waves(f, 0.025).map_or("–".into(), |w| w.to_string());
-        lines.push(format!(
-            "- {}: out-of-plane extent {:.2} mm; waves along the rim: {waves}.",
+        let Ok(shape) = rim_shape(f, 0.025) else { continue };
+        c.say(format!(
+            "- {}: centre {:.2} mm from the rim's best-fit plane; rim leaves that plane by up to {:.2} mm in {} waves.",
             res.spec.variant,
-            1e3 * (zmax - zmin)
+            1e3 * shape.centre_height,
+            1e3 * shape.rim_deviation,
+            shape.waves
         ));
+        shapes.push((res.spec.variant.clone(), shape));
     }
-    lines.push("\nExpected: inner growth gives a dome (positive Gaussian curvature, no rim waves); outer growth a wavy rim (negative Gaussian curvature).".into());
-    lines
+    c.say("");
+    let shape = |name: &str| shapes.iter().find(|(v, _)| v == name).map(|(_, s)| *s);
+    // The disk floats undamped (the scene's damping is inactive, as in the paper), so after the
+    // growth stops its shape keeps swinging about the equilibrium: the expectations compare the two
+    // parts of the shape instead of asking either to vanish.
+    c.expect(
+        "inner growth makes a dome (positive Gaussian curvature): the centre stands off the rim's plane by \
+         more than 5 mm (a fifth of the radius) and by more than twice the rim's own deviation from it",
+        shape("inner").map(|s| {
+            (
+                s.centre_height > 5e-3 && s.centre_height > 2.0 * s.rim_deviation,
+                format!(
+                    "dome height {:.2} mm, rim deviation {:.2} mm",
+                    1e3 * s.centre_height,
+                    1e3 * s.rim_deviation
+                ),
+            )
+        }),
+    );
+    c.expect(
+        "outer growth makes a wavy rim (negative Gaussian curvature): at least two waves, the rim leaving its \
+         plane by more than 1 mm and by more than twice the centre's distance from it",
+        shape("outer").map(|s| {
+            (
+                s.waves >= 2 && s.rim_deviation > 1e-3 && s.rim_deviation > 2.0 * s.centre_height,
+                format!(
+                    "{} waves, rim deviation {:.2} mm, centre {:.2} mm",
+                    s.waves,
+                    1e3 * s.rim_deviation,
+                    1e3 * s.centre_height
+                ),
+            )
+        }),
+    );
+    c
 }
 
 fn moebius_runs(o: &Options) -> Vec<RunSpec> {
@@ -567,27 +838,44 @@ fn moebius_runs(o: &Options) -> Vec<RunSpec> {
     ]
 }
 
-fn moebius_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines = Vec::new();
+fn moebius_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
+    let mut loops = Vec::new();
     for res in r {
         let Some(f) = &res.frame else { continue };
         let zmin = f.points.iter().map(|p| p[2]).fold(f64::MAX, f64::min);
-        lines.push(format!(
-            "- {}: boundary loops {} (a Möbius band has one); lowest point z = {:.2} mm.",
+        let n = boundary_loops(&f.triangles);
+        c.say(format!(
+            "- {}: boundary loops {n}; lowest point z = {:.2} mm.",
             res.spec.variant,
-            boundary_loops(&f.triangles),
             1e3 * zmin
         ));
+        loops.push(n);
     }
-    if let [a, b] = r
-        && let (Some(fa), Some(fb)) = (&a.frame, &b.frame)
-    {
-        lines.push(format!(
+    let distance = match r {
+        [a, b] => match (&a.frame, &b.frame) {
+            (Some(fa), Some(fb)) => Some(hausdorff(&fa.points, &fb.points)),
+            _ => None,
+        },
+        _ => None,
+    };
+    if let Some(d) = distance {
+        c.say(format!(
             "- Hausdorff distance between the plate and shell shapes: {:.3} mm.",
-            1e3 * hausdorff(&fa.points, &fb.points)
+            1e3 * d
         ));
     }
-    lines
+    c.say("");
+    c.expect(
+        "both bands stay one-sided: one boundary loop each",
+        (loops.len() == 2).then(|| (loops.iter().all(|&n| n == 1), format!("{loops:?} loops"))),
+    );
+    c.expect(
+        "the plate and the shell model hang alike: their shapes within 1 mm (the curved terms are of relative \
+         size h/R, a few thousandths here)",
+        distance.and_then(|d| within(d, 0.0, 1e-3, format!("{:.3} mm", 1e3 * d))),
+    );
+    c
 }
 
 /// Renders the last frame of the experiment's runs (or only of its last run) to `<render_dir>/<name>.png`.
@@ -687,8 +975,57 @@ fn fmt_row(res: &RunResult, name: &str) -> String {
     format!("| {} | {}{status} | {ours} {paper} |", res.spec.variant, name)
 }
 
-/// Runs the experiments and writes the report; returns its markdown.
-pub fn run_all(o: &Options) -> Result<String> {
+/// The report's title, provenance line and the head of the timing table.
+fn report_header(o: &Options, seconds: f64) -> Result<String> {
+    let date = std::process::Command::new("date")
+        .arg("-u")
+        .arg("+%Y-%m-%d")
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
+    let rev = std::process::Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default();
+    let mut md = String::new();
+    writeln!(md, "# The paper's experiments\n")?;
+    writeln!(
+        md,
+        "Generated by `cargo xtask experiments{}{}` on {date} (git {rev}), release build, on {}. Total {:.0} s.\n",
+        if o.quick { " --quick" } else { "" },
+        if o.large { " --large" } else { "" },
+        machine(),
+        seconds
+    )?;
+    writeln!(
+        md,
+        "Our columns first, then the paper's Table 1 (32-core workstation with MKL). \"solve\" is our share of time in linear solves (factorisation and solve); the paper's is its LU share. Total times cover the whole run including output.\n"
+    )?;
+    writeln!(
+        md,
+        "| variant | scene | el. | cells | disp. DOFs | rot. DOFs | dt | Newton it. | total | avg step | assembly | solve | paper it. | paper total | paper step | paper assembly | paper LU |"
+    )?;
+    writeln!(
+        md,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    )?;
+    Ok(md)
+}
+
+/// The experiments' report and what failed.
+#[derive(Debug, Clone)]
+pub struct Report {
+    /// The report (markdown).
+    pub markdown: String,
+    /// Runs that did not complete and expected behaviours that were not met.
+    pub failures: Vec<String>,
+}
+
+/// Runs the experiments and makes the report.
+pub fn run_all(o: &Options) -> Result<Report> {
     let started = std::time::Instant::now();
     let mut table = String::new();
     let mut checks = String::new();
@@ -736,46 +1073,17 @@ pub fn run_all(o: &Options) -> Result<String> {
             render(o, &exp, &results)?;
         }
         writeln!(checks, "\n### {}\n", exp.title)?;
-        for line in (exp.check)(&results) {
+        let check = (exp.check)(&results);
+        for line in check.lines() {
             writeln!(checks, "{line}")?;
+        }
+        // A quick run stops early: its expectations are shown but cannot hold yet.
+        if !o.quick {
+            failures.extend(check.failures().iter().map(|f| format!("{}: {f}", exp.name)));
         }
         all_results.push((exp.name, results));
     }
-    let date = std::process::Command::new("date")
-        .arg("-u")
-        .arg("+%Y-%m-%d")
-        .output()
-        .ok()
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-        .unwrap_or_default();
-    let rev = std::process::Command::new("git")
-        .args(["rev-parse", "--short", "HEAD"])
-        .output()
-        .ok()
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-        .unwrap_or_default();
-    let mut md = String::new();
-    writeln!(md, "# The paper's experiments\n")?;
-    writeln!(
-        md,
-        "Generated by `cargo xtask experiments{}{}` on {date} (git {rev}), release build, on {}. Total {:.0} s.\n",
-        if o.quick { " --quick" } else { "" },
-        if o.large { " --large" } else { "" },
-        machine(),
-        started.elapsed().as_secs_f64()
-    )?;
-    writeln!(
-        md,
-        "Our columns first, then the paper's Table 1 (32-core workstation with MKL). \"solve\" is our share of time in linear solves (factorisation and solve); the paper's is its LU share. Total times cover the whole run including output.\n"
-    )?;
-    writeln!(
-        md,
-        "| variant | scene | el. | cells | disp. DOFs | rot. DOFs | dt | Newton it. | total | avg step | assembly | solve | paper it. | paper total | paper step | paper assembly | paper LU |"
-    )?;
-    writeln!(
-        md,
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-    )?;
+    let mut md = report_header(o, started.elapsed().as_secs_f64())?;
     md.push_str(&table);
     writeln!(md, "\n## What each experiment shows\n{checks}")?;
     md.push_str(&comparison::section(&all_results));
@@ -785,5 +1093,5 @@ pub fn run_all(o: &Options) -> Result<String> {
             writeln!(md, "- {f}")?;
         }
     }
-    Ok(md)
+    Ok(Report { markdown: md, failures })
 }

@@ -6,7 +6,7 @@
 mod bench_table;
 mod run;
 
-use xtask::{experiments, runner, stability, study, tidy, validate};
+use xtask::{experiments, runner, scene_reference, stability, study, tidy, validate};
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -47,6 +47,8 @@ enum Command {
     Stability(stability::StabilityArgs),
     /// Repository checks that no compiler makes (also run by the test suite).
     Tidy,
+    /// Regenerate docs/scene-format.md from the scene schema's doc comments.
+    SceneReference,
     /// Run one scene and print the peak memory (used by the studies; one scene per process).
     #[command(hide = true)]
     MeasureRun(cosserat::cli::RunArgs),
@@ -110,7 +112,7 @@ fn main() -> Result<()> {
                 }),
                 render_dir: (!a.quick && a.only.is_none()).then(|| PathBuf::from("docs/img")),
             };
-            let md = experiments::run_all(&options)?;
+            let report = experiments::run_all(&options)?;
             let path = if a.quick || a.only.is_some() {
                 PathBuf::from("out").join(if a.quick {
                     "experiments_quick.md"
@@ -121,9 +123,17 @@ fn main() -> Result<()> {
                 PathBuf::from("docs/experiments.md")
             };
             std::fs::create_dir_all(path.parent().unwrap_or(std::path::Path::new(".")))?;
-            std::fs::write(&path, md)?;
+            std::fs::write(&path, &report.markdown)?;
             eprintln!("wrote {}", path.display());
-            0
+            if report.failures.is_empty() {
+                0
+            } else {
+                eprintln!("{} experiment check(s) failed:", report.failures.len());
+                for f in &report.failures {
+                    eprintln!("  - {f}");
+                }
+                1
+            }
         }
         Command::Validate(a) => {
             let options = validate::Options {
@@ -143,6 +153,11 @@ fn main() -> Result<()> {
             0
         }
         Command::Study(a) => study::run(&a)?,
+        Command::SceneReference => {
+            scene_reference::write(&workspace_root())?;
+            eprintln!("wrote {}", scene_reference::REFERENCE_PATH);
+            0
+        }
         Command::Tidy => {
             tidy::run(&workspace_root())?;
             eprintln!("tidy: ok");

@@ -1,5 +1,5 @@
 //! Reading run outputs back and measuring what the experiments should show (probes, circle fits,
-//! boundary loops, rim waves). Pure geometry on written results: no physics.
+//! boundary loops, the rim of a buckled disk). Pure geometry on written results: no physics.
 
 use anyhow::{Context, Result, bail};
 use cosserat::io::VtuFrame;
@@ -142,29 +142,55 @@ pub fn rest_positions(frame: &VtuFrame) -> Result<Vec<[f64; 3]>> {
         .collect())
 }
 
-/// Number of waves of the out-of-plane displacement along the rim of a disk of radius `r` (rest
-/// positions within 0.1 % of `r`): sign changes of `z − mean z`, sorted by polar angle, halved.
-pub fn rim_waves(frame: &VtuFrame, r: f64) -> Result<usize> {
+/// The shape of a buckled disk of rest radius `r`: how far its rim leaves the rim's own best-fit plane
+/// (which removes the free body's rigid tilt and drift), how many waves that deviation makes along
+/// the rim, and how far the disk's centre lies from that plane (a dome's height).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RimShape {
+    /// Largest distance of a rim point from the rim's best-fit plane.
+    pub rim_deviation: f64,
+    /// Waves of the signed distance along the rim: sign changes of the deviations above a tenth of
+    /// the largest, halved.
+    pub waves: usize,
+    /// Distance of the point nearest to the rest centre from the rim's plane.
+    pub centre_height: f64,
+}
+
+/// [`RimShape`] of a frame whose rest disk has radius `r` and its centre at the origin.
+pub fn rim_shape(frame: &VtuFrame, r: f64) -> Result<RimShape> {
+    use nalgebra::{Matrix3, Vector3};
     let rest = rest_positions(frame)?;
-    let mut rim: Vec<(f64, f64)> = rest
+    let mut rim: Vec<(f64, Vector3<f64>)> = rest
         .iter()
         .zip(&frame.points)
         .filter(|(x, _)| (x[0].hypot(x[1]) - r).abs() < 1e-3 * r)
-        .map(|(x, p)| (x[1].atan2(x[0]), p[2]))
+        .map(|(x, p)| (x[1].atan2(x[0]), Vector3::from(*p)))
         .collect();
     if rim.len() < 4 {
         bail!("only {} rim points found", rim.len());
     }
     rim.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mean = rim.iter().map(|p| p.1).sum::<f64>() / rim.len() as f64;
-    let amplitude = rim.iter().map(|p| (p.1 - mean).abs()).fold(0.0, f64::max);
-    let signs: Vec<bool> = rim
+    let centroid = rim.iter().map(|(_, p)| p).sum::<Vector3<f64>>() / rim.len() as f64;
+    let scatter: Matrix3<f64> = rim.iter().map(|(_, p)| (p - centroid) * (p - centroid).transpose()).sum();
+    let eigen = scatter.symmetric_eigen();
+    let normal = eigen.eigenvectors.column(eigen.eigenvalues.imin()).into_owned();
+    let distances: Vec<f64> = rim.iter().map(|(_, p)| (p - centroid).dot(&normal)).collect();
+    let rim_deviation = distances.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
+    let signs: Vec<bool> = distances
         .iter()
-        .filter(|p| (p.1 - mean).abs() > 1e-3 * amplitude)
-        .map(|p| p.1 > mean)
+        .filter(|d| d.abs() > 0.1 * rim_deviation)
+        .map(|d| *d > 0.0)
         .collect();
     let changes = (0..signs.len()).filter(|&i| signs[i] != signs[(i + 1) % signs.len()]).count();
-    Ok(changes / 2)
+    let centre = (0..rest.len())
+        .min_by(|&a, &b| rest[a][0].hypot(rest[a][1]).total_cmp(&rest[b][0].hypot(rest[b][1])))
+        .context("empty frame")?;
+    let centre_height = (Vector3::from(frame.points[centre]) - centroid).dot(&normal).abs();
+    Ok(RimShape {
+        rim_deviation,
+        waves: changes / 2,
+        centre_height,
+    })
 }
 
 /// Symmetric Hausdorff distance between the point sets of two frames (brute force; small meshes).
@@ -195,6 +221,45 @@ mod tests {
             .collect();
         let (ca, cb, r, rms) = fit_circle(&pts, 0, 2).unwrap();
         assert!((ca - 2.0).abs() < 1e-12 && (cb + 1.0).abs() < 1e-12 && (r - 3.0).abs() < 1e-12 && rms < 1e-12);
+    }
+
+    /// A disk of radius 1 (rim and centre points) deformed by `z(x, y)`, then tilted about x.
+    fn deformed_disk(z: impl Fn(f64, f64) -> f64) -> VtuFrame {
+        let mut rest = vec![[0.0, 0.0, 0.0]];
+        rest.extend((0..64).map(|k| {
+            let a = 2.0 * std::f64::consts::PI * k as f64 / 64.0;
+            [a.cos(), a.sin(), 0.0]
+        }));
+        let (c, s) = (0.3_f64.cos(), 0.3_f64.sin());
+        let points: Vec<[f64; 3]> = rest
+            .iter()
+            .map(|x| {
+                let h = z(x[0], x[1]);
+                [x[0] + 0.5, c * x[1] - s * h, s * x[1] + c * h]
+            })
+            .collect();
+        let u = rest
+            .iter()
+            .zip(&points)
+            .flat_map(|(x, p)| [p[0] - x[0], p[1] - x[1], p[2] - x[2]])
+            .collect();
+        let mut frame = VtuFrame::new(points, Vec::new(), 0.0);
+        frame.point_data.push(cosserat::io::DataArray::new("displacement", 3, u));
+        frame
+    }
+
+    #[test]
+    fn rim_shape_of_a_tilted_dome_and_a_saddle() {
+        let dome = rim_shape(&deformed_disk(|x, y| 0.2 * (1.0 - x * x - y * y)), 1.0).unwrap();
+        assert!(dome.rim_deviation < 1e-12 && dome.waves == 0, "{dome:?}");
+        assert!((dome.centre_height - 0.2).abs() < 1e-12, "{dome:?}");
+        let saddle = rim_shape(&deformed_disk(|x, y| 0.1 * (x * x - y * y)), 1.0).unwrap();
+        assert!(
+            (saddle.rim_deviation - 0.1).abs() < 1e-12 && saddle.waves == 2,
+            "{saddle:?}"
+        );
+        let wavy = rim_shape(&deformed_disk(|x, y| 0.05 * (3.0 * y.atan2(x)).cos()), 1.0).unwrap();
+        assert_eq!(wavy.waves, 3, "{wavy:?}");
     }
 
     #[test]

@@ -8,6 +8,8 @@
 //! - **No measurements in comments.** A timing in a comment of a library's `src/` is stale the day
 //!   after; figures belong in the generated reports (an order of magnitude that explains a design is
 //!   fine in words, and a setting such as `Δt = 10 ms` is not a measurement).
+//! - **Current docs.** Generated pages that are cheap to make (the scene-format reference) equal a
+//!   fresh generation.
 //! - **Short functions.** A function of `src/` longer than [`MAX_FUNCTION_LINES`] lines says why in a
 //!   comment that starts with `// Long because` inside it or just above it.
 
@@ -20,13 +22,14 @@ const SKIPPED_DIRS: [&str; 3] = ["target", "out", ".git"];
 /// Every crate of the workspace with the workspace crates it may depend on (normal dependencies).
 pub const LAYERS: [(&str, &[&str]); 13] = [
     ("cosserat-geometry", &[]),
+    ("cosserat-sparse", &[]),
     ("cosserat-fem", &["cosserat-geometry"]),
     ("cosserat-material", &["cosserat-geometry", "cosserat-fem"]),
     (
         "cosserat-assembly",
         &["cosserat-geometry", "cosserat-fem", "cosserat-material"],
     ),
-    ("cosserat-solver", &["cosserat-assembly"]),
+    ("cosserat-solver", &["cosserat-assembly", "cosserat-sparse"]),
     ("cosserat-contact", &["cosserat-geometry", "cosserat-assembly"]),
     (
         "cosserat-kl",
@@ -74,12 +77,11 @@ pub const LAYERS: [(&str, &[&str]); 13] = [
         ],
     ),
     ("xtask", &["cosserat"]),
-    ("cosserat-sparse", &[]),
 ];
 
 /// External crates the numeric core (geometry, fem, material) must not use: the core is generic
 /// numerics, independent of file formats and of the sparse solvers.
-const NOT_IN_THE_CORE: [&str; 4] = ["serde", "toml", "faer", "serde_json"];
+pub const NOT_IN_THE_CORE: [&str; 4] = ["serde", "toml", "faer", "serde_json"];
 
 /// Functions longer than this need a reason.
 pub const MAX_FUNCTION_LINES: usize = 100;
@@ -93,10 +95,28 @@ pub fn run(root: &Path) -> Result<()> {
     findings.extend(layering(root)?);
     findings.extend(measurements_in_comments(root)?);
     findings.extend(long_functions(root)?);
+    findings.extend(stale_docs(root)?);
     if !findings.is_empty() {
         bail!("tidy found {} problem(s):\n{}", findings.len(), findings.join("\n"));
     }
     Ok(())
+}
+
+/// Generated pages that differ from a fresh generation.
+///
+/// # Errors
+/// A schema that cannot be read or parsed.
+pub fn stale_docs(root: &Path) -> Result<Vec<String>> {
+    let fresh = crate::scene_reference::generate(root)?;
+    let committed = std::fs::read_to_string(root.join(crate::scene_reference::REFERENCE_PATH)).unwrap_or_default();
+    Ok(if fresh == committed {
+        Vec::new()
+    } else {
+        vec![format!(
+            "{} is not current: run `cargo xtask scene-reference`",
+            crate::scene_reference::REFERENCE_PATH
+        )]
+    })
 }
 
 /// Lines of any file that name the developers' sibling folder, as `path:line: text`.

@@ -16,7 +16,7 @@ pub struct ContactStats {
     pub min_gap: f64,
     /// Evaluations (value, gradient or Hessian) since construction.
     pub n_evaluations: usize,
-    /// CCD queries (`max_step_fraction`, `obstacle_motion_fraction`) since construction.
+    /// CCD queries (`max_step_fraction`, `obstacle_motion_fractions`) since construction.
     pub n_ccd_queries: usize,
     /// Time spent in broad phases since construction.
     pub broad_phase_time: Duration,

@@ -439,17 +439,35 @@ impl ContactTerm {
         self.ccd_fraction(&x0, &x1)
     }
 
-    /// The safe fraction of the obstacles' motion from their start to their end positions with the
-    /// nodes held at `xⁿ`. Below 1, the start of the step is infeasible for the obstacles' targets and
-    /// the step must be shortened (with new end positions).
-    pub fn obstacle_motion_fraction(&self, state: &SystemState) -> f64 {
+    /// The safe fraction of each obstacle's motion from its start to its end positions, with the nodes
+    /// held at `xⁿ` and the other obstacles at their start (a static obstacle's fraction is 1). Each
+    /// obstacle is checked alone because obstacles never interact with one another: one obstacle
+    /// blocked by a shell must not hold back the others. Below 1, the start of the step is infeasible
+    /// for that obstacle's target and its motion must be shortened (with new end positions).
+    pub fn obstacle_motion_fractions(&self, state: &SystemState) -> Vec<f64> {
         let layout = DofLayout {
             n_disp_nodes: state.x.len(),
             n_rot_nodes: 0,
         };
         let x0 = self.vertex_positions(state, &layout, None, 0.0, false);
-        let x1 = self.vertex_positions(state, &layout, None, 0.0, true);
-        self.ccd_fraction(&x0, &x1)
+        (0..self.obstacle_end.len())
+            .map(|k| {
+                if self.obstacle_end[k] == self.obstacle_start[k] {
+                    return 1.0;
+                }
+                let x1 = self.mesh.positions(
+                    |i| state.x[i],
+                    |o, v| {
+                        if o == k {
+                            self.obstacle_end[o][v]
+                        } else {
+                            self.obstacle_start[o][v]
+                        }
+                    },
+                );
+                self.ccd_fraction(&x0, &x1)
+            })
+            .collect()
     }
 
     /// All pairs within reach at `x = xⁿ + Δt u` (obstacles at their end positions): the smallest gap,

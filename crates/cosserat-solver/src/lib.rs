@@ -76,7 +76,7 @@
 pub mod continuation;
 pub mod error;
 mod line_search;
-pub mod linear;
+pub use cosserat_sparse as linear;
 pub mod newton;
 pub mod potential_problem;
 pub mod problem;

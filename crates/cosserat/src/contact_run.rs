@@ -190,8 +190,8 @@ impl ContactRun {
     }
 
     /// Moves the kinematic obstacles to their targets at `t_end`, as far as the shells at the start of
-    /// the step allow: if the full motion would bring an obstacle closer to a shell than CCD's minimum
-    /// gap, all kinematic obstacles go the safe fraction of the way.
+    /// the step allow: an obstacle whose full motion would bring it closer to a shell than CCD's
+    /// minimum gap goes the safe fraction of its way (the others are not held back).
     pub fn before_step(&mut self, potential: &mut IncrementalPotential, t_end: f64) {
         if self.obstacles.iter().all(|o| o.motion.is_none()) {
             return;
@@ -212,10 +212,11 @@ impl ContactRun {
             }
             targets.push(target);
         }
-        let alpha = term.obstacle_motion_fraction(state);
+        let fractions = term.obstacle_motion_fractions(state);
         self.last_lag = 0.0;
         for (k, (o, target)) in self.obstacles.iter_mut().zip(&targets).enumerate() {
             let Some(target) = target else { continue };
+            let alpha = fractions[k];
             let start = term.obstacle_positions(k).to_vec();
             let end: Vec<Vector3<f64>> = if alpha < 1.0 {
                 start.iter().zip(target).map(|(a, b)| a + (b - a) * alpha).collect()

@@ -10,6 +10,7 @@
 //! Hausdorff distance is between surfaces (every frame point to the other surface's nearest triangle,
 //! both ways), so different samplings of the same shape (Tri3 vertices against Tri6 nodes) give zero.
 
+use super::check::Check;
 use super::{Options, RunResult, RunSpec, quick_end, run};
 use cosserat::io::ModelRecord;
 use cosserat::io::VtuFrame;
@@ -42,7 +43,8 @@ pub(super) fn bunny_kl_runs(o: &Options) -> Vec<RunSpec> {
         .collect()
 }
 
-pub(super) fn bunny_kl_check(r: &[RunResult]) -> Vec<String> {
+pub(super) fn bunny_kl_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
     let mut lines = Vec::new();
     for res in r {
         let s = &res.summary;
@@ -72,18 +74,20 @@ pub(super) fn bunny_kl_check(r: &[RunResult]) -> Vec<String> {
         if let Some(g) = s.contact.as_ref().and_then(|c| c.min_gap) {
             lines.push(format!("  - smallest contact gap reached: {:.4} mm.", 1e3 * g));
         }
-        if let Some(f) = &res.frame {
+        c.extend(std::mem::take(&mut lines));
+        let crossing = res.frame.as_ref().map(|f| {
             let points: Vec<nalgebra::Vector3<f64>> = f.points.iter().map(|p| nalgebra::Vector3::from(*p)).collect();
-            let crossing = cosserat::contact::intersecting_pairs(&f.triangles, &points);
-            lines.push(format!(
-                "  - last frame (t = {:.3} s): {} intersecting triangle pairs (exact test over all {} triangles, floor included).",
-                f.time,
-                crossing.len(),
-                f.triangles.len()
-            ));
-        }
+            cosserat::contact::intersecting_pairs(&f.triangles, &points).len()
+        });
+        c.expect(
+            format!(
+                "{}: no two triangles intersect in the last frame (exact test over all triangles, floor included)",
+                res.spec.variant
+            ),
+            crossing.map(|n| (n == 0, format!("{n} intersecting pairs"))),
+        );
     }
-    lines
+    c
 }
 
 /// The Tet4 lotus: n × n × 1 cells (default 32; quick 8; with `--large` also the paper's 100).
@@ -105,7 +109,7 @@ pub(super) fn lotus_tet4_runs(o: &Options) -> Vec<RunSpec> {
         .collect()
 }
 
-pub(super) fn lotus_tet4_check(r: &[RunResult]) -> Vec<String> {
+pub(super) fn lotus_tet4_check(r: &[RunResult]) -> Check {
     let mut lines = vec![
         "| mesh | Tet4 | DOFs (disp. + rot.) | Newton it./step | CG it./Newton it. | ms/step | edge-midpoint z [m] | corner z [m] |".to_string(),
         "|---|---|---|---|---|---|---|---|".to_string(),
@@ -135,7 +139,9 @@ pub(super) fn lotus_tet4_check(r: &[RunResult]) -> Vec<String> {
             z("b035_corner"),
         ));
     }
-    lines
+    let mut c = Check::new();
+    c.extend(lines);
+    c
 }
 
 /// A triangle surface: points and triangles.

@@ -3,6 +3,7 @@
 //! contact statistics of `summary.json`, an exact intersection test over the last frame, and what each
 //! experiment should show (the bunny's drop, the dumpling's pole rotation and folds, the scroll's rolls).
 
+use super::check::{Check, within};
 use super::{Options, RunResult, RunSpec, quick_end, run};
 use crate::postprocess::{fit_circle, hausdorff, rest_positions};
 use cosserat::contact::intersecting_pairs;
@@ -57,8 +58,23 @@ pub(super) fn without_obstacles(f: &VtuFrame) -> VtuFrame {
     out
 }
 
-/// Lines every contact experiment reports per run: solver effort, contact statistics, the contact share
-/// of the step, and intersections in the last frame.
+/// What every contact experiment reports per run: solver effort, contact statistics, the contact
+/// share of the step; and expects no intersection in the last frame.
+fn contact_report(c: &mut Check, res: &RunResult) {
+    c.extend(contact_lines(res));
+    let crossing = res.frame.as_ref().map(|f| {
+        let points: Vec<Vector3<f64>> = f.points.iter().map(|p| Vector3::from(*p)).collect();
+        intersecting_pairs(&f.triangles, &points).len()
+    });
+    c.expect(
+        format!(
+            "{}: no two triangles intersect in the last frame (exact test over all triangles, obstacles included)",
+            res.spec.variant
+        ),
+        crossing.map(|n| (n == 0, format!("{n} intersecting pairs"))),
+    );
+}
+
 fn contact_lines(res: &RunResult) -> Vec<String> {
     let s = &res.summary;
     let mut lines = vec![format!(
@@ -97,19 +113,6 @@ fn contact_lines(res: &RunResult) -> Vec<String> {
             1e3 * lag,
             1e3 * last
         ));
-    }
-    match &res.frame {
-        Some(f) => {
-            let points: Vec<Vector3<f64>> = f.points.iter().map(|p| Vector3::from(*p)).collect();
-            let crossing = intersecting_pairs(&f.triangles, &points);
-            lines.push(format!(
-                "  - last frame (t = {:.3} s): {} intersecting triangle pairs (exact test over all {} triangles, obstacles included).",
-                f.time,
-                crossing.len(),
-                f.triangles.len()
-            ));
-        }
-        None => lines.push("  - no frame written.".into()),
     }
     lines
 }
@@ -155,22 +158,30 @@ pub(super) fn bunny_runs(o: &Options) -> Vec<RunSpec> {
         .collect()
 }
 
-pub(super) fn bunny_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines = Vec::new();
+pub(super) fn bunny_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
     for res in r {
-        lines.extend(contact_lines(res));
-        if let Some(p) = &res.probes
-            && let (Ok(z0), Ok(z1)) = (p.at("top.z", 0.0), p.last("top.z"))
-        {
-            lines.push(format!(
-                "  - drop of the top (mean of the highest 5 mm at rest): {:.2} mm at t = {:.2} s.",
-                1e3 * (z0 - z1),
-                p.last("t").unwrap_or(f64::NAN)
+        contact_report(&mut c, res);
+        let height = res.summary.rest_bbox.max[2] - res.summary.rest_bbox.min[2];
+        let drop = res
+            .probes
+            .as_ref()
+            .and_then(|p| Some((p.at("top.z", 0.0).ok()? - p.last("top.z").ok()?, p.last("t").ok()?)));
+        if let Some((drop, t)) = drop {
+            c.say(format!(
+                "  - drop of the top (mean of the highest 5 mm at rest): {:.2} mm at t = {t:.2} s.",
+                1e3 * drop
             ));
         }
+        if res.spec.variant.starts_with("h = 10 mm") {
+            c.expect(
+                "the thick bunny keeps its shape under its own weight: its top drops by less than a tenth of its height",
+                drop.and_then(|(d, _)| within(d, 0.0, 0.1 * height, format!("{:.2} mm of {:.1} mm", 1e3 * d, 1e3 * height))),
+            );
+        }
     }
-    lines.push("\nExpected: the thick bunny keeps its shape under its own weight; thinner ones sag, buckle and crumple into self-contact.".into());
-    lines
+    c.say("\nThinner bunnies sag, buckle and crumple into self-contact (`--large`).");
+    c
 }
 
 /// Dumpling runs: plate and shell model.
@@ -256,15 +267,24 @@ fn ring_waves(f: &VtuFrame) -> Option<usize> {
     Some(changes / 2)
 }
 
-pub(super) fn dumpling_check(r: &[RunResult]) -> Vec<String> {
+pub(super) fn dumpling_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
     let mut lines = Vec::new();
     for res in r {
-        lines.extend(contact_lines(res));
+        contact_report(&mut c, res);
         let frames = sample_frames(&res.dir, 13);
         let turn = pole_turn(&frames);
-        if let Some(worst) = turn.iter().map(|(_, a, b)| (a - b).abs()).reduce(f64::max) {
+        let worst = turn.iter().map(|(_, a, b)| (a - b).abs()).reduce(f64::max);
+        c.expect(
+            format!(
+                "{}: the pole follows its target turn (90°/s up to 360° at 4 s) within 1° (a position and rotation condition)",
+                res.spec.variant
+            ),
+            worst.and_then(|w| within(w.to_degrees(), 0.0, 1.0, format!("largest deviation {:.2}°", w.to_degrees()))),
+        );
+        if let Some(worst) = worst {
             let (t, a, b) = turn[turn.len() - 1];
-            lines.push(format!(
+            c.say(format!(
                 "  - pole rotation about z (director 1 of the pole, {} frames): at t = {t:.2} s {:.1}° against the target {:.1}°; largest deviation {:.2}°.",
                 turn.len(),
                 a.to_degrees(),
@@ -272,13 +292,14 @@ pub(super) fn dumpling_check(r: &[RunResult]) -> Vec<String> {
                 worst.to_degrees()
             ));
         }
-        if let Some(f) = &res.frame
-            && let Some(w) = ring_waves(f)
-        {
-            lines.push(format!(
-                "  - folds: {w} waves of the radius along the 45° latitude ring in the last frame."
-            ));
-        }
+        let folds = res.frame.as_ref().and_then(ring_waves);
+        c.expect(
+            format!(
+                "{}: the twist folds the dome: at least two waves of the radius along the 45° latitude ring in the last frame",
+                res.spec.variant
+            ),
+            folds.map(|w| (w >= 2, format!("{w} waves"))),
+        );
     }
     if let [a, b] = r
         && let (Some(fa), Some(fb)) = (&a.frame, &b.frame)
@@ -292,8 +313,8 @@ pub(super) fn dumpling_check(r: &[RunResult]) -> Vec<String> {
             1e3 * hausdorff(&pa, &pb)
         ));
     }
-    lines.push("\nExpected: the pole follows its target (90°/s up to 360° at 4 s) and twists the dome into spiral folds that touch without intersecting.".into());
-    lines
+    c.extend(lines);
+    c
 }
 
 /// Papyrus scroll run (the scene's rounded boxes).
@@ -352,10 +373,10 @@ fn rest_turns() -> f64 {
         / (2.0 * PI)
 }
 
-pub(super) fn scroll_check(r: &[RunResult]) -> Vec<String> {
-    let mut lines = Vec::new();
+pub(super) fn scroll_check(r: &[RunResult]) -> Check {
+    let mut c = Check::new();
     for res in r {
-        lines.extend(contact_lines(res));
+        contact_report(&mut c, res);
         let pvd = res.dir.join("frames").join("run.pvd");
         let rolled = read_pvd(&pvd).ok().and_then(|entries| {
             let k = entries
@@ -366,25 +387,28 @@ pub(super) fn scroll_check(r: &[RunResult]) -> Vec<String> {
                 .0;
             read_pvd_frame(&pvd, k).ok()
         });
+        let mut turns = Vec::new();
         for (name, frame) in [
             ("before the boxes (t ≤ 6 s)", rolled.as_ref()),
             ("last frame", res.frame.as_ref()),
         ] {
             let Some(f) = frame else { continue };
-            let sides: Vec<String> = [(-1.0, "left"), (1.0, "right")]
-                .iter()
-                .filter_map(|&(s, label)| {
-                    roll(f, s)
-                        .map(|(turns, radius)| format!("{label} {turns:.2} turns, end radius {:.1} mm", 1e3 * radius))
-                })
-                .collect();
-            if !sides.is_empty() {
-                lines.push(format!("  - rolls {name}, t = {:.2} s: {}.", f.time, sides.join("; ")));
+            let sides: Vec<(f64, f64)> = [-1.0, 1.0].iter().filter_map(|&side| roll(f, side)).collect();
+            if let [left, right] = sides[..] {
+                c.say(format!(
+                    "  - rolls {name}, t = {:.2} s: left {:.2} turns, end radius {:.1} mm; right {:.2} turns, end radius {:.1} mm.",
+                    f.time,
+                    left.0,
+                    1e3 * left.1,
+                    right.0,
+                    1e3 * right.1
+                ));
+                turns.push((f.time, left, right));
             }
         }
-        if let Some(p) = &res.probes {
+        let middle = res.probes.as_ref().map(|p| {
             let v = |name: &str, t: f64| p.at(name, t).unwrap_or(f64::NAN);
-            lines.push(format!(
+            c.say(format!(
                 "  - middle of the sheet moved ({:.2}, {:.2}) mm in x, y by t = 6 s; roll ends at x = {:.1} / {:.1} mm at t = 9 s and {:.1} / {:.1} mm at the end.",
                 1e3 * v("middle.x", 6.0),
                 1e3 * v("middle.y", 6.0),
@@ -393,11 +417,50 @@ pub(super) fn scroll_check(r: &[RunResult]) -> Vec<String> {
                 1e3 * p.last("left_end.x").unwrap_or(f64::NAN),
                 1e3 * p.last("right_end.x").unwrap_or(f64::NAN)
             ));
-        }
+            v("middle.x", 6.0).hypot(v("middle.y", 6.0))
+        });
+        c.say("");
+        let before = turns.iter().find(|(t, _, _)| *t <= 6.0 + 1e-9).copied();
+        let last = turns.iter().rfind(|(t, _, _)| *t > 6.0 + 1e-9).copied();
+        c.expect(
+            format!(
+                "both ends roll up before the boxes come: at least two turns per side (the rest curvature holds \
+                 {:.2} turns; the layers' 1 mm contact distance keeps the roll from closing that tightly) with \
+                 end radii within 50 % of the 10 mm cap",
+                rest_turns()
+            ),
+            before.map(|(_, l, r)| {
+                (
+                    l.0.min(r.0) >= 2.0 && [l.1, r.1].iter().all(|radius| (radius - 0.01).abs() <= 0.005),
+                    format!(
+                        "{:.2} / {:.2} turns, radii {:.1} / {:.1} mm",
+                        l.0,
+                        r.0,
+                        1e3 * l.1,
+                        1e3 * r.1
+                    ),
+                )
+            }),
+        );
+        c.expect(
+            "the sheet does not slide while it rolls (friction μ = 1 on the floor): its middle moves less than 1 mm by t = 6 s",
+            middle.and_then(|d| within(d, 0.0, 1e-3, format!("{:.2} mm", 1e3 * d))),
+        );
+        c.expect(
+            "the boxes push the rolls open after 9 s: each roll has fewer turns in the last frame than at 6 s",
+            before.zip(last).map(|((_, l0, r0), (_, l1, r1))| {
+                (
+                    l1.0 < l0.0 && r1.0 < r0.0,
+                    format!("left {:.2} → {:.2}, right {:.2} → {:.2} turns", l0.0, l1.0, r0.0, r1.0),
+                )
+            }),
+        );
+        let lag = res.summary.contact.as_ref().map(|c| c.final_obstacle_lag);
+        c.expect(
+            "the boxes reach their scripted end positions: at the end none is held back by more than 5 mm \
+             (a box is stopped only while the sheet it presses cannot give way)",
+            lag.and_then(|l| within(l, 0.0, 5e-3, format!("{:.1} mm", 1e3 * l))),
+        );
     }
-    lines.push(format!(
-        "\nExpected: rolls of radius about 10 mm (the 100 rad/m cap) with {:.2} turns of rest curvature per side, the sheet not sliding while it rolls, and the rolls pushed open by the boxes after 9 s.",
-        rest_turns()
-    ));
-    lines
+    c
 }

@@ -560,18 +560,34 @@ fn begin_step_rejects_intersections_and_bad_input() {
 }
 
 #[test]
+fn a_blocked_obstacle_does_not_hold_back_the_others() {
+    let mut case = plate_over_floor(2, 2.0 * TH + 0.5 * DHAT, 0.0, 16);
+    // A second floor far above the plate, moving sideways: nothing is in its way.
+    let mut far = floor(1.0);
+    far.id = 2;
+    case.obstacles.push(far);
+    let mut t = term(&case, parameters(0.0, false));
+    t.set_obstacle_positions(0, floor(1e-3).positions).unwrap();
+    let shifted: Vec<Vector3<f64>> = floor(1.0).positions.iter().map(|p| p + Vector3::new(0.5, 0.0, 0.0)).collect();
+    t.set_obstacle_positions(1, shifted).unwrap();
+    let fractions = t.obstacle_motion_fractions(&case.state);
+    assert!(fractions[0] > 0.0 && fractions[0] < 0.5, "{fractions:?}");
+    assert_eq!(fractions[1], 1.0, "{fractions:?}");
+}
+
+#[test]
 fn kinematic_obstacles_move_and_are_checked() {
     let case = plate_over_floor(2, 2.0 * TH + 0.5 * DHAT, 0.0, 16);
     let mut t = term(&case, parameters(0.0, false));
     // Raising the floor by 1 mm would push it through the plate.
     let raised: Vec<Vector3<f64>> = floor(1e-3).positions;
     t.set_obstacle_positions(0, raised.clone()).unwrap();
-    let alpha = t.obstacle_motion_fraction(&case.state);
+    let alpha = t.obstacle_motion_fractions(&case.state)[0];
     assert!(alpha > 0.0 && alpha < 0.5, "{alpha}");
     // Lowering it is safe, and commit makes the end positions the new start.
     let lowered = floor(-1e-3).positions;
     t.set_obstacle_positions(0, lowered.clone()).unwrap();
-    assert_eq!(t.obstacle_motion_fraction(&case.state), 1.0);
+    assert_eq!(t.obstacle_motion_fractions(&case.state), vec![1.0]);
     let mut state = case.state.clone();
     t.commit(&mut state, &case.layout, &vec![0.0; case.layout.n_dofs()], DT);
     assert_eq!(t.obstacle_positions(0), lowered.as_slice());

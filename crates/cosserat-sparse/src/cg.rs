@@ -26,7 +26,7 @@ use crate::error::LinearSolveError;
 pub struct CgSettings {
     /// Stop when `‖b − A x‖₂ ≤ relative_tolerance · ‖b‖₂` (dimensionless, in (0, 1), default 1e-8).
     /// Newton's method overwrites it before every solve from its forcing sequence
-    /// ([`NewtonSettings::cg_forcing`](crate::NewtonSettings::cg_forcing)).
+    /// (`NewtonSettings::cg_forcing` of the solver crate).
     pub relative_tolerance: f64,
     /// Iteration cap per solve; `None` (default) means `max(1000, n)` for a system of dimension `n`, the
     /// reference's cap. Reaching it is not an error: the last iterate is returned.
@@ -102,7 +102,6 @@ impl CgForcing {
 
 /// Why a conjugate-gradient solve stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[non_exhaustive]
 pub enum CgStop {
     /// The relative residual reached the tolerance.
     Converged,

@@ -328,6 +328,82 @@ impl Fronts {
     }
 }
 
+/// Sets every front's children (in increasing supernode order) and returns the list they index.
+fn link_children(fronts: &mut [Front]) -> Vec<usize> {
+    let n_fronts = fronts.len();
+    // Children lists, in increasing supernode order.
+    let mut count = vec![0usize; n_fronts + 1];
+    for f in fronts.iter() {
+        if let Target::Front(p) = f.target {
+            count[p + 1] += 1;
+        }
+    }
+    for p in 0..n_fronts {
+        count[p + 1] += count[p];
+    }
+    let mut children = vec![0usize; count[n_fronts]];
+    let mut next = count.clone();
+    for (c, f) in fronts.iter().enumerate() {
+        if let Target::Front(p) = f.target {
+            children[next[p]] = c;
+            next[p] += 1;
+        }
+    }
+    for (p, f) in fronts.iter_mut().enumerate() {
+        f.children = count[p]..count[p + 1];
+    }
+    children
+}
+
+/// A postorder of the fronts: every subtree runs contiguously, children in increasing order. `None`
+/// if some front is not reached from a root.
+fn postorder(fronts: &[Front], children: &[usize]) -> Option<Vec<usize>> {
+    let n_fronts = fronts.len();
+    let mut order = Vec::with_capacity(n_fronts);
+    let mut path: Vec<(usize, usize)> = Vec::new();
+    for root in (0..n_fronts).filter(|&f| !matches!(fronts[f].target, Target::Front(_))) {
+        path.push((root, 0));
+        while let Some(&mut (f, ref mut k)) = path.last_mut() {
+            let kids = fronts[f].children.clone();
+            if *k < kids.len() {
+                let child = children[kids.start + *k];
+                *k += 1;
+                path.push((child, 0));
+            } else {
+                order.push(f);
+                path.pop();
+            }
+        }
+    }
+    (order.len() == n_fronts).then_some(order)
+}
+
+/// Assigns every front its stack and offset, and returns the peak size of each stack. Two stacks, by
+/// the parity of the depth: a front's children are the topmost entries of the other stack when it runs
+/// (a postorder consumes every deeper update before), and its own update goes on top of its stack, where
+/// the product writes it directly. It is popped by the parent, or at once when it goes to the separator.
+fn assign_stacks(fronts: &mut [Front], order: &[usize], children: &[usize]) -> [usize; 2] {
+    for &f in order.iter().rev() {
+        if let Target::Front(p) = fronts[f].target {
+            fronts[f].stack = 1 - fronts[p].stack;
+        }
+    }
+    let (mut top, mut peak) = ([0usize; 2], [0usize; 2]);
+    for &f in order {
+        let (own, other) = (fronts[f].stack, 1 - fronts[f].stack);
+        let size = fronts[f].update_rows().pow(2);
+        fronts[f].stack_offset = top[own];
+        peak[own] = peak[own].max(top[own] + size);
+        if let Some(first) = fronts[f].children.clone().map(|c| fronts[children[c]].stack_offset).min() {
+            top[other] = first;
+        }
+        if let Target::Front(_) = fronts[f].target {
+            top[own] += size;
+        }
+    }
+    peak
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -387,7 +463,7 @@ mod tests {
             next[c as usize] += 1;
         }
         let structure = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
-        let perm = super::super::two_domain::amd_order(structure.as_ref()).unwrap();
+        let perm = crate::two_domain::amd_order(structure.as_ref()).unwrap();
         let mut position = vec![0; n];
         for (new, &old) in perm.iter().enumerate() {
             position[old] = new;
@@ -525,80 +601,4 @@ mod tests {
             assert_eq!(result, expected, "negative diagonal at {column}");
         }
     }
-}
-
-/// Sets every front's children (in increasing supernode order) and returns the list they index.
-fn link_children(fronts: &mut [Front]) -> Vec<usize> {
-    let n_fronts = fronts.len();
-    // Children lists, in increasing supernode order.
-    let mut count = vec![0usize; n_fronts + 1];
-    for f in fronts.iter() {
-        if let Target::Front(p) = f.target {
-            count[p + 1] += 1;
-        }
-    }
-    for p in 0..n_fronts {
-        count[p + 1] += count[p];
-    }
-    let mut children = vec![0usize; count[n_fronts]];
-    let mut next = count.clone();
-    for (c, f) in fronts.iter().enumerate() {
-        if let Target::Front(p) = f.target {
-            children[next[p]] = c;
-            next[p] += 1;
-        }
-    }
-    for (p, f) in fronts.iter_mut().enumerate() {
-        f.children = count[p]..count[p + 1];
-    }
-    children
-}
-
-/// A postorder of the fronts: every subtree runs contiguously, children in increasing order. `None`
-/// if some front is not reached from a root.
-fn postorder(fronts: &[Front], children: &[usize]) -> Option<Vec<usize>> {
-    let n_fronts = fronts.len();
-    let mut order = Vec::with_capacity(n_fronts);
-    let mut path: Vec<(usize, usize)> = Vec::new();
-    for root in (0..n_fronts).filter(|&f| !matches!(fronts[f].target, Target::Front(_))) {
-        path.push((root, 0));
-        while let Some(&mut (f, ref mut k)) = path.last_mut() {
-            let kids = fronts[f].children.clone();
-            if *k < kids.len() {
-                let child = children[kids.start + *k];
-                *k += 1;
-                path.push((child, 0));
-            } else {
-                order.push(f);
-                path.pop();
-            }
-        }
-    }
-    (order.len() == n_fronts).then_some(order)
-}
-
-/// Assigns every front its stack and offset, and returns the peak size of each stack. Two stacks, by
-/// the parity of the depth: a front's children are the topmost entries of the other stack when it runs
-/// (a postorder consumes every deeper update before), and its own update goes on top of its stack, where
-/// the product writes it directly. It is popped by the parent, or at once when it goes to the separator.
-fn assign_stacks(fronts: &mut [Front], order: &[usize], children: &[usize]) -> [usize; 2] {
-    for &f in order.iter().rev() {
-        if let Target::Front(p) = fronts[f].target {
-            fronts[f].stack = 1 - fronts[p].stack;
-        }
-    }
-    let (mut top, mut peak) = ([0usize; 2], [0usize; 2]);
-    for &f in order {
-        let (own, other) = (fronts[f].stack, 1 - fronts[f].stack);
-        let size = fronts[f].update_rows().pow(2);
-        fronts[f].stack_offset = top[own];
-        peak[own] = peak[own].max(top[own] + size);
-        if let Some(first) = fronts[f].children.clone().map(|c| fronts[children[c]].stack_offset).min() {
-            top[other] = first;
-        }
-        if let Target::Front(_) = fronts[f].target {
-            top[own] += size;
-        }
-    }
-    peak
 }

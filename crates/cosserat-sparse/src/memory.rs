@@ -3,22 +3,21 @@
 //! Large allocations come from the operating system as lazily mapped zero pages: the first write to
 //! each page faults, and the kernel clears it then. Left lazy, the first numerical factorisation pays
 //! for every page of the values it copies and of faer's workspace, and the first assembly for those
-//! of the Hessian values. On the Tri6 640 × 64 plate, with only the factor mapped in advance, the
-//! first factorisation took 2.5 s and the following ones 1.3 s; with every buffer mapped in advance
-//! the first one takes 1.35 s. The buffers that the assembly and the factorisations reuse are
-//! therefore written once when they are set up, together with the analysis that sizes them.
+//! of the Hessian values, which on large meshes nearly doubles the first factorisation's time. The
+//! buffers that the assembly and the factorisations reuse are therefore written once when they are
+//! set up, together with the analysis that sizes them.
 
 use faer::dyn_stack::{MemBuffer, StackReq};
 
 /// A zeroed vector whose memory is written now (`vec![0.0; n]` would get lazily mapped zero pages).
-pub(crate) fn mapped_zeros(len: usize) -> Vec<f64> {
+pub fn mapped_zeros(len: usize) -> Vec<f64> {
     let mut v = Vec::with_capacity(len);
     v.resize(len, 0.0);
     v
 }
 
 /// A workspace of `req` whose memory is written now; `None` if it cannot be allocated.
-pub(crate) fn mapped_workspace(req: StackReq) -> Option<MemBuffer> {
+pub fn mapped_workspace(req: StackReq) -> Option<MemBuffer> {
     let mut mem = MemBuffer::try_new(req).ok()?;
     mem.fill(std::mem::MaybeUninit::new(0));
     Some(mem)

@@ -29,9 +29,10 @@
 
 mod cg;
 mod cholesky;
+mod error;
 mod ldlt;
 mod lu;
-pub(crate) mod memory;
+pub mod memory;
 mod multifrontal;
 mod ordering;
 mod pattern;
@@ -49,7 +50,7 @@ use self::ldlt::LbltFactor;
 use self::lu::LuFactor;
 use self::pattern::{ColumnTasks, UpperPattern, backward_error};
 use self::two_domain::TwoDomainCholesky;
-use crate::error::{Factorisation, LinearSolveError};
+pub use crate::error::{Factorisation, LinearSolveError, LinearSolveStage};
 
 /// Which factorisation [`SparseSolver`] uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -113,7 +114,7 @@ pub enum DomainSplit {
     /// larger domain's factorisation plus the separator's needs at most 0.7 of the operations of the
     /// whole matrix's (counted exactly from the column counts of both orderings).
     /// The choice depends on the pattern only, never on the number of threads, so a run gives the same
-    /// results on any machine. A [`TimeStepper`](crate::TimeStepper) whose pattern grows with contact
+    /// results on any machine. A time stepper whose pattern grows with contact
     /// keeps the choice made for its first pattern.
     #[default]
     Auto,
