@@ -43,6 +43,9 @@ pub struct ShellNodes {
     mid_edge_nodes: Vec<([usize; 2], usize)>,
     /// Whether the rotation nodes are the displacement nodes (a quadratic rotation element).
     rot_is_tri6: bool,
+    /// The displacement and rotation elements, by node.
+    disp_elements: Vec<Vec<usize>>,
+    rot_elements: Vec<Vec<usize>>,
     bbox: (Vector3<f64>, Vector3<f64>),
 }
 
@@ -121,8 +124,22 @@ impl ShellNodes {
         let mid_edge_nodes = edge_nodes
             .map(|nodes| topology.edges().iter().copied().zip(nodes).collect())
             .unwrap_or_default();
+        let corner_elements = |map: &[usize]| -> Vec<Vec<usize>> {
+            mesh.corners.elements.iter().map(|e| e.map(|v| map[v]).to_vec()).collect()
+        };
+        let disp_elements = match tri6 {
+            Some(t) => t.elements.iter().map(|e| e.to_vec()).collect(),
+            None => corner_elements(&vertex_disp),
+        };
+        let rot_elements = if rot_is_tri6 {
+            disp_elements.clone()
+        } else {
+            corner_elements(&vertex_rot)
+        };
         Ok(Self {
             name: name.to_string(),
+            disp_elements,
+            rot_elements,
             disp_positions,
             rot_positions,
             vertex_disp,
@@ -141,6 +158,18 @@ impl ShellNodes {
         let map = if rotation { &self.vertex_rot } else { &self.vertex_disp };
         let has = |node: usize| selected.binary_search(&node).is_ok();
         self.boundary_edges.iter().filter(|[a, b]| has(map[*a]) && has(map[*b])).count()
+    }
+
+    /// The number of elements whose nodes are all in `selected` (displacement nodes, or rotation nodes
+    /// if `rotation`); a load over an area needs at least one.
+    pub fn count_covered_elements(&self, selected: &[usize], rotation: bool) -> usize {
+        let elements = if rotation {
+            &self.rot_elements
+        } else {
+            &self.disp_elements
+        };
+        let has = |node: &usize| selected.binary_search(node).is_ok();
+        elements.iter().filter(|e| e.iter().all(has)).count()
     }
 
     /// The shell's name.

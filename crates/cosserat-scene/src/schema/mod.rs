@@ -691,6 +691,10 @@ pub enum DistributionName {
     PerLength,
     /// A line load along the selected boundary edges with the given total.
     TotalOverLength,
+    /// A load per unit area over the elements whose nodes are all selected.
+    PerArea,
+    /// A load over the elements whose nodes are all selected with the given total.
+    TotalOverArea,
 }
 
 /// `[\[load\]]`.
@@ -707,6 +711,12 @@ pub struct LoadSection {
     pub force: Option<[f64; 3]>,
     /// A torque \[N·m\] (exclusive with `force`).
     pub torque: Option<[f64; 3]>,
+    /// A pressure \[Pa\] on the elements whose nodes are all selected, positive along the normal
+    /// of the element node order (exclusive with `force` and `torque`).
+    pub pressure: Option<f64>,
+    /// Whether the pressure follows the deformed surface (default `true`) or keeps the rest normals
+    /// and areas (dead pressure).
+    pub follower: Option<bool>,
     /// Distribution (default `"equal"`).
     pub distribution: Option<DistributionName>,
     /// Scale over time (default 1).
