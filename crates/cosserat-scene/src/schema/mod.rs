@@ -572,6 +572,9 @@ pub struct RegionSection {
     pub nodes: Option<Vec<usize>>,
     /// Boundary loop index.
     pub boundary_loop: Option<usize>,
+    /// A named group of the mesh file: a Gmsh physical group (curves or surfaces) or an OBJ `g`/`o`
+    /// group.
+    pub group: Option<String>,
     /// The nearest node to a point.
     pub nearest: Option<[f64; 3]>,
     /// Every node (`all = true`).

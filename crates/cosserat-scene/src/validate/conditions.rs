@@ -62,6 +62,7 @@ impl Ctx<'_> {
             ("predicate", r.predicate.is_some()),
             ("nodes", r.nodes.is_some()),
             ("boundary_loop", r.boundary_loop.is_some()),
+            ("group", r.group.is_some()),
             ("nearest", r.nearest.is_some()),
             ("all", r.all.is_some()),
         ];
@@ -70,7 +71,7 @@ impl Ctx<'_> {
             return Err(self.invalid(
                 field,
                 format!(
-                    "give exactly one of `box`, `predicate`, `nodes`, `boundary_loop`, `nearest`, `all` (got {})",
+                    "give exactly one of `box`, `predicate`, `nodes`, `boundary_loop`, `group`, `nearest`, `all` (got {})",
                     if given.is_empty() {
                         "none".to_string()
                     } else {
@@ -104,6 +105,9 @@ impl Ctx<'_> {
         }
         if let Some(k) = r.boundary_loop {
             return Ok(Region::BoundaryLoop(k));
+        }
+        if let Some(name) = &r.group {
+            return Ok(Region::Group(name.clone()));
         }
         if let Some(p) = r.nearest {
             return Ok(Region::Nearest(self.vector(&format!("{field}.nearest"), p)?));
