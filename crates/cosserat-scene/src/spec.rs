@@ -504,6 +504,21 @@ pub struct OutputSpec {
     pub frames: bool,
     /// Subdivision level of quadratic elements in the frames (each level splits a triangle into 4).
     pub subdivision: usize,
+    /// The formats frames are written in (when `frames`).
+    pub formats: FrameFormats,
+}
+
+/// The formats of output frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameFormats {
+    /// VTU frames and the `.pvd` collection.
+    pub vtu: bool,
+    /// One OBJ file per frame.
+    pub obj: bool,
+    /// One PLY file per frame.
+    pub ply: bool,
+    /// One USD stage with time samples.
+    pub usd: bool,
 }
 
 /// Frictional contact of a scene: which shells take part, the obstacles, friction coefficients and

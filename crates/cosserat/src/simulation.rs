@@ -55,6 +55,7 @@ pub struct Simulation {
     contact: Option<ContactRun>,
     probes: Probes,
     write_frames: bool,
+    frame_formats: cosserat_io::FrameFormats,
     rest_bbox: BoundingBox,
     /// Warnings about settings that physics or the discretisation limits ([`crate::advice`]) and about
     /// the inputs.
@@ -107,6 +108,12 @@ impl Simulation {
             contact,
             probes,
             write_frames: spec.output.frames,
+            frame_formats: cosserat_io::FrameFormats {
+                vtu: spec.output.formats.vtu,
+                obj: spec.output.formats.obj,
+                ply: spec.output.formats.ply,
+                usd: spec.output.formats.usd,
+            },
             rest_bbox: BoundingBox::of_points(&rest_points).unwrap_or_default(),
             advice,
             stats: RunStats::default(),
@@ -221,6 +228,7 @@ impl Simulation {
     ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
         let mut writer = RunWriter::create(dir, &self.probe_columns())?;
+        writer.set_formats(self.frame_formats)?;
         let outcome = match self.record_output(&mut writer, 0.0) {
             Ok(()) => match self.time.clone() {
                 TimeSpec::Dynamic {

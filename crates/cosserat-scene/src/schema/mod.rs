@@ -806,4 +806,21 @@ pub struct OutputSection {
     pub frames: Option<bool>,
     /// Subdivision level of quadratic elements in frames (default 1).
     pub subdivision: Option<usize>,
+    /// Frame formats (default `["vtu"]`): `"vtu"` (ParaView), `"obj"` and `"ply"` (one file per
+    /// frame), `"usd"` (one `run.usda` with time samples).
+    pub formats: Option<Vec<FrameFormatName>>,
+}
+
+/// Frame format names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameFormatName {
+    /// VTU frames and a `.pvd` collection.
+    Vtu,
+    /// OBJ per frame.
+    Obj,
+    /// Binary PLY per frame.
+    Ply,
+    /// One USD stage (`.usda`) with time samples.
+    Usd,
 }
