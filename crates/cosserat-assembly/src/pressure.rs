@@ -23,9 +23,10 @@
 //! potential's Hessian is symmetric, so the term assembles the symmetric part `½ (K + Kᵀ)`. Where the
 //! boundary is held (clamped or hinged rims, the usual case for domes and pipes), the boundary rows and
 //! columns drop out and the assembled Hessian is the exact Jacobian. Where a free edge moves under
-//! pressure, the gradient (the residual Newton drives to zero) is still the exact follower force, so
-//! converged solutions are exact, but the missing skew part makes Newton converge linearly rather than
-//! quadratically, and the energy is then only a merit function for the line search.
+//! pressure, the gradient (the residual Newton drives to zero) is still the exact follower force, but
+//! the energy is no longer its potential and the skew part of the stiffness is missing: the line search
+//! then compares energies that do not match the force, and Newton stalls (docs/scenes.md has the
+//! measurement). Scenes with free edges use dead pressure.
 
 use crate::error::AssemblyError;
 use crate::pattern::SparsityPattern;
