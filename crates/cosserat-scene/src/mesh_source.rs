@@ -474,64 +474,93 @@ fn source_mesh(
             ShellMesh::from_tri3(corners, recipe.pair, chord_placement)
         }
         MeshSource::Ply(path) => {
-            let ply = read_ply(path).map_err(MeshSourceError::File)?;
-            if recipe.weld.is_some() {
-                return Err(MeshSourceError::Invalid {
-                    step: "weld",
-                    reason: "`weld` applies to OBJ input only; a PLY file shares its vertices between faces".into(),
-                });
-            }
-            let n = refined_count(ply.mesh.n_elements());
-            if n > budget.max {
-                return Err(too_large(n));
-            }
-            let mut corners = ply.mesh;
-            for _ in 0..recipe.refine {
-                corners = corners.refine_uniform();
-            }
-            if recipe.refine == 0 {
-                groups = ply.groups;
-            }
-            ShellMesh::from_tri3(corners, recipe.pair, chord_placement)
+            let check = |n: usize| {
+                if refined_count(n) > budget.max {
+                    Err(too_large(refined_count(n)))
+                } else {
+                    Ok(())
+                }
+            };
+            let (mesh, g) = ply_mesh(path, recipe, &check)?;
+            groups = g;
+            mesh
         }
         MeshSource::Gmsh(path) => {
-            let gmsh = read_gmsh(path).map_err(MeshSourceError::File)?;
-            if recipe.weld.is_some() {
-                return Err(MeshSourceError::Invalid {
-                    step: "weld",
-                    reason: "a Gmsh mesh shares its nodes between elements already; remove `weld`".into(),
-                });
-            }
-            if recipe.refine > 0 && gmsh.mid_edge.is_some() {
-                return Err(MeshSourceError::Invalid {
-                    step: "refine",
-                    reason: "a 6-node Gmsh mesh cannot be refined here (the new nodes would leave its curved \
-                             geometry); refine it in Gmsh"
-                        .into(),
-                });
-            }
-            let n = refined_count(gmsh.mesh.n_elements());
-            if n > budget.max {
-                return Err(too_large(n));
-            }
-            let mut corners = gmsh.mesh;
-            for _ in 0..recipe.refine {
-                corners = corners.refine_uniform();
-            }
-            if recipe.refine == 0 {
-                groups = gmsh.groups;
-            }
-            match gmsh.mid_edge {
-                // The file's own mid-edge nodes, so curved elements stay curved.
-                Some(mid) => ShellMesh::from_tri3(corners, recipe.pair, |node| match node {
-                    NewNode::Edge { vertices, .. } => mid.get(&vertices).copied().unwrap_or_else(|| node.chord()),
-                    NewNode::Interior { .. } => node.chord(),
-                }),
-                None => ShellMesh::from_tri3(corners, recipe.pair, chord_placement),
-            }
+            let check = |n: usize| {
+                if refined_count(n) > budget.max {
+                    Err(too_large(refined_count(n)))
+                } else {
+                    Ok(())
+                }
+            };
+            let (mesh, g) = gmsh_mesh(path, recipe, &check)?;
+            groups = g;
+            mesh
         }
     };
     Ok((mesh, warnings, groups))
+}
+
+/// A PLY file's mesh, refined and upgraded, with its groups (none after refinement); `check` refuses
+/// an element count over the budget.
+fn ply_mesh(
+    path: &std::path::Path,
+    recipe: &MeshRecipe,
+    check: &dyn Fn(usize) -> Result<(), MeshSourceError>,
+) -> Result<(ShellMesh, Vec<MeshGroup>), MeshSourceError> {
+    let ply = read_ply(path).map_err(MeshSourceError::File)?;
+    if recipe.weld.is_some() {
+        return Err(MeshSourceError::Invalid {
+            step: "weld",
+            reason: "`weld` applies to OBJ input only; a PLY file shares its vertices between faces".into(),
+        });
+    }
+    check(ply.mesh.n_elements())?;
+    let mut corners = ply.mesh;
+    for _ in 0..recipe.refine {
+        corners = corners.refine_uniform();
+    }
+    let groups = if recipe.refine == 0 { ply.groups } else { Vec::new() };
+    Ok((ShellMesh::from_tri3(corners, recipe.pair, chord_placement), groups))
+}
+
+/// A Gmsh file's mesh, refined (3-node files only) and upgraded with the file's own mid-edge nodes,
+/// with its groups (none after refinement); `check` refuses an element count over the budget.
+fn gmsh_mesh(
+    path: &std::path::Path,
+    recipe: &MeshRecipe,
+    check: &dyn Fn(usize) -> Result<(), MeshSourceError>,
+) -> Result<(ShellMesh, Vec<MeshGroup>), MeshSourceError> {
+    let gmsh = read_gmsh(path).map_err(MeshSourceError::File)?;
+    if recipe.weld.is_some() {
+        return Err(MeshSourceError::Invalid {
+            step: "weld",
+            reason: "a Gmsh mesh shares its nodes between elements already; remove `weld`".into(),
+        });
+    }
+    if recipe.refine > 0 && gmsh.mid_edge.is_some() {
+        return Err(MeshSourceError::Invalid {
+            step: "refine",
+            reason: "a 6-node Gmsh mesh cannot be refined here (the new nodes would leave its curved geometry); \
+                     refine it in Gmsh"
+                .into(),
+        });
+    }
+    check(gmsh.mesh.n_elements())?;
+    let mut corners = gmsh.mesh;
+    for _ in 0..recipe.refine {
+        corners = corners.refine_uniform();
+    }
+    let groups = if recipe.refine == 0 { gmsh.groups } else { Vec::new() };
+    let mesh = match gmsh.mid_edge {
+        // The file's own mid-edge nodes, so curved elements stay curved.
+        Some(mid) => ShellMesh::from_tri3(corners, recipe.pair, |node| match node {
+            NewNode::Edge { vertices, .. } => mid.get(&vertices).copied().unwrap_or_else(|| node.chord()),
+            NewNode::Interior { .. } => node.chord(),
+        }),
+        None => ShellMesh::from_tri3(corners, recipe.pair, chord_placement),
+    };
+    Ok((mesh, groups))
 }
 
 /// The shaping steps of the recipe: projection onto a sphere, flattening of a cap.

@@ -253,11 +253,7 @@ fn header(r: &mut Reader<'_>) -> Result<Vec<Element>, MeshFileError> {
 type PropertySink<'s> = dyn FnMut(usize, &[f64]) -> Result<(), MeshFileError> + 's;
 
 /// Reads one record of `element`, passing each property's values to `sink`.
-fn record<'a>(
-    r: &mut Reader<'a>,
-    element: &Element,
-    sink: &mut PropertySink<'_>,
-) -> Result<(), MeshFileError> {
+fn record<'a>(r: &mut Reader<'a>, element: &Element, sink: &mut PropertySink<'_>) -> Result<(), MeshFileError> {
     let mut words = "".split_whitespace();
     if r.encoding == Encoding::Ascii {
         words = r

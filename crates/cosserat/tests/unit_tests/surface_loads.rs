@@ -192,3 +192,30 @@ fn tri3_per_area_weights_are_the_lumped_mass_shares() {
         assert!((a - b).norm() < 1e-12 * total.abs(), "{a} vs {b}");
     }
 }
+
+/// A dead pressure on a flat plate (normal +z by the generator's node order) gives every node the
+/// per-area weight times `p ẑ`: the same nodal forces as `force = [0, 0, p]` per unit area.
+#[test]
+fn dead_pressure_on_a_flat_plate_is_a_load_per_area_along_the_normal() {
+    let plate = |load: &str, name: &str| {
+        let scene = format!(
+            "name = \"{name}\"\n[time]\nmode = \"quasi_static\"\nn_levels = 1\n[output]\nframes = false\n\
+             [mesh]\ngenerator = \"rectangle\"\nlx = 1.0\nly = 0.5\nnx = 4\nny = 2\nelement = \"tri6\"\n\
+             rotation_element = \"tri3\"\n[material]\nmodel = \"plate\"\nthickness = 0.01\nyoungs_modulus = 1e7\n\
+             poisson_ratio = 0.3\ndensity = 1000.0\nlength_scale = 1e-4\n[[boundary]]\nname = \"rim\"\n\
+             region = {{ predicate = \"abs(x) >= 0.5 - 1e-9\" }}\nposition = {{ exact = true }}\n\
+             [[load]]\nname = \"p\"\nregion = {{ all = true }}\n{load}\n"
+        );
+        run(&scene, name).potential().parts.loads.forces.clone()
+    };
+    let dead = plate("pressure = 300.0\nfollower = false", "plate_dead");
+    let per_area = plate(
+        "force = [0.0, 0.0, 300.0]\ndistribution = \"per_area\"",
+        "plate_per_area",
+    );
+    let total: f64 = dead.iter().map(|f| f.z).sum();
+    assert!((total - 300.0 * 0.5).abs() < 1e-10, "{total}");
+    for (a, b) in dead.iter().zip(&per_area) {
+        assert!((a - b).norm() < 1e-12, "{a} vs {b}");
+    }
+}
