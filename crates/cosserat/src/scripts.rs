@@ -73,6 +73,45 @@ impl FollowerHandle {
     }
 }
 
+/// The warning for a follower pressure whose surface has boundary edges with nodes that no exact
+/// position condition holds on all axes: the load is not conservative there (docs/scenes.md).
+fn free_edge_warning(name: &str, potential: &IncrementalPotential, handle: FollowerHandle) -> Option<String> {
+    let elements: Vec<Vec<usize>> = match handle {
+        FollowerHandle::Tri3(h) => potential.term(h).elements.iter().map(|e| e.to_vec()).collect(),
+        FollowerHandle::Tri6(h) => potential.term(h).elements.iter().map(|e| e.to_vec()).collect(),
+    };
+    let mut count: std::collections::HashMap<(usize, usize), usize> = std::collections::HashMap::new();
+    for el in &elements {
+        for k in 0..3 {
+            let (a, b) = (el[k], el[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let held = |i: usize| {
+        potential
+            .parts
+            .position_constraints
+            .iter()
+            .any(|c| c.active == [true; 3] && c.nodes.contains(&i))
+    };
+    let mut free: Vec<usize> = count
+        .iter()
+        .filter(|(_, n)| **n == 1)
+        .flat_map(|((a, b), _)| [*a, *b])
+        .filter(|&i| !held(i))
+        .collect();
+    free.sort_unstable();
+    free.dedup();
+    (!free.is_empty()).then(|| {
+        format!(
+            "load `{name}`: the follower pressure's surface has free edges ({} boundary nodes not held exactly); \
+             a follower load is not conservative there and Newton may not converge: use `follower = false` or \
+             hold the rim (docs/scenes.md)",
+            free.len()
+        )
+    })
+}
+
 /// The elements whose nodes are all selected.
 fn covered_elements(elements: &[Vec<usize>], selected: &[usize]) -> Vec<Vec<usize>> {
     let has = |i: &usize| selected.binary_search(i).is_ok();
@@ -84,6 +123,7 @@ fn covered_elements(elements: &[Vec<usize>], selected: &[usize]) -> Vec<Vec<usiz
 pub struct Scripts {
     boundaries: Vec<BoundaryScript>,
     loads: Vec<LoadScript>,
+    warnings: Vec<String>,
 }
 
 /// Nodal weights of a line load along the boundary edges of a shell whose nodes are all selected:
@@ -154,12 +194,26 @@ impl Scripts {
             .iter()
             .map(|bc| Self::boundary(bc, &placements[bc.selection.shell], potential))
             .collect();
-        let loads = spec
+        let loads: Vec<LoadScript> = spec
             .loads
             .iter()
             .map(|load| Self::load(load, &placements[load.selection.shell], potential))
             .collect::<Result<_, _>>()?;
-        Ok(Self { boundaries, loads })
+        let warnings = loads
+            .iter()
+            .filter(|l| l.follower.is_some())
+            .filter_map(|l| free_edge_warning(&l.name, potential, l.follower.map(|f| f.0)?))
+            .collect();
+        Ok(Self {
+            boundaries,
+            loads,
+            warnings,
+        })
+    }
+
+    /// Warnings about the scene's loads (a follower pressure on free edges).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     fn boundary(bc: &BoundarySpec, placement: &ShellPlacement, potential: &mut IncrementalPotential) -> BoundaryScript {

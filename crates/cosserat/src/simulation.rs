@@ -96,6 +96,7 @@ impl Simulation {
             None => None,
         };
         let scripts = Scripts::build(&spec, model.placements(), &mut potential)?;
+        advice.extend(scripts.warnings().iter().cloned());
         let probes = Probes::new(&spec.probes, model.placements(), model.rest_positions());
         let rest_points: Vec<[f64; 3]> = model.rest_positions().iter().map(|x| [x.x, x.y, x.z]).collect();
         Ok(Self {

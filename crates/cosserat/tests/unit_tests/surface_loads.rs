@@ -219,3 +219,31 @@ fn dead_pressure_on_a_flat_plate_is_a_load_per_area_along_the_normal() {
         assert!((a - b).norm() < 1e-12, "{a} vs {b}");
     }
 }
+
+/// A follower pressure on a plate clamped on one edge has free edges: the simulation warns and names
+/// the load; with the whole rim held it does not.
+#[test]
+fn a_follower_pressure_on_free_edges_is_warned_about() {
+    let scene = |clamp: &str| {
+        format!(
+            "name = \"fp\"\n[time]\nmode = \"quasi_static\"\nn_levels = 1\n[mesh]\ngenerator = \"rectangle\"\n\
+             lx = 1.0\nly = 0.2\nnx = 4\nny = 2\nelement = \"tri6\"\nrotation_element = \"tri3\"\n[material]\n\
+             model = \"plate\"\nthickness = 0.01\nyoungs_modulus = 1e7\npoisson_ratio = 0.3\ndensity = 1000.0\n\
+             length_scale = 1e-4\n[[boundary]]\nname = \"clamp\"\nregion = {{ predicate = \"{clamp}\" }}\n\
+             position = {{ exact = true }}\n[[load]]\nname = \"inflate\"\nregion = {{ all = true }}\npressure = 20.0\n"
+        )
+    };
+    let advice = |clamp: &str| {
+        let spec = SceneSpec::from_str(&scene(clamp), "fp.toml", Path::new("."), &[]).unwrap_or_else(|e| panic!("{e}"));
+        Simulation::new(spec).unwrap_or_else(|e| panic!("{e}")).advice().to_vec()
+    };
+    let one_edge = advice("x <= -0.5 + 1e-9");
+    assert!(
+        one_edge
+            .iter()
+            .any(|w| w.contains("load `inflate`") && w.contains("free edges")),
+        "{one_edge:?}"
+    );
+    let rim = advice("abs(x) >= 0.5 - 1e-9 || abs(y) >= 0.1 - 1e-9");
+    assert!(!rim.iter().any(|w| w.contains("free edges")), "{rim:?}");
+}
