@@ -32,6 +32,7 @@ pub mod inertia;
 pub mod parallel;
 pub mod pattern;
 pub mod potential;
+pub mod pressure;
 pub mod scatter;
 pub mod shell;
 pub mod state;

@@ -96,6 +96,15 @@ pub enum OutputError {
         /// Time of the last frame written.
         previous: f64,
     },
+    /// A frame whose points or triangles differ from the first frame's, for a format with one
+    /// topology per run (USD).
+    #[error("frame {frame_idx} changes the mesh topology of `{}`, which holds one topology", path.display())]
+    TopologyChanged {
+        /// The file.
+        path: PathBuf,
+        /// Index of the refused frame.
+        frame_idx: usize,
+    },
     /// A frame index past the end of a `.pvd` collection.
     #[error("frame {frame_idx} requested from `{}`, which lists {n_frames} frames", path.display())]
     FrameIndexOutOfRange {

@@ -7,6 +7,7 @@
 //! - [`RunWriter`]: owns a run's output directory (layout in [`run`]);
 //! - [`RunSummary`]: the run record, written and read by [`write_summary`] and [`read_summary`];
 //! - [`VtuFrame`] with [`write_vtu`], [`read_vtu`], [`read_pvd`] and [`read_pvd_frame`];
+//! - [`mesh_frames`]: the same frames as OBJ or PLY sequences and one USD stage ([`FrameFormats`]);
 //! - [`render`]: a software rasteriser for quick looks and report figures.
 //!
 //! Every file that is written whole goes through [`atomic::write_atomic`] and `probes.csv` is appended
@@ -31,6 +32,7 @@
 
 pub mod atomic;
 pub mod error;
+pub mod mesh_frames;
 mod number;
 pub mod probes;
 pub mod pvd;
@@ -42,6 +44,7 @@ pub mod vtu_read;
 
 pub use atomic::write_atomic;
 pub use error::OutputError;
+pub use mesh_frames::{FrameFormats, UsdWriter};
 pub use probes::ProbeWriter;
 pub use pvd::{PvdEntry, read_pvd, read_pvd_frame, write_pvd};
 pub use run::{RunWriter, clear_run_outputs, write_failure_summary};

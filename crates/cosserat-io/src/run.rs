@@ -6,6 +6,8 @@
 //! |---|---|
 //! | `DIR/frames/frame_00000.vtu`, `frame_00001.vtu`, ... | one per [`RunWriter::write_frame`], atomically |
 //! | `DIR/frames/run.pvd` | rewritten atomically after every frame; lists the frames relative to `frames/` |
+//! | `DIR/frames/frame_00000.obj`, `.ply` | with [`FrameFormats::obj`] and [`FrameFormats::ply`], one per frame, atomically |
+//! | `DIR/frames/run.usda` | with [`FrameFormats::usd`], assembled by [`RunWriter::finish`] ([`crate::mesh_frames`]) |
 //! | `DIR/probes.csv` | header at creation, one row per [`RunWriter::write_probes`] |
 //! | `DIR/summary.json` | at the end, by [`RunWriter::finish`] (every run that started, whatever its status) or [`write_failure_summary`] (a run that could not start) |
 //!
@@ -23,6 +25,7 @@ use std::path::{Path, PathBuf};
 
 use crate::OutputError;
 use crate::atomic::{create_dir_all, remove_if_exists, temporary_target};
+use crate::mesh_frames::{FrameFormats, UsdWriter, write_obj, write_ply};
 use crate::probes::{ProbeWriter, check_columns};
 use crate::pvd::{PvdEntry, write_pvd};
 use crate::summary::{RunStatus, RunSummary, write_summary};
@@ -37,22 +40,29 @@ pub const FRAMES_DIR: &str = "frames";
 /// Name of the `.pvd` collection inside the frames directory.
 pub const PVD_FILE: &str = "run.pvd";
 
+/// Name of the USD stage inside the frames directory.
+pub const USD_FILE: &str = "run.usda";
+
 /// File name of frame `frame_idx`: `frame_00000.vtu`, `frame_00001.vtu`, ...
 pub fn frame_file_name(frame_idx: usize) -> String {
     format!("frame_{frame_idx:05}.vtu")
 }
 
-/// Whether `name` is a frame file name as made by [`frame_file_name`].
+/// Whether `name` is a frame file name as made by [`frame_file_name`] (or its `.obj` and `.ply`
+/// siblings).
 fn is_frame_file_name(name: &str) -> bool {
     name.strip_prefix("frame_")
-        .and_then(|rest| rest.strip_suffix(".vtu"))
+        .and_then(|rest| [".vtu", ".obj", ".ply"].iter().find_map(|ext| rest.strip_suffix(ext)))
         .is_some_and(|digits| digits.len() >= 5 && digits.bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// Whether `name` is a file this module writes into `DIR` (`in_frames == false`) or `DIR/frames`.
 fn is_run_file(name: &str, in_frames: bool) -> bool {
     if in_frames {
-        name == PVD_FILE || is_frame_file_name(name)
+        name == PVD_FILE
+            || name == USD_FILE
+            || name.starts_with(&format!(".{USD_FILE}.part"))
+            || is_frame_file_name(name)
     } else {
         name == SUMMARY_FILE || name == PROBES_FILE
     }
@@ -124,6 +134,8 @@ pub struct RunWriter {
     dir: PathBuf,
     frames: Vec<PvdEntry>,
     probes: ProbeWriter,
+    formats: FrameFormats,
+    usd: Option<UsdWriter>,
 }
 
 impl RunWriter {
@@ -146,7 +158,23 @@ impl RunWriter {
             dir,
             frames: Vec::new(),
             probes,
+            formats: FrameFormats::default(),
+            usd: None,
         })
+    }
+
+    /// Chooses the formats of the frames written from now on (VTU only by default).
+    ///
+    /// # Errors
+    /// I/O errors of creating the USD stage's part files.
+    pub fn set_formats(&mut self, formats: FrameFormats) -> Result<(), OutputError> {
+        self.formats = formats;
+        self.usd = if formats.usd {
+            Some(UsdWriter::create(self.frames_dir().join(USD_FILE))?)
+        } else {
+            None
+        };
+        Ok(())
     }
 
     /// The output directory.
@@ -203,6 +231,20 @@ impl RunWriter {
         }
         let file = frame_file_name(frame_idx);
         let path = self.frames_dir().join(&file);
+        frame.validate()?;
+        if self.formats.obj {
+            write_obj(&path.with_extension("obj"), frame)?;
+        }
+        if self.formats.ply {
+            write_ply(&path.with_extension("ply"), frame)?;
+        }
+        if let Some(usd) = &mut self.usd {
+            usd.append(frame)?;
+        }
+        if !self.formats.vtu {
+            self.frames.push(PvdEntry { time: frame.time, file });
+            return Ok(path);
+        }
         write_vtu(&path, frame)?;
         self.frames.push(PvdEntry { time: frame.time, file });
         if let Err(error) = write_pvd(&self.pvd_path(), &self.frames) {
@@ -225,7 +267,10 @@ impl RunWriter {
     ///
     /// # Errors
     /// The errors of [`write_summary`].
-    pub fn finish(self, summary: &RunSummary) -> Result<PathBuf, OutputError> {
+    pub fn finish(mut self, summary: &RunSummary) -> Result<PathBuf, OutputError> {
+        if let Some(usd) = self.usd.take() {
+            usd.finish()?;
+        }
         let path = self.summary_path();
         write_summary(&path, summary)?;
         Ok(path)

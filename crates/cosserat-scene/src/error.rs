@@ -100,6 +100,16 @@ pub enum SceneError {
         /// The cause.
         source: Box<ObjError>,
     },
+    /// A Gmsh or PLY file could not be read or is not a valid simulation mesh.
+    #[error("{location}: {field}: {source}")]
+    MeshFile {
+        /// Where the path was given.
+        location: Location,
+        /// The field path (`mesh.path` or `shell.<k>.mesh.path`).
+        field: String,
+        /// The cause.
+        source: Box<MeshFileError>,
+    },
     /// A generated or transformed mesh is invalid (bad generator parameter, degenerate element, …).
     #[error("{location}: {field}: {source}")]
     Mesh {
@@ -148,6 +158,7 @@ impl SceneError {
             | SceneError::Invalid { location, .. }
             | SceneError::Expression { location, .. }
             | SceneError::Obj { location, .. }
+            | SceneError::MeshFile { location, .. }
             | SceneError::Mesh { location, .. }
             | SceneError::Region { location, .. } => Some(location),
             SceneError::ReadScene { .. } | SceneError::Override { .. } => None,
@@ -161,6 +172,7 @@ impl SceneError {
             | SceneError::Invalid { field, .. }
             | SceneError::Expression { field, .. }
             | SceneError::Obj { field, .. }
+            | SceneError::MeshFile { field, .. }
             | SceneError::Mesh { field, .. }
             | SceneError::Region { field, .. } => Some(field),
             SceneError::ReadScene { .. } | SceneError::Syntax { .. } | SceneError::Override { .. } => None,
@@ -337,6 +349,44 @@ pub enum ObjError {
     },
 }
 
+/// A Gmsh or PLY mesh file that cannot be read or used.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum MeshFileError {
+    /// The file could not be read.
+    #[error("cannot read `{}`: {source}", path.display())]
+    Read {
+        /// The path.
+        path: PathBuf,
+        /// The cause.
+        source: std::io::Error,
+    },
+    /// Malformed or unsupported content.
+    #[error("`{}` {at}: {reason}", path.display())]
+    Parse {
+        /// The path.
+        path: PathBuf,
+        /// Where: a line, a byte offset or an element.
+        at: crate::gmsh::Location,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The file has no triangles.
+    #[error("`{}` has no triangles", path.display())]
+    Empty {
+        /// The path.
+        path: PathBuf,
+    },
+    /// Any other mesh defect found by validation.
+    #[error("`{}`: {source}", path.display())]
+    Mesh {
+        /// The path.
+        path: PathBuf,
+        /// The cause.
+        source: MeshError,
+    },
+}
+
 /// A region that cannot be resolved.
 #[derive(Debug, Clone, PartialEq, Error)]
 #[non_exhaustive]
@@ -360,6 +410,16 @@ pub enum RegionError {
         shell: String,
         /// Its vertex count.
         n_vertices: usize,
+    },
+    /// A group name the mesh file does not have.
+    #[error("shell `{shell}` has no group `{group}` (its mesh file's groups: {})", if available.is_empty() { "none" } else { available.as_str() })]
+    UnknownGroup {
+        /// The name asked for.
+        group: String,
+        /// The shell's name.
+        shell: String,
+        /// The groups there are, comma-separated.
+        available: String,
     },
     /// A boundary loop index beyond the mesh's loops.
     #[error("boundary loop {index} does not exist: shell `{shell}` has {n_loops} boundary loop(s)")]
@@ -406,6 +466,9 @@ pub enum MeshSourceError {
     /// The OBJ file cannot be read or used.
     #[error("{0}")]
     Obj(ObjError),
+    /// The Gmsh or PLY file cannot be read or used.
+    #[error("{0}")]
+    File(MeshFileError),
     /// A pipeline step cannot be applied.
     #[error("{step}: {reason}")]
     Invalid {

@@ -29,9 +29,11 @@
 
 pub mod error;
 pub mod expr;
+pub mod gmsh;
 pub mod mesh_source;
 pub mod obj;
 pub mod overrides;
+pub mod ply;
 pub mod region;
 pub mod schema;
 pub mod spec;

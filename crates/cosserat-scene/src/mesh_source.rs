@@ -3,7 +3,8 @@
 //! differ from the rest pose.
 //!
 //! [`build_mesh`] runs a [`MeshRecipe`] through a fixed pipeline:
-//! 1. **source**: a [`Generator`] (with its exact surface) or an OBJ file ([`crate::obj`]);
+//! 1. **source**: a [`Generator`] (with its exact surface), an OBJ file ([`crate::obj`]) or a Gmsh file
+//!    ([`crate::gmsh`], whose 6-node triangles keep their own mid-edge nodes in step 3);
 //! 2. **refine** `n` times: on the exact surface for generators, at chord midpoints for OBJ input
 //!    (the Dumpling's procedure);
 //! 3. **element upgrade** to the displacement element: Tri6 nodes on the exact surface for
@@ -22,10 +23,12 @@
 //! The result is validated (no degenerate or folded element) before it is returned.
 
 use crate::error::MeshSourceError;
+use crate::gmsh::{MeshGroup, read_gmsh};
 use crate::obj::read_obj;
+use crate::ply::read_ply;
 use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::mesh::procedural::{self, AnnulusSettings, GeneratedMesh, Surface};
-use cosserat_fem::mesh::{Topology, chord_placement};
+use cosserat_fem::mesh::{NewNode, Topology, chord_placement};
 use cosserat_fem::{ElementKind, MeshError, Tri3Mesh, TriMesh};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashMap;
@@ -269,6 +272,26 @@ pub enum MeshSource {
     Generator(Generator),
     /// An OBJ file (absolute, or already resolved against the scene's directory).
     Obj(PathBuf),
+    /// A Gmsh MSH 4.1 file ([`crate::gmsh`]).
+    Gmsh(PathBuf),
+    /// A PLY file ([`crate::ply`]).
+    Ply(PathBuf),
+}
+
+impl MeshSource {
+    /// A mesh file by its extension: `.msh` is Gmsh, `.ply` PLY, anything else OBJ.
+    pub fn file(path: PathBuf) -> Self {
+        match path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+        {
+            Some("msh") => Self::Gmsh(path),
+            Some("ply") => Self::Ply(path),
+            _ => Self::Obj(path),
+        }
+    }
 }
 
 /// `x ↦ c + r (x − c)/|x − c|` for every node.
@@ -352,6 +375,9 @@ pub struct BuiltMesh {
     /// What the input does that is allowed but probably not meant (see
     /// [`ObjMesh::warnings`](crate::obj::ObjMesh::warnings)).
     pub warnings: Vec<String>,
+    /// The named vertex sets of a mesh file (Gmsh physical groups, OBJ groups); empty for generators
+    /// and after refinement (which the groups would not follow).
+    pub groups: Vec<MeshGroup>,
 }
 
 /// Runs the pipeline of the module docs.
@@ -370,7 +396,7 @@ pub fn build_mesh(recipe: &MeshRecipe) -> Result<BuiltMesh, MeshSourceError> {
 /// # Errors
 /// As [`build_mesh`].
 pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<BuiltMesh, MeshSourceError> {
-    let (mut mesh, warnings) = source_mesh(recipe, budget)?;
+    let (mut mesh, warnings, groups) = source_mesh(recipe, budget)?;
     shape(&mut mesh, recipe)?;
     if let Some(transform) = &recipe.transform {
         apply_transform(&mut mesh, transform)?;
@@ -391,12 +417,16 @@ pub fn build_mesh_within(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<
         mesh,
         initial_positions,
         warnings,
+        groups,
     })
 }
 
-/// The input mesh, refined and upgraded to the element pair, with the input's warnings; sizes are
-/// checked against the budget before anything is generated or refined.
-fn source_mesh(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<(ShellMesh, Vec<String>), MeshSourceError> {
+/// The input mesh, refined and upgraded to the element pair, with the input's warnings and groups;
+/// sizes are checked against the budget before anything is generated or refined.
+fn source_mesh(
+    recipe: &MeshRecipe,
+    budget: &ElementBudget,
+) -> Result<(ShellMesh, Vec<String>, Vec<MeshGroup>), MeshSourceError> {
     let refined_count = |n_elements: usize| 4usize.saturating_pow(recipe.refine as u32).saturating_mul(n_elements);
     let limit = || format!("more than the limit of {} ({})", budget.max, budget.source);
     let too_large = |n: usize| MeshSourceError::Invalid {
@@ -404,6 +434,7 @@ fn source_mesh(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<(ShellMesh
         reason: format!("the mesh would have {n} elements, {}", limit()),
     };
     let mut warnings = Vec::new();
+    let mut groups = Vec::new();
     let mesh = match &recipe.source {
         MeshSource::Generator(generator) => {
             let generated = generator.element_count();
@@ -437,10 +468,99 @@ fn source_mesh(recipe: &MeshRecipe, budget: &ElementBudget) -> Result<(ShellMesh
             for _ in 0..recipe.refine {
                 corners = corners.refine_uniform();
             }
+            if recipe.refine == 0 {
+                groups = obj.groups;
+            }
             ShellMesh::from_tri3(corners, recipe.pair, chord_placement)
         }
+        MeshSource::Ply(path) => {
+            let check = |n: usize| {
+                if refined_count(n) > budget.max {
+                    Err(too_large(refined_count(n)))
+                } else {
+                    Ok(())
+                }
+            };
+            let (mesh, g) = ply_mesh(path, recipe, &check)?;
+            groups = g;
+            mesh
+        }
+        MeshSource::Gmsh(path) => {
+            let check = |n: usize| {
+                if refined_count(n) > budget.max {
+                    Err(too_large(refined_count(n)))
+                } else {
+                    Ok(())
+                }
+            };
+            let (mesh, g) = gmsh_mesh(path, recipe, &check)?;
+            groups = g;
+            mesh
+        }
     };
-    Ok((mesh, warnings))
+    Ok((mesh, warnings, groups))
+}
+
+/// A PLY file's mesh, refined and upgraded, with its groups (none after refinement); `check` refuses
+/// an element count over the budget.
+fn ply_mesh(
+    path: &std::path::Path,
+    recipe: &MeshRecipe,
+    check: &dyn Fn(usize) -> Result<(), MeshSourceError>,
+) -> Result<(ShellMesh, Vec<MeshGroup>), MeshSourceError> {
+    let ply = read_ply(path).map_err(MeshSourceError::File)?;
+    if recipe.weld.is_some() {
+        return Err(MeshSourceError::Invalid {
+            step: "weld",
+            reason: "`weld` applies to OBJ input only; a PLY file shares its vertices between faces".into(),
+        });
+    }
+    check(ply.mesh.n_elements())?;
+    let mut corners = ply.mesh;
+    for _ in 0..recipe.refine {
+        corners = corners.refine_uniform();
+    }
+    let groups = if recipe.refine == 0 { ply.groups } else { Vec::new() };
+    Ok((ShellMesh::from_tri3(corners, recipe.pair, chord_placement), groups))
+}
+
+/// A Gmsh file's mesh, refined (3-node files only) and upgraded with the file's own mid-edge nodes,
+/// with its groups (none after refinement); `check` refuses an element count over the budget.
+fn gmsh_mesh(
+    path: &std::path::Path,
+    recipe: &MeshRecipe,
+    check: &dyn Fn(usize) -> Result<(), MeshSourceError>,
+) -> Result<(ShellMesh, Vec<MeshGroup>), MeshSourceError> {
+    let gmsh = read_gmsh(path).map_err(MeshSourceError::File)?;
+    if recipe.weld.is_some() {
+        return Err(MeshSourceError::Invalid {
+            step: "weld",
+            reason: "a Gmsh mesh shares its nodes between elements already; remove `weld`".into(),
+        });
+    }
+    if recipe.refine > 0 && gmsh.mid_edge.is_some() {
+        return Err(MeshSourceError::Invalid {
+            step: "refine",
+            reason: "a 6-node Gmsh mesh cannot be refined here (the new nodes would leave its curved geometry); \
+                     refine it in Gmsh"
+                .into(),
+        });
+    }
+    check(gmsh.mesh.n_elements())?;
+    let mut corners = gmsh.mesh;
+    for _ in 0..recipe.refine {
+        corners = corners.refine_uniform();
+    }
+    let groups = if recipe.refine == 0 { gmsh.groups } else { Vec::new() };
+    let mesh = match gmsh.mid_edge {
+        // The file's own mid-edge nodes, so curved elements stay curved.
+        Some(mid) => ShellMesh::from_tri3(corners, recipe.pair, |node| match node {
+            NewNode::Edge { vertices, .. } => mid.get(&vertices).copied().unwrap_or_else(|| node.chord()),
+            NewNode::Interior { .. } => node.chord(),
+        }),
+        None => ShellMesh::from_tri3(corners, recipe.pair, chord_placement),
+    };
+    Ok((mesh, groups))
 }
 
 /// The shaping steps of the recipe: projection onto a sphere, flattening of a cap.

@@ -1,8 +1,10 @@
 //! Wavefront OBJ input: triangle surface meshes for shells, read with the file's own vertex numbering
 //! and checked before simulation.
 //!
-//! Only `v` (positions) and `f` (faces) statements matter; normals, texture coordinates, groups,
-//! objects, smoothing groups and materials are ignored. Face corners may be written `i`, `i/t`,
+//! Only `v` (positions), `f` (faces), `g` (groups) and `o` (objects) statements matter; normals,
+//! texture coordinates, smoothing groups and materials are ignored. Each group or object name becomes
+//! a [`MeshGroup`] of the vertices of its faces (`g a b` puts the following faces in both `a` and `b`;
+//! the exporters' `default` group is skipped), which regions select with `group = "name"`. Face corners may be written `i`, `i/t`,
 //! `i//n` or `i/t/n`, with negative (relative) indices allowed. Every face must be a triangle: the
 //! reader does not triangulate, because the triangulation of a polygon is a modelling decision the
 //! simulation should not make silently.
@@ -21,6 +23,7 @@
 //! touch in one vertex only, so that the shell can turn freely about it).
 
 use crate::error::ObjError;
+use crate::gmsh::MeshGroup;
 use cosserat_fem::{MeshError, Tri3Mesh, TriMesh};
 use nalgebra::Vector3;
 use std::collections::HashMap;
@@ -35,6 +38,8 @@ pub struct ObjMesh {
     pub vertex_lines: Vec<usize>,
     /// The 1-based line of each face.
     pub face_lines: Vec<usize>,
+    /// The `g` and `o` groups, in order of first appearance.
+    pub groups: Vec<MeshGroup>,
 }
 
 /// Reads and validates an OBJ file.
@@ -65,6 +70,9 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
     let mut vertex_lines = Vec::new();
     // Faces as raw indices (positive 1-based or already resolved relative ones) with their lines.
     let mut raw_faces: Vec<([i64; 3], usize)> = Vec::new();
+    // Group names, and per group the faces in it.
+    let mut group_faces: Vec<(String, Vec<usize>)> = Vec::new();
+    let mut current: Vec<usize> = Vec::new();
     for (k, raw_line) in text.lines().enumerate() {
         let line = k + 1;
         let content = raw_line.split('#').next().unwrap_or("");
@@ -77,7 +85,22 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
             }
             "f" => {
                 let face = parse_face(words, line, nodes.len(), raw_faces.len(), path, &parse_error)?;
+                for &g in &current {
+                    group_faces[g].1.push(raw_faces.len());
+                }
                 raw_faces.push((face, line));
+            }
+            "g" | "o" => {
+                current = words
+                    .filter(|name| *name != "default")
+                    .map(|name| match group_faces.iter().position(|(n, _)| n == name) {
+                        Some(g) => g,
+                        None => {
+                            group_faces.push((name.to_string(), Vec::new()));
+                            group_faces.len() - 1
+                        }
+                    })
+                    .collect();
             }
             "l" | "p" => {
                 return Err(parse_error(
@@ -110,11 +133,22 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
         elements.push(element);
         face_lines.push(*line);
     }
+    let groups = group_faces
+        .into_iter()
+        .filter(|(_, faces)| !faces.is_empty())
+        .map(|(name, faces)| {
+            let mut vertices: Vec<usize> = faces.iter().flat_map(|&f| elements[f]).collect();
+            vertices.sort_unstable();
+            vertices.dedup();
+            MeshGroup { name, dim: 2, vertices }
+        })
+        .collect();
     let mesh = TriMesh { nodes, elements };
     let obj = ObjMesh {
         mesh,
         vertex_lines,
         face_lines,
+        groups,
     };
     obj.check(path)?;
     Ok(obj)
@@ -282,6 +316,16 @@ impl ObjMesh {
             },
             vertex_lines: kept.iter().map(|&i| self.vertex_lines[i]).collect(),
             face_lines: self.face_lines.clone(),
+            groups: self
+                .groups
+                .iter()
+                .map(|g| {
+                    let mut vertices: Vec<usize> = g.vertices.iter().map(|&v| target[v]).collect();
+                    vertices.sort_unstable();
+                    vertices.dedup();
+                    MeshGroup { vertices, ..g.clone() }
+                })
+                .collect(),
         };
         welded.check(path)?;
         Ok((welded, merged))

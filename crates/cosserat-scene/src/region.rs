@@ -10,6 +10,8 @@
 //!   displacement and rotation nodes at those vertices and, for quadratic elements, the mid-edge nodes
 //!   of every edge whose two corners are listed (so listing the vertices of an edge selects the whole
 //!   edge, as a clamp needs);
+//! - [`Region::Group`]: the vertices of a named group of the mesh file (a Gmsh physical group, an OBJ
+//!   `g` or `o` group), selected as a vertex list;
 //! - [`Region::BoundaryLoop`]: the nodes on boundary loop `k` (corner vertices and, for quadratic
 //!   elements, the mid-edge nodes of its edges); loops are numbered as
 //!   [`cosserat_fem::mesh::Topology::boundary_loops`] returns them (by their first edge in the sorted
@@ -21,6 +23,7 @@
 
 use crate::error::RegionError;
 use crate::expr::Predicate;
+use crate::gmsh::MeshGroup;
 use crate::mesh_source::{bounding_box, tri6_edge_nodes};
 use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::mesh::Topology;
@@ -43,6 +46,11 @@ pub struct ShellNodes {
     mid_edge_nodes: Vec<([usize; 2], usize)>,
     /// Whether the rotation nodes are the displacement nodes (a quadratic rotation element).
     rot_is_tri6: bool,
+    /// Named vertex sets of the mesh file.
+    groups: Vec<MeshGroup>,
+    /// The displacement and rotation elements, by node.
+    disp_elements: Vec<Vec<usize>>,
+    rot_elements: Vec<Vec<usize>>,
     bbox: (Vector3<f64>, Vector3<f64>),
 }
 
@@ -121,8 +129,23 @@ impl ShellNodes {
         let mid_edge_nodes = edge_nodes
             .map(|nodes| topology.edges().iter().copied().zip(nodes).collect())
             .unwrap_or_default();
+        let corner_elements = |map: &[usize]| -> Vec<Vec<usize>> {
+            mesh.corners.elements.iter().map(|e| e.map(|v| map[v]).to_vec()).collect()
+        };
+        let disp_elements = match tri6 {
+            Some(t) => t.elements.iter().map(|e| e.to_vec()).collect(),
+            None => corner_elements(&vertex_disp),
+        };
+        let rot_elements = if rot_is_tri6 {
+            disp_elements.clone()
+        } else {
+            corner_elements(&vertex_rot)
+        };
         Ok(Self {
             name: name.to_string(),
+            groups: Vec::new(),
+            disp_elements,
+            rot_elements,
             disp_positions,
             rot_positions,
             vertex_disp,
@@ -141,6 +164,29 @@ impl ShellNodes {
         let map = if rotation { &self.vertex_rot } else { &self.vertex_disp };
         let has = |node: usize| selected.binary_search(&node).is_ok();
         self.boundary_edges.iter().filter(|[a, b]| has(map[*a]) && has(map[*b])).count()
+    }
+
+    /// These nodes with the named vertex sets of the mesh file, for [`Region::Group`].
+    pub fn with_groups(mut self, groups: Vec<MeshGroup>) -> Self {
+        self.groups = groups;
+        self
+    }
+
+    /// The names of the mesh file's groups.
+    pub fn group_names(&self) -> Vec<&str> {
+        self.groups.iter().map(|g| g.name.as_str()).collect()
+    }
+
+    /// The number of elements whose nodes are all in `selected` (displacement nodes, or rotation nodes
+    /// if `rotation`); a load over an area needs at least one.
+    pub fn count_covered_elements(&self, selected: &[usize], rotation: bool) -> usize {
+        let elements = if rotation {
+            &self.rot_elements
+        } else {
+            &self.disp_elements
+        };
+        let has = |node: &usize| selected.binary_search(node).is_ok();
+        elements.iter().filter(|e| e.iter().all(has)).count()
     }
 
     /// The shell's name.
@@ -203,6 +249,8 @@ pub enum Region {
     Predicate(Predicate),
     /// The nodes at these corner vertices.
     Vertices(Vec<usize>),
+    /// The vertices of a named group of the mesh file, selected as [`Region::Vertices`].
+    Group(String),
     /// The nodes of one boundary loop.
     BoundaryLoop(usize),
     /// The nearest displacement node and the nearest rotation node to a point.
@@ -228,6 +276,7 @@ impl Region {
             Region::Box { center, size } => format!("box centre {} size {}", v(center), v(size)),
             Region::Predicate(p) => format!("predicate `{}`", p.text()),
             Region::Vertices(list) => format!("{} listed vertices", list.len()),
+            Region::Group(name) => format!("group `{name}`"),
             Region::BoundaryLoop(k) => format!("boundary loop {k}"),
             Region::Nearest(p) => format!("nearest to {}", v(p)),
             Region::All => "all nodes".into(),
@@ -292,6 +341,18 @@ impl Region {
                 sort_unique(&mut disp_nodes);
                 sort_unique(&mut rot_nodes);
                 Ok(Selected { disp_nodes, rot_nodes })
+            }
+            Region::Group(name) => {
+                let group = nodes
+                    .groups
+                    .iter()
+                    .find(|g| &g.name == name)
+                    .ok_or_else(|| RegionError::UnknownGroup {
+                        group: name.clone(),
+                        shell: nodes.name.clone(),
+                        available: nodes.group_names().join(", "),
+                    })?;
+                Region::Vertices(group.vertices.clone()).select(nodes)
             }
             Region::BoundaryLoop(k) => {
                 let (disp, rot) = nodes.loops.get(*k).ok_or_else(|| RegionError::LoopOutOfRange {

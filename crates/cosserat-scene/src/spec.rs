@@ -370,6 +370,24 @@ pub enum ForceDistribution {
     PerLength,
     /// Consistent nodal weights of a line load scaled so that the total equals the vector \[N\].
     TotalOverLength,
+    /// Consistent nodal weights `∫ N_a dA` of a load per unit area over the rest surface of the
+    /// elements whose nodes are all selected: the vector is a force per unit area \[N/m²\].
+    PerArea,
+    /// Consistent nodal weights of a load per unit area scaled so that the total equals the vector
+    /// \[N\].
+    TotalOverArea,
+}
+
+impl ForceDistribution {
+    /// Whether the load is spread over boundary edges.
+    pub fn is_line(self) -> bool {
+        matches!(self, Self::PerLength | Self::TotalOverLength)
+    }
+
+    /// Whether the load is spread over elements.
+    pub fn is_area(self) -> bool {
+        matches!(self, Self::PerArea | Self::TotalOverArea)
+    }
 }
 
 /// An external load.
@@ -386,8 +404,17 @@ pub enum LoadKind {
     Torque {
         /// The torque vector.
         vector: Vector3<f64>,
-        /// Distribution (`PerLength` and `TotalOverLength` use the rotation nodes' boundary edges).
+        /// Distribution (`PerLength` and `TotalOverLength` use the rotation nodes' boundary edges,
+        /// `PerArea` and `TotalOverArea` the rotation elements).
         distribution: ForceDistribution,
+    },
+    /// A pressure on the elements whose displacement nodes are all selected, along the normal of the
+    /// element node order.
+    Pressure {
+        /// The pressure \[Pa\].
+        value: f64,
+        /// Along the current normal over the current area (follower), or the rest ones (dead).
+        follower: bool,
     },
 }
 
@@ -477,6 +504,21 @@ pub struct OutputSpec {
     pub frames: bool,
     /// Subdivision level of quadratic elements in the frames (each level splits a triangle into 4).
     pub subdivision: usize,
+    /// The formats frames are written in (when `frames`).
+    pub formats: FrameFormats,
+}
+
+/// The formats of output frames.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FrameFormats {
+    /// VTU frames and the `.pvd` collection.
+    pub vtu: bool,
+    /// One OBJ file per frame.
+    pub obj: bool,
+    /// One PLY file per frame.
+    pub ply: bool,
+    /// One USD stage with time samples.
+    pub usd: bool,
 }
 
 /// Frictional contact of a scene: which shells take part, the obstacles, friction coefficients and

@@ -6,9 +6,11 @@
 //! obstacles to contact.)
 
 use crate::error::SimulationError;
+use crate::placement::NodeMap;
 use crate::placement::ShellPlacement;
-use cosserat_assembly::IncrementalPotential;
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionConstraint, PositionPenalty, RotationPenalty};
+use cosserat_assembly::pressure::{FollowerPressure, area_weights, normal_weights};
+use cosserat_assembly::{IncrementalPotential, TermHandle};
 use cosserat_geometry::rotation::exp_map;
 use cosserat_scene::spec::{
     BoundarySpec, ForceDistribution, LoadKind, LoadSpec, MotionSpec, PositionEnforcement, SceneSpec, TimeFunction,
@@ -32,15 +34,88 @@ struct BoundaryScript {
     angular_velocity: Option<(usize, f64, [TimeFunction; 3])>,
 }
 
-/// A load with its nodal weights.
+/// A load with its nodal forces (or torques) at scale 1, or its follower-pressure term.
 #[derive(Debug)]
 struct LoadScript {
     name: String,
     torque: bool,
-    vector: Vector3<f64>,
-    nodes: Vec<(usize, f64)>,
+    nodes: Vec<(usize, Vector3<f64>)>,
+    follower: Option<(FollowerHandle, f64)>,
     scale: TimeFunction,
     timing: Timing,
+}
+
+/// The follower-pressure term of a load, by element type.
+#[derive(Debug, Clone, Copy)]
+enum FollowerHandle {
+    Tri3(TermHandle<FollowerPressure<3>>),
+    Tri6(TermHandle<FollowerPressure<6>>),
+}
+
+impl FollowerHandle {
+    /// Inserts a follower pressure on `elements` (system nodes, all of one type).
+    fn insert(potential: &mut IncrementalPotential, label: &str, elements: &[Vec<usize>]) -> Self {
+        fn fixed<const N: usize>(elements: &[Vec<usize>]) -> Vec<[usize; N]> {
+            elements.iter().map(|e| std::array::from_fn(|a| e[a])).collect()
+        }
+        if elements.first().is_some_and(|e| e.len() == 6) {
+            Self::Tri6(potential.insert(FollowerPressure::new(label, fixed::<6>(elements))))
+        } else {
+            Self::Tri3(potential.insert(FollowerPressure::new(label, fixed::<3>(elements))))
+        }
+    }
+
+    fn set(self, potential: &mut IncrementalPotential, pressure: f64) {
+        match self {
+            Self::Tri3(h) => potential.term_mut(h).pressure = pressure,
+            Self::Tri6(h) => potential.term_mut(h).pressure = pressure,
+        }
+    }
+}
+
+/// The warning for a follower pressure whose surface has boundary edges with nodes that no exact
+/// position condition holds on all axes: the load is not conservative there (docs/scenes.md).
+fn free_edge_warning(name: &str, potential: &IncrementalPotential, handle: FollowerHandle) -> Option<String> {
+    let elements: Vec<Vec<usize>> = match handle {
+        FollowerHandle::Tri3(h) => potential.term(h).elements.iter().map(|e| e.to_vec()).collect(),
+        FollowerHandle::Tri6(h) => potential.term(h).elements.iter().map(|e| e.to_vec()).collect(),
+    };
+    let mut count: std::collections::HashMap<(usize, usize), usize> = std::collections::HashMap::new();
+    for el in &elements {
+        for k in 0..3 {
+            let (a, b) = (el[k], el[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_default() += 1;
+        }
+    }
+    let held = |i: usize| {
+        potential
+            .parts
+            .position_constraints
+            .iter()
+            .any(|c| c.active == [true; 3] && c.nodes.contains(&i))
+    };
+    let mut free: Vec<usize> = count
+        .iter()
+        .filter(|(_, n)| **n == 1)
+        .flat_map(|((a, b), _)| [*a, *b])
+        .filter(|&i| !held(i))
+        .collect();
+    free.sort_unstable();
+    free.dedup();
+    (!free.is_empty()).then(|| {
+        format!(
+            "load `{name}`: the follower pressure's surface has free edges ({} boundary nodes not held exactly); \
+             a follower load is not conservative there and Newton may not converge: use `follower = false` or \
+             hold the rim (docs/scenes.md)",
+            free.len()
+        )
+    })
+}
+
+/// The elements whose nodes are all selected.
+fn covered_elements(elements: &[Vec<usize>], selected: &[usize]) -> Vec<Vec<usize>> {
+    let has = |i: &usize| selected.binary_search(i).is_ok();
+    elements.iter().filter(|e| e.iter().all(has)).cloned().collect()
 }
 
 /// The scripted boundary conditions and loads of a scene.
@@ -48,6 +123,7 @@ struct LoadScript {
 pub struct Scripts {
     boundaries: Vec<BoundaryScript>,
     loads: Vec<LoadScript>,
+    warnings: Vec<String>,
 }
 
 /// Nodal weights of a line load along the boundary edges of a shell whose nodes are all selected:
@@ -118,12 +194,26 @@ impl Scripts {
             .iter()
             .map(|bc| Self::boundary(bc, &placements[bc.selection.shell], potential))
             .collect();
-        let loads = spec
+        let loads: Vec<LoadScript> = spec
             .loads
             .iter()
-            .map(|load| Self::load(load, &placements[load.selection.shell]))
+            .map(|load| Self::load(load, &placements[load.selection.shell], potential))
             .collect::<Result<_, _>>()?;
-        Ok(Self { boundaries, loads })
+        let warnings = loads
+            .iter()
+            .filter(|l| l.follower.is_some())
+            .filter_map(|l| free_edge_warning(&l.name, potential, l.follower.map(|f| f.0)?))
+            .collect();
+        Ok(Self {
+            boundaries,
+            loads,
+            warnings,
+        })
+    }
+
+    /// Warnings about the scene's loads (a follower pressure on free edges).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     fn boundary(bc: &BoundarySpec, placement: &ShellPlacement, potential: &mut IncrementalPotential) -> BoundaryScript {
@@ -187,12 +277,48 @@ impl Scripts {
         script
     }
 
-    fn load(load: &LoadSpec, placement: &ShellPlacement) -> Result<LoadScript, SimulationError> {
-        let (torque, vector, distribution) = match &load.kind {
-            LoadKind::Force { vector, distribution } => (false, *vector, *distribution),
-            LoadKind::Torque { vector, distribution } => (true, *vector, *distribution),
+    fn load(
+        load: &LoadSpec,
+        placement: &ShellPlacement,
+        potential: &mut IncrementalPotential,
+    ) -> Result<LoadScript, SimulationError> {
+        let mut script = LoadScript {
+            name: load.name.clone(),
+            torque: false,
+            nodes: Vec::new(),
+            follower: None,
+            scale: load.scale.clone(),
+            timing: load.timing,
         };
-        let (local, map, elements, positions) = if torque {
+        let (vector, distribution) = match &load.kind {
+            LoadKind::Force { vector, distribution } => (*vector, *distribution),
+            LoadKind::Torque { vector, distribution } => {
+                script.torque = true;
+                (*vector, *distribution)
+            }
+            LoadKind::Pressure { value, follower } => {
+                let NodeMap::Offset(start) = placement.disp else {
+                    return Err(SimulationError::Setup(format!(
+                        "load `{}`: a pressure needs a shell model (one node per mid-surface node)",
+                        load.name
+                    )));
+                };
+                let elements = covered_elements(&placement.disp_elements, &load.selection.disp_nodes);
+                if *follower {
+                    let system: Vec<Vec<usize>> =
+                        elements.iter().map(|e| e.iter().map(|&i| start + i).collect()).collect();
+                    script.follower = Some((FollowerHandle::insert(potential, &load.name, &system), *value));
+                } else {
+                    let rest = &placement.rest_disp;
+                    script.nodes = normal_weights(&elements, &|i| rest[i])
+                        .into_iter()
+                        .map(|(i, n)| (start + i, n * *value))
+                        .collect();
+                }
+                return Ok(script);
+            }
+        };
+        let (local, map, elements, positions) = if script.torque {
             (
                 &load.selection.rot_nodes,
                 &placement.rot,
@@ -207,32 +333,31 @@ impl Scripts {
                 &placement.rest_disp,
             )
         };
-        let weights: Vec<(usize, f64)> = match distribution {
+        let mut weights: Vec<(usize, f64)> = match distribution {
             ForceDistribution::Equal => local.iter().map(|&i| (i, 1.0 / local.len() as f64)).collect(),
             ForceDistribution::PerNode => local.iter().map(|&i| (i, 1.0)).collect(),
             ForceDistribution::PerLength | ForceDistribution::TotalOverLength => {
-                let mut w = line_weights(elements, &|i| positions[i], local);
-                if w.is_empty() {
-                    return Err(SimulationError::Setup(format!(
-                        "load `{}`: a line load needs boundary edges whose nodes are all selected; none found",
-                        load.name
-                    )));
-                }
-                if distribution == ForceDistribution::TotalOverLength {
-                    let total: f64 = w.iter().map(|x| x.1).sum();
-                    w.iter_mut().for_each(|x| x.1 /= total);
-                }
-                w
+                line_weights(elements, &|i| positions[i], local)
+            }
+            ForceDistribution::PerArea | ForceDistribution::TotalOverArea => {
+                area_weights(&covered_elements(elements, local), &|i| positions[i])
             }
         };
-        Ok(LoadScript {
-            name: load.name.clone(),
-            torque,
-            vector,
-            nodes: map.weights(&weights),
-            scale: load.scale.clone(),
-            timing: load.timing,
-        })
+        if weights.is_empty() {
+            return Err(SimulationError::Setup(format!(
+                "load `{}`: the region covers no boundary edge or element to spread the load over",
+                load.name
+            )));
+        }
+        if matches!(
+            distribution,
+            ForceDistribution::TotalOverLength | ForceDistribution::TotalOverArea
+        ) {
+            let total: f64 = weights.iter().map(|x| x.1).sum();
+            weights.iter_mut().for_each(|x| x.1 /= total);
+        }
+        script.nodes = map.weights(&weights).into_iter().map(|(i, w)| (i, vector * w)).collect();
+        Ok(script)
     }
 
     /// Sets targets and loads for the step from `t` to `t + dt`.
@@ -292,6 +417,7 @@ impl Scripts {
             }
         }
         if !self.loads.is_empty() {
+            let parts = &mut potential.parts;
             parts.loads.forces.fill(Vector3::zeros());
             parts.loads.torques.fill(Vector3::zeros());
             for load in &self.loads {
@@ -302,13 +428,18 @@ impl Scripts {
                     || format!("load `{}`: scale", load.name),
                     &load.scale,
                 )?;
+                if let Some((handle, pressure)) = load.follower {
+                    handle.set(potential, pressure * s);
+                    continue;
+                }
+                let parts = &mut potential.parts;
                 let out = if load.torque {
                     &mut parts.loads.torques
                 } else {
                     &mut parts.loads.forces
                 };
-                for &(i, w) in &load.nodes {
-                    out[i] += load.vector * (w * s);
+                for &(i, f) in &load.nodes {
+                    out[i] += f * s;
                 }
             }
         }

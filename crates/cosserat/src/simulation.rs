@@ -55,6 +55,7 @@ pub struct Simulation {
     contact: Option<ContactRun>,
     probes: Probes,
     write_frames: bool,
+    frame_formats: cosserat_io::FrameFormats,
     rest_bbox: BoundingBox,
     /// Warnings about settings that physics or the discretisation limits ([`crate::advice`]) and about
     /// the inputs.
@@ -95,6 +96,7 @@ impl Simulation {
             None => None,
         };
         let scripts = Scripts::build(&spec, model.placements(), &mut potential)?;
+        advice.extend(scripts.warnings().iter().cloned());
         let probes = Probes::new(&spec.probes, model.placements(), model.rest_positions());
         let rest_points: Vec<[f64; 3]> = model.rest_positions().iter().map(|x| [x.x, x.y, x.z]).collect();
         Ok(Self {
@@ -107,6 +109,12 @@ impl Simulation {
             contact,
             probes,
             write_frames: spec.output.frames,
+            frame_formats: cosserat_io::FrameFormats {
+                vtu: spec.output.formats.vtu,
+                obj: spec.output.formats.obj,
+                ply: spec.output.formats.ply,
+                usd: spec.output.formats.usd,
+            },
             rest_bbox: BoundingBox::of_points(&rest_points).unwrap_or_default(),
             advice,
             stats: RunStats::default(),
@@ -221,6 +229,7 @@ impl Simulation {
     ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
         let mut writer = RunWriter::create(dir, &self.probe_columns())?;
+        writer.set_formats(self.frame_formats)?;
         let outcome = match self.record_output(&mut writer, 0.0) {
             Ok(()) => match self.time.clone() {
                 TimeSpec::Dynamic {

@@ -4,4 +4,5 @@ mod dynamic;
 mod finite;
 mod pattern;
 mod potential;
+mod pressure;
 mod quadrature_rank;

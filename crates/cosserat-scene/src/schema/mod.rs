@@ -572,6 +572,9 @@ pub struct RegionSection {
     pub nodes: Option<Vec<usize>>,
     /// Boundary loop index.
     pub boundary_loop: Option<usize>,
+    /// A named group of the mesh file: a Gmsh physical group (curves or surfaces) or an OBJ `g`/`o`
+    /// group.
+    pub group: Option<String>,
     /// The nearest node to a point.
     pub nearest: Option<[f64; 3]>,
     /// Every node (`all = true`).
@@ -691,6 +694,10 @@ pub enum DistributionName {
     PerLength,
     /// A line load along the selected boundary edges with the given total.
     TotalOverLength,
+    /// A load per unit area over the elements whose nodes are all selected.
+    PerArea,
+    /// A load over the elements whose nodes are all selected with the given total.
+    TotalOverArea,
 }
 
 /// `[\[load\]]`.
@@ -707,6 +714,12 @@ pub struct LoadSection {
     pub force: Option<[f64; 3]>,
     /// A torque \[N·m\] (exclusive with `force`).
     pub torque: Option<[f64; 3]>,
+    /// A pressure \[Pa\] on the elements whose nodes are all selected, positive along the normal
+    /// of the element node order (exclusive with `force` and `torque`).
+    pub pressure: Option<f64>,
+    /// Whether the pressure follows the deformed surface (default `true`) or keeps the rest normals
+    /// and areas (dead pressure).
+    pub follower: Option<bool>,
     /// Distribution (default `"equal"`).
     pub distribution: Option<DistributionName>,
     /// Scale over time (default 1).
@@ -793,4 +806,21 @@ pub struct OutputSection {
     pub frames: Option<bool>,
     /// Subdivision level of quadratic elements in frames (default 1).
     pub subdivision: Option<usize>,
+    /// Frame formats (default `["vtu"]`): `"vtu"` (ParaView), `"obj"` and `"ply"` (one file per
+    /// frame), `"usd"` (one `run.usda` with time samples).
+    pub formats: Option<Vec<FrameFormatName>>,
+}
+
+/// Frame format names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameFormatName {
+    /// VTU frames and a `.pvd` collection.
+    Vtu,
+    /// OBJ per frame.
+    Obj,
+    /// Binary PLY per frame.
+    Ply,
+    /// One USD stage (`.usda`) with time samples.
+    Usd,
 }

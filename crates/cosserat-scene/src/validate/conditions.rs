@@ -62,6 +62,7 @@ impl Ctx<'_> {
             ("predicate", r.predicate.is_some()),
             ("nodes", r.nodes.is_some()),
             ("boundary_loop", r.boundary_loop.is_some()),
+            ("group", r.group.is_some()),
             ("nearest", r.nearest.is_some()),
             ("all", r.all.is_some()),
         ];
@@ -70,7 +71,7 @@ impl Ctx<'_> {
             return Err(self.invalid(
                 field,
                 format!(
-                    "give exactly one of `box`, `predicate`, `nodes`, `boundary_loop`, `nearest`, `all` (got {})",
+                    "give exactly one of `box`, `predicate`, `nodes`, `boundary_loop`, `group`, `nearest`, `all` (got {})",
                     if given.is_empty() {
                         "none".to_string()
                     } else {
@@ -104,6 +105,9 @@ impl Ctx<'_> {
         }
         if let Some(k) = r.boundary_loop {
             return Ok(Region::BoundaryLoop(k));
+        }
+        if let Some(name) = &r.group {
+            return Ok(Region::Group(name.clone()));
         }
         if let Some(p) = r.nearest {
             return Ok(Region::Nearest(self.vector(&format!("{field}.nearest"), p)?));
@@ -352,29 +356,10 @@ impl Ctx<'_> {
                 DistributionName::PerNode => ForceDistribution::PerNode,
                 DistributionName::PerLength => ForceDistribution::PerLength,
                 DistributionName::TotalOverLength => ForceDistribution::TotalOverLength,
+                DistributionName::PerArea => ForceDistribution::PerArea,
+                DistributionName::TotalOverArea => ForceDistribution::TotalOverArea,
             };
-            let (kind, needs, is_torque) = match (l.force, l.torque) {
-                (Some(v), None) => (
-                    LoadKind::Force {
-                        vector: self.vector(&format!("{f}.force"), v)?,
-                        distribution,
-                    },
-                    Needs::Displacement,
-                    false,
-                ),
-                (None, Some(v)) => (
-                    LoadKind::Torque {
-                        vector: self.vector(&format!("{f}.torque"), v)?,
-                        distribution,
-                    },
-                    Needs::Rotation,
-                    true,
-                ),
-                (Some(_), Some(_)) => {
-                    return Err(self.invalid(&format!("{f}.torque"), "give `force` or `torque`, not both"));
-                }
-                (None, None) => return Err(self.invalid(&f, "needs a `force` or a `torque`")),
-            };
+            let (kind, needs, is_torque) = self.load_kind(&f, l, distribution)?;
             let scale = match &l.scale {
                 Some(s) => self.time_function(&format!("{f}.scale"), s)?,
                 None => TimeFunction::constant(1.0),
@@ -382,21 +367,23 @@ impl Ctx<'_> {
             let rf = format!("{f}.region");
             let region = self.region(&rf, &l.region)?;
             let selected = self.select(&rf, &region, &shells[shell], &[needs])?;
-            if matches!(
-                distribution,
-                ForceDistribution::PerLength | ForceDistribution::TotalOverLength
-            ) {
-                let nodes = if is_torque {
-                    &selected.rot_nodes
-                } else {
-                    &selected.disp_nodes
-                };
-                if shells[shell].nodes.count_boundary_edges(nodes, is_torque) == 0 {
-                    return Err(self.invalid(
-                        &format!("{f}.distribution"),
-                        "a line load needs a region that contains at least one boundary edge (both end nodes)",
-                    ));
-                }
+            let nodes = if is_torque {
+                &selected.rot_nodes
+            } else {
+                &selected.disp_nodes
+            };
+            let on_area = distribution.is_area() || matches!(kind, LoadKind::Pressure { .. });
+            if distribution.is_line() && shells[shell].nodes.count_boundary_edges(nodes, is_torque) == 0 {
+                return Err(self.invalid(
+                    &format!("{f}.distribution"),
+                    "a line load needs a region that contains at least one boundary edge (both end nodes)",
+                ));
+            }
+            if on_area && shells[shell].nodes.count_covered_elements(nodes, is_torque) == 0 {
+                return Err(self.invalid(
+                    &rf,
+                    "a load over an area needs a region that contains at least one element (all its nodes)",
+                ));
             }
             out.push(LoadSpec {
                 name: name.clone(),
@@ -412,6 +399,58 @@ impl Ctx<'_> {
             names.push(name);
         }
         Ok(out)
+    }
+
+    /// The kind of a load: a force, a torque or a pressure (exactly one), with what it needs and
+    /// whether it acts on rotation nodes.
+    fn load_kind(
+        &self,
+        f: &str,
+        l: &LoadSection,
+        distribution: ForceDistribution,
+    ) -> Result<(LoadKind, Needs, bool), SceneError> {
+        if l.follower.is_some() && l.pressure.is_none() {
+            return Err(self.invalid(&format!("{f}.follower"), "only a `pressure` can follow the surface"));
+        }
+        match (l.force, l.torque, l.pressure) {
+            (Some(v), None, None) => Ok((
+                LoadKind::Force {
+                    vector: self.vector(&format!("{f}.force"), v)?,
+                    distribution,
+                },
+                Needs::Displacement,
+                false,
+            )),
+            (None, Some(v), None) => Ok((
+                LoadKind::Torque {
+                    vector: self.vector(&format!("{f}.torque"), v)?,
+                    distribution,
+                },
+                Needs::Rotation,
+                true,
+            )),
+            (None, None, Some(p)) => {
+                if !p.is_finite() {
+                    return Err(self.invalid(&format!("{f}.pressure"), "must be finite"));
+                }
+                if l.distribution.is_some() {
+                    return Err(self.invalid(
+                        &format!("{f}.distribution"),
+                        "a pressure is always spread over the selected elements; remove `distribution`",
+                    ));
+                }
+                Ok((
+                    LoadKind::Pressure {
+                        value: p,
+                        follower: l.follower.unwrap_or(true),
+                    },
+                    Needs::Displacement,
+                    false,
+                ))
+            }
+            (None, None, None) => Err(self.invalid(f, "needs a `force`, a `torque` or a `pressure`")),
+            _ => Err(self.invalid(f, "give one of `force`, `torque` and `pressure`, not several")),
+        }
     }
 
     pub(super) fn rest_fields(

@@ -6,10 +6,7 @@
 use super::Ctx;
 use super::shell::ValidShell;
 use crate::error::SceneError;
-use crate::spec::{
-    BoundarySpec, ContactSpec, ForceDistribution, LoadKind, LoadSpec, ModelKind, ProbeQuantity, ProbeSpec,
-    RestFieldSpec,
-};
+use crate::spec::{BoundarySpec, ContactSpec, LoadKind, LoadSpec, ModelKind, ProbeQuantity, ProbeSpec, RestFieldSpec};
 
 /// The conditions of a scene, to be checked against the models of its shells.
 pub(super) struct Conditions<'a> {
@@ -58,14 +55,16 @@ impl Ctx<'_> {
                 (
                     LoadKind::Force { distribution, .. } | LoadKind::Torque { distribution, .. },
                     ModelKind::MicropolarVolume { .. },
-                ) if matches!(
-                    distribution,
-                    ForceDistribution::PerLength | ForceDistribution::TotalOverLength
-                ) =>
-                {
+                ) if distribution.is_line() || distribution.is_area() => {
                     return Err(self.invalid(
                         &format!("load.{k}.distribution"),
-                        "line loads are not available for the micropolar volume model: use `equal` or `per_node`",
+                        "line and area loads are not available for the micropolar volume model: use `equal` or `per_node`",
+                    ));
+                }
+                (LoadKind::Pressure { .. }, ModelKind::MicropolarVolume { .. }) => {
+                    return Err(self.invalid(
+                        &format!("load.{k}.pressure"),
+                        "pressure is not available for the micropolar volume model (it loads a mid-surface)",
                     ));
                 }
                 _ => {}

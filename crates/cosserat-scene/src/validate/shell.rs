@@ -113,11 +113,13 @@ impl Ctx<'_> {
                 format!("the micropolar volume model extrudes a flat rectangular grid (e.g. `generator = \"rectangle\"`): {reason}"),
             ));
         }
-        let nodes = ShellNodes::new(name, &built.mesh, pair).map_err(|source| SceneError::Region {
-            location: self.location(&m),
-            field: m.clone(),
-            source: Box::new(source),
-        })?;
+        let nodes = ShellNodes::new(name, &built.mesh, pair)
+            .map_err(|source| SceneError::Region {
+                location: self.location(&m),
+                field: m.clone(),
+                source: Box::new(source),
+            })?
+            .with_groups(std::mem::take(&mut built.groups));
         let mut sample_points = nodes.disp_positions().to_vec();
         let corners = &built.mesh.corners;
         sample_points.extend((0..corners.n_elements()).map(|e| {
@@ -309,6 +311,14 @@ impl Ctx<'_> {
                     source: Box::new(source),
                 }
             }
+            MeshSourceError::File(source) => {
+                let field = format!("{m}.path");
+                SceneError::MeshFile {
+                    location: self.location(&field),
+                    field,
+                    source: Box::new(source),
+                }
+            }
             MeshSourceError::Invalid { step, reason } => {
                 let field = format!("{m}.{step}");
                 self.invalid(&field, reason)
@@ -334,7 +344,7 @@ impl Ctx<'_> {
                 if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
                     return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
                 }
-                MeshSource::Obj(self.resolve_path(&format!("{m}.path"), path))
+                MeshSource::file(self.resolve_path(&format!("{m}.path"), path))
             }
             (Some(generator), None) => MeshSource::Generator(self.generator(m, generator, mesh, &given)?),
         };

@@ -3,9 +3,10 @@
 use super::Ctx;
 use crate::error::SceneError;
 use crate::schema::{
-    DomainSplitName, InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode, TimeSection,
+    DomainSplitName, FrameFormatName, InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode,
+    TimeSection,
 };
-use crate::spec::{OutputSpec, SolverSpec, TimeSpec};
+use crate::spec::{FrameFormats, OutputSpec, SolverSpec, TimeSpec};
 use cosserat_solver::Tolerance;
 use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
@@ -259,7 +260,27 @@ impl Ctx<'_> {
                 format!("must be at most {MAX_SUBDIVISION} (got {subdivision})"),
             ));
         }
-        Ok(OutputSpec { frames, subdivision })
+        let names = output
+            .and_then(|o| o.formats.clone())
+            .unwrap_or_else(|| vec![FrameFormatName::Vtu]);
+        if names.is_empty() {
+            return Err(self.invalid(
+                "output.formats",
+                "lists no format; set `frames = false` to write no frames",
+            ));
+        }
+        let has = |f: FrameFormatName| names.contains(&f);
+        let formats = FrameFormats {
+            vtu: has(FrameFormatName::Vtu),
+            obj: has(FrameFormatName::Obj),
+            ply: has(FrameFormatName::Ply),
+            usd: has(FrameFormatName::Usd),
+        };
+        Ok(OutputSpec {
+            frames,
+            subdivision,
+            formats,
+        })
     }
 }
 

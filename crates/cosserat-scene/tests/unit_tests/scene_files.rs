@@ -345,6 +345,7 @@ fn validation_scenes_load_every_tabulated_level() {
         assert_eq!(load.scale.eval(0.35), 0.35);
         let distribution = match load.kind {
             LoadKind::Force { distribution, .. } | LoadKind::Torque { distribution, .. } => distribution,
+            LoadKind::Pressure { .. } => panic!("{name} is not loaded by a pressure"),
         };
         assert_eq!(distribution, ForceDistribution::TotalOverLength);
         assert_eq!(spec.probes[0].reduction, ProbeReduction::Mean);
@@ -355,7 +356,7 @@ fn validation_scenes_load_every_tabulated_level() {
         LoadKind::Torque { vector, .. } => {
             assert!((vector.y + 50.0 * std::f64::consts::PI / 3.0).abs() < 1e-12 && vector.x == 0.0 && vector.z == 0.0);
         }
-        LoadKind::Force { .. } => panic!("the roll-up is loaded by a torque"),
+        LoadKind::Force { .. } | LoadKind::Pressure { .. } => panic!("the roll-up is loaded by a torque"),
     }
     // The end edge of the 48 × 4 mesh carries ny + 1 = 5 rotation (corner) nodes.
     assert_eq!(rollup.loads[0].selection.rot_nodes.len(), 5);

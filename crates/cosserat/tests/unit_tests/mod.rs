@@ -3,4 +3,5 @@ mod contact;
 mod kl_model;
 mod memory;
 mod run;
+mod surface_loads;
 mod volume_model;

@@ -294,3 +294,69 @@ fn an_interrupted_run_keeps_complete_frames_and_says_where_it_stopped() {
         RunStatus::Interrupted
     );
 }
+
+/// `output.formats = ["vtu", "obj", "ply", "usd"]`: every frame also as OBJ and PLY (read back by the
+/// scene's own readers) and one USD stage whose time samples are the frames' points, all equal to the
+/// VTU frames (PLY and USD store single precision).
+#[test]
+fn frames_are_written_in_every_requested_format() {
+    let d = dir("formats");
+    let scene = write_scene(
+        &d,
+        &format!("{STRIP}[output]\nformats = [\"vtu\", \"obj\", \"ply\", \"usd\"]\n"),
+    );
+    let out = d.join("out");
+    assert_eq!(run_scene(&args(scene, out.clone(), &[])).unwrap(), 0);
+    let frames_dir = out.join("frames");
+    let frames = read_pvd(&frames_dir.join("run.pvd")).unwrap();
+    assert_eq!(frames.len(), 6);
+    let usd = std::fs::read_to_string(frames_dir.join("run.usda")).unwrap();
+    let samples = usd_point_samples(&usd);
+    assert_eq!(samples.len(), frames.len());
+    for (k, f) in frames.iter().enumerate() {
+        let vtu = read_vtu(&frames_dir.join(&f.file)).unwrap();
+        let obj = cosserat::scene::obj::parse_obj(
+            &std::fs::read_to_string(frames_dir.join(f.file.replace(".vtu", ".obj"))).unwrap(),
+            Path::new("frame.obj"),
+        )
+        .unwrap();
+        let ply = cosserat::scene::ply::read_ply(&frames_dir.join(f.file.replace(".vtu", ".ply"))).unwrap();
+        assert_eq!(obj.mesh.elements, vtu.triangles);
+        assert_eq!(ply.mesh.elements, vtu.triangles);
+        assert_eq!(samples[k].len(), vtu.points.len());
+        for (i, p) in vtu.points.iter().enumerate() {
+            for c in 0..3 {
+                assert_eq!(obj.mesh.nodes[i][c], p[c]);
+                assert_eq!(ply.mesh.nodes[i][c], p[c] as f32 as f64);
+                assert_eq!(samples[k][i][c] as f32, p[c] as f32);
+            }
+        }
+    }
+    assert!(usd.contains("primvars:director3.timeSamples") && usd.contains("interpolation = \"vertex\""));
+    assert!(
+        !files(&frames_dir).iter().any(|f| f.contains("part")),
+        "part files are removed"
+    );
+}
+
+/// The `points` time samples of a stage written by the run: per sample, its points.
+fn usd_point_samples(usd: &str) -> Vec<Vec<[f64; 3]>> {
+    let body = usd.split("points.timeSamples = {").nth(1).unwrap();
+    let body = &body[..body.find("\n        }").unwrap()];
+    body.lines()
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let list = l.split_once(": [").unwrap().1.trim_end_matches("],");
+            list.split("), (")
+                .map(|t| {
+                    let v: Vec<f64> = t
+                        .trim_matches(|c| c == '(' || c == ')')
+                        .split(", ")
+                        .map(|x| x.parse().unwrap())
+                        .collect();
+                    [v[0], v[1], v[2]]
+                })
+                .collect()
+        })
+        .collect()
+}
