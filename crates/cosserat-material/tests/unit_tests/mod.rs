@@ -2,3 +2,4 @@ mod common;
 mod density;
 mod kernel;
 mod parameters;
+mod projected;
