@@ -1,4 +1,5 @@
 mod common;
+mod curved_terms;
 mod density;
 mod kernel;
 mod parameters;
