@@ -46,8 +46,8 @@ pub use probes::ProbeWriter;
 pub use pvd::{PvdEntry, read_pvd, read_pvd_frame, write_pvd};
 pub use run::{RunWriter, clear_run_outputs, write_failure_summary};
 pub use summary::{
-    Attempt, BoundingBox, ContactRecord, EnergyHistory, FactorRecord, FailedStep, LinearSolverRecord, ModelRecord,
-    RunStatus, RunSummary, read_summary, write_summary,
+    Attempt, BoundingBox, ContactRecord, ConvergenceRecord, EnergyHistory, FactorRecord, FailedStep,
+    LinearSolverRecord, ModelRecord, RunStatus, RunSummary, ToleranceMode, read_summary, write_summary,
 };
 pub use vtu::{DataArray, VtuFrame, write_vtu};
 pub use vtu_read::read_vtu;

@@ -72,6 +72,40 @@ pub struct Attempt {
     pub residuals: Vec<f64>,
 }
 
+/// Whether the residual tolerance was relative to the load scale or absolute.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ToleranceMode {
+    /// A fraction of the step's load scale (its largest external load, reaction or first residual),
+    /// never below the residual's round-off floor (`"relative"`).
+    Relative,
+    /// A residual in force and torque units (`"absolute"`).
+    Absolute,
+}
+
+/// How the run's Newton solves met their tolerance.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ConvergenceRecord {
+    /// Relative or absolute.
+    pub tolerance_mode: ToleranceMode,
+    /// The scene's tolerance: a fraction of the load scale, or a residual in force (and torque)
+    /// units.
+    pub tolerance: f64,
+    /// The largest residual bound a step used, in force (and torque) units: the absolute tolerance,
+    /// or the relative one times the step's load scale, or the round-off floor where that is higher.
+    pub max_step_tolerance: f64,
+    /// The largest final residual of a step, in force (and torque) units.
+    pub max_residual: f64,
+    /// The largest final residual of a step over its load scale (steps without any load, reaction or
+    /// first residual have none and are left out).
+    pub max_relative_residual: f64,
+    /// Steps accepted although their residual stayed above the tolerance, because it had stopped
+    /// decreasing at the round-off floor with a Newton step below the energy's round-off (a warning).
+    pub stagnated_steps: usize,
+    /// Newton iterations whose Hessian was not positive definite and was shifted.
+    pub shifted_iterations: usize,
+}
+
 /// The mechanical model of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 #[serde(tag = "kind", rename_all = "snake_case")]
@@ -237,6 +271,8 @@ pub struct RunSummary {
     pub linear_solve_share: f64,
     /// The process's peak resident memory \[MB\], where the operating system reports it.
     pub peak_memory_mb: Option<f64>,
+    /// How the Newton solves met their tolerance (`null` if no step finished).
+    pub convergence: Option<ConvergenceRecord>,
     /// The linear solves.
     pub linear_solver: LinearSolverRecord,
     /// The smallest deformed-to-rest area ratio over the shells' quadrature points at the output times
@@ -323,6 +359,15 @@ impl RunSummary {
         ];
         for (name, values) in energies {
             out.extend(values.iter().enumerate().map(|(i, v)| (format!("energy.{name}[{i}]"), *v)));
+        }
+        if let Some(c) = &self.convergence {
+            let fields = [
+                ("tolerance", c.tolerance),
+                ("max_step_tolerance", c.max_step_tolerance),
+                ("max_residual", c.max_residual),
+                ("max_relative_residual", c.max_relative_residual),
+            ];
+            out.extend(fields.into_iter().map(|(k, v)| (format!("convergence.{k}"), v)));
         }
         if let Some(step) = &self.failed_step {
             out.push(("failed_step.t".into(), step.t));

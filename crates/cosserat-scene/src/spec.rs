@@ -17,6 +17,7 @@ use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::QuadratureRule;
 use cosserat_material::MaterialParameters;
 use cosserat_material::rest::RestOptions;
+use cosserat_solver::Tolerance;
 use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
 use nalgebra::{Matrix3, Vector3};
@@ -247,13 +248,24 @@ pub enum TimeSpec {
         /// Load factors at which equilibria are computed and written (increasing, ending at 1).
         levels: Vec<f64>,
     },
+    /// Equilibria traced along the load path by arc-length continuation; the pseudo time `t` of
+    /// scripts is the load factor, which may fall and rise along the path.
+    ArcLength {
+        /// The load-factor increment of the first step (sets the arc length).
+        initial_increment: f64,
+        /// The load factor at which the path ends, reached from below.
+        end: f64,
+        /// At most this many steps.
+        max_steps: usize,
+    },
 }
 
 /// Newton and linear solver settings.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SolverSpec {
-    /// Residual tolerance: max |∂Π/∂u| / Δt, in N (translations) and N·m (rotations).
-    pub tolerance: f64,
+    /// Residual tolerance on max |∂Π/∂u| / Δt, in N (translations) and N·m (rotations): relative to
+    /// the load scale (with the round-off floor) unless the scene gives an absolute one.
+    pub tolerance: Tolerance,
     /// Maximum Newton iterations per step.
     pub max_newton_iterations: usize,
     /// Maximum line-search halvings per iteration.

@@ -216,7 +216,7 @@ pub enum NonFiniteQuantity {
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum SettingName {
-    /// `residual_tolerance` must be positive and finite.
+    /// `tolerance` must be positive and finite (and below 1 when relative).
     ResidualTolerance,
     /// `residual_scale` must be positive and finite.
     ResidualScale,
@@ -234,6 +234,9 @@ pub enum SettingName {
     CgMaxIterations,
     /// A fixed `cg_forcing` tolerance must lie in (0, 1).
     CgForcing,
+    /// Arc-length settings: a finite non-zero first increment, a finite end, a positive iteration
+    /// target, `0 < min_ratio ≤ 1 ≤ max_ratio`.
+    ArcLength,
 }
 
 /// A failure of Newton's method.
@@ -350,6 +353,21 @@ fn last(residuals: &[f64]) -> f64 {
 }
 
 impl NewtonError {
+    /// The error with the residual history of its solve (set-up errors carry none).
+    pub(crate) fn with_residuals(mut self, history: Vec<f64>) -> Self {
+        match &mut self {
+            Self::MaxIterations { residuals, .. }
+            | Self::LineSearchFailed { residuals, .. }
+            | Self::NotDescent { residuals, .. }
+            | Self::LinearSolve { residuals, .. }
+            | Self::Problem { residuals, .. }
+            | Self::NonFinite { residuals, .. }
+            | Self::InfeasibleStep { residuals, .. } => *residuals = history,
+            Self::DimensionMismatch { .. } | Self::PatternChanged | Self::InvalidSetting { .. } | Self::Setup(_) => {}
+        }
+        self
+    }
+
     /// The residual history carried by the error (empty for set-up errors).
     pub fn residuals(&self) -> &[f64] {
         match self {

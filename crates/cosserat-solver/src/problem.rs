@@ -61,4 +61,31 @@ pub trait NewtonProblem {
         let _ = (x, dx);
         1.0
     }
+
+    /// Moves unknowns of a trial state `x`, reached from the iterate `from`, that run towards a
+    /// singularity of the problem's parametrisation across it, to where the descent can continue (for
+    /// example a rotation update whose parameter grows without bound as the rotation approaches a half
+    /// turn). Newton's method calls it on every trial state before evaluating it; the line search then
+    /// judges the moved state by its energy like any other. The default moves nothing.
+    fn cross_singularities(&self, from: &[f64], x: &mut [f64]) {
+        let _ = (from, x);
+    }
+
+    /// The size of the external loads in the units of the gradient (for example the largest nodal force
+    /// times the time step), the scale of a [relative tolerance](crate::Tolerance::Relative). The
+    /// default, 0, leaves the scale to the reactions of fixed unknowns and the first residual.
+    fn load_scale(&self) -> f64 {
+        0.0
+    }
+
+    /// Writes into `m` the magnitude of the coordinate behind each unknown, in the unknown's units, for
+    /// the round-off floor of the residual (`ε Σ_j |H_ij| m_j`, see [`Tolerance`](crate::Tolerance)).
+    /// When the unknowns are increments of a state (velocities of positions), the round-off is that of
+    /// the state: a velocity unknown's magnitude is its node's distance from the origin over `Δt`. The
+    /// default takes the unknowns themselves, `m_j = |x_j|`.
+    fn unknown_magnitudes(&self, x: &[f64], m: &mut [f64]) {
+        for (m, x) in m.iter_mut().zip(x) {
+            *m = x.abs();
+        }
+    }
 }

@@ -48,8 +48,8 @@ pub struct TimeStepSettings {
 
 impl TimeStepSettings {
     /// Settings for a fixed time step `dt`, with up to 8 halvings on failure, and at least one Newton
-    /// iteration per step (the residual tolerance is absolute; a good initial guess alone could satisfy
-    /// it and skip the step's response to small but growing forces).
+    /// iteration per step (a good initial guess alone could satisfy the tolerance and skip the step's
+    /// response to small but growing forces).
     pub fn fixed(dt: f64) -> Self {
         Self {
             dt,

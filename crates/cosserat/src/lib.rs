@@ -33,6 +33,7 @@
 pub mod advice;
 pub mod cli;
 pub mod contact_run;
+mod convergence;
 pub mod cosserat_model;
 pub mod error;
 pub mod frames;

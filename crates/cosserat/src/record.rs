@@ -1,8 +1,9 @@
 //! The counters a run collects step by step, from which the simulation makes its typed run record
 //! ([`cosserat_io::RunSummary`]) when the run ends.
 
+use crate::convergence::ConvergenceStats;
 use cosserat_io::{EnergyHistory, FactorRecord, LinearSolverRecord};
-use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, StepReport};
+use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, PathPoint, StepReport};
 
 /// Counters collected over a run.
 #[derive(Debug, Clone)]
@@ -37,6 +38,8 @@ pub struct RunStats {
     pub cg_iterations: usize,
     /// Structure of the symmetric factor (last symbolic analysis).
     pub factor: Option<FactorStats>,
+    /// Tolerances and residuals of the converged solves.
+    pub convergence: ConvergenceStats,
 }
 
 impl Default for RunStats {
@@ -57,6 +60,7 @@ impl Default for RunStats {
             factorisations: 0,
             cg_iterations: 0,
             factor: None,
+            convergence: ConvergenceStats::default(),
         }
     }
 }
@@ -86,6 +90,22 @@ impl RunStats {
         let f = &newton.factorisations;
         self.factorisations += f.llt + f.lblt + f.lu;
         self.cg_iterations += newton.cg_iterations;
+        self.convergence.record_newton(newton);
+    }
+
+    /// Adds an equilibrium of an arc-length path (a step of the path counts as a step; its iterations
+    /// include those of attempts with a longer arc length).
+    pub fn record_point(&mut self, p: &PathPoint, seconds: f64) {
+        let iterations = p.iterations + p.wasted_iterations;
+        self.steps += 1;
+        self.newton_iterations += iterations;
+        self.max_newton_iterations = self.max_newton_iterations.max(iterations);
+        self.wasted_iterations += p.wasted_iterations;
+        self.reductions += p.cuts;
+        self.assembly_seconds += p.assembly_seconds;
+        self.solve_seconds += p.linear_solve_seconds;
+        self.step_seconds += seconds;
+        self.convergence.record_point(p);
     }
 
     /// Average Newton iterations per completed step.

@@ -25,6 +25,8 @@ use cosserat_solver::{
 use std::path::Path;
 use std::time::Instant;
 
+mod arc_length;
+
 /// What the run loop reports after every step (for progress displays).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct StepInfo {
@@ -152,7 +154,7 @@ impl Simulation {
                 &self.potential,
                 self.time_step_settings(*dt, *adaptive),
             )?),
-            TimeSpec::QuasiStatic { .. } => Err(SimulationError::Setup(
+            TimeSpec::QuasiStatic { .. } | TimeSpec::ArcLength { .. } => Err(SimulationError::Setup(
                 "a quasi-static scene has no time stepper; use `run`".into(),
             )),
         }
@@ -191,6 +193,16 @@ impl Simulation {
         }
     }
 
+    /// The columns of `probes.csv` after `t`: the probes', and first the load factor on an arc-length
+    /// path, `path.load_factor` (where `t` counts the steps, since the load factor falls and rises).
+    fn probe_columns(&self) -> Vec<String> {
+        let mut columns = self.probes.columns();
+        if matches!(self.time, TimeSpec::ArcLength { .. }) {
+            columns.insert(0, "path.load_factor".into());
+        }
+        columns
+    }
+
     /// Runs the scene and writes its outputs into `dir` (frames, `probes.csv`, `summary.json`).
     ///
     /// `progress` is called after every step (or load level). A `stop` request ends the run after the
@@ -208,7 +220,7 @@ impl Simulation {
         stop: &StopRequest,
     ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
-        let mut writer = RunWriter::create(dir, &self.probes.columns())?;
+        let mut writer = RunWriter::create(dir, &self.probe_columns())?;
         let outcome = match self.record_output(&mut writer, 0.0) {
             Ok(()) => match self.time.clone() {
                 TimeSpec::Dynamic {
@@ -218,6 +230,11 @@ impl Simulation {
                     output_interval,
                 } => self.run_dynamic(&mut writer, (dt, end, adaptive, output_interval), progress, stop),
                 TimeSpec::QuasiStatic { levels } => self.run_quasi_static(&mut writer, &levels, progress, stop),
+                TimeSpec::ArcLength {
+                    initial_increment,
+                    end,
+                    max_steps,
+                } => self.run_arc_length(&mut writer, initial_increment, end, max_steps, progress, stop),
             },
             Err(e) => Err(e),
         };
@@ -326,7 +343,7 @@ impl Simulation {
         s.adaptive = adaptive;
         s.max_reductions = self.solver.max_step_reductions;
         s.initial_guess = self.solver.initial_guess;
-        s.newton.residual_tolerance = self.solver.tolerance;
+        s.newton.tolerance = self.solver.tolerance;
         s.newton.max_iterations = self.solver.max_newton_iterations;
         s.newton.max_line_search_iterations = self.solver.max_line_search_iterations;
         s.newton.linear_solver.kind = self.solver.linear_solver;
@@ -350,7 +367,11 @@ impl Simulation {
             writer.write_frame(&frame)?;
             self.stats.frames += 1;
         }
-        writer.write_probes(t, &self.probes.values(state))?;
+        let mut row = self.probes.values(state);
+        if matches!(self.time, TimeSpec::ArcLength { .. }) {
+            row.insert(0, self.t_reached);
+        }
+        writer.write_probes(t, &row)?;
         Ok(())
     }
 
@@ -363,6 +384,7 @@ impl Simulation {
             Outcome::Failed { t, reason, step } => (RunStatus::Error, Some(reason), Some(t), step),
         };
         let mut warnings = self.advice.clone();
+        warnings.extend(s.convergence.warning());
         if s.min_area_ratio <= 0.0 {
             warnings.push(format!(
                 "an element turned inside out during the run (smallest deformed-to-rest area ratio {:.3}): \
@@ -390,7 +412,7 @@ impl Simulation {
             hessian_nnz: self.potential.pattern().nnz(),
             dt: match &self.time {
                 TimeSpec::Dynamic { dt, .. } => *dt,
-                TimeSpec::QuasiStatic { .. } => PSEUDO_TIME_STEP,
+                TimeSpec::QuasiStatic { .. } | TimeSpec::ArcLength { .. } => PSEUDO_TIME_STEP,
             },
             n_steps: s.steps,
             n_frames: s.frames,
@@ -411,6 +433,7 @@ impl Simulation {
             warnings,
             energy: s.energy.clone(),
             rest_bbox: self.rest_bbox,
+            convergence: s.convergence.summary(self.solver.tolerance),
         }
     }
 }

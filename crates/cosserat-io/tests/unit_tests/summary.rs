@@ -1,8 +1,8 @@
 //! `summary.json`: serde round trip, every contract key present, non-finite numbers refused.
 
 use cosserat_io::{
-    BoundingBox, ContactRecord, EnergyHistory, FactorRecord, LinearSolverRecord, ModelRecord, OutputError, RunStatus,
-    RunSummary, read_summary, write_summary,
+    BoundingBox, ContactRecord, ConvergenceRecord, EnergyHistory, FactorRecord, LinearSolverRecord, ModelRecord,
+    OutputError, RunStatus, RunSummary, ToleranceMode, read_summary, write_summary,
 };
 
 use super::{entries, test_dir};
@@ -63,11 +63,20 @@ fn sample_summary() -> RunSummary {
             min: [0.0, -0.5, 0.0],
             max: [10.0, 0.5, 1e-17],
         },
+        convergence: Some(ConvergenceRecord {
+            tolerance_mode: ToleranceMode::Relative,
+            tolerance: 1e-6,
+            max_step_tolerance: 2.5e-6,
+            max_residual: 1.25e-6,
+            max_relative_residual: 5e-7,
+            stagnated_steps: 0,
+            shifted_iterations: 3,
+        }),
     }
 }
 
 /// The keys of the output contract, with the JSON names used for them.
-const CONTRACT_KEYS: [&str; 33] = [
+const CONTRACT_KEYS: [&str; 34] = [
     "scene",
     "status",
     "reason",
@@ -101,6 +110,7 @@ const CONTRACT_KEYS: [&str; 33] = [
     "warnings",
     "energy",
     "rest_bbox",
+    "convergence",
 ];
 
 #[test]
@@ -144,6 +154,7 @@ fn json_holds_every_contract_key() {
     );
     assert_eq!(object["linear_solver"]["factor"]["nnz"], 40_000);
     assert_eq!(object["contact"]["min_gap"].as_f64(), Some(1e-4));
+    assert_eq!(object["convergence"]["tolerance_mode"], "relative");
 }
 
 #[test]
@@ -169,7 +180,7 @@ fn non_finite_numbers_are_refused_and_nothing_is_written() {
     let dir = test_dir("summary_non_finite");
     let path = dir.join("summary.json");
     type Poison = fn(&mut RunSummary);
-    let cases: [(&str, Poison); 13] = [
+    let cases: [(&str, Poison); 14] = [
         ("dt", |s| s.dt = f64::NAN),
         ("avg_newton_iterations", |s| s.avg_newton_iterations = f64::INFINITY),
         ("wall_seconds", |s| s.wall_seconds = f64::NAN),
@@ -187,6 +198,11 @@ fn non_finite_numbers_are_refused_and_nothing_is_written() {
             s.contact.as_mut().unwrap().min_gap = Some(f64::NAN)
         }),
         ("energy.kinetic[1]", |s| s.energy.kinetic[1] = f64::NAN),
+        ("convergence.max_relative_residual", |s| {
+            if let Some(c) = &mut s.convergence {
+                c.max_relative_residual = f64::INFINITY;
+            }
+        }),
     ];
     for (field, poison) in cases {
         let mut summary = sample_summary();

@@ -113,7 +113,7 @@ pub fn shaped_strip(
 pub fn settings(force_tolerance: f64) -> QuasiStaticSettings {
     QuasiStaticSettings {
         newton: NewtonSettings {
-            residual_tolerance: force_tolerance,
+            tolerance: cosserat_solver::Tolerance::Absolute(force_tolerance),
             ..NewtonSettings::default()
         },
         ..QuasiStaticSettings::default()

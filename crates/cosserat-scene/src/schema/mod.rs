@@ -121,17 +121,21 @@ pub enum TimeMode {
     Dynamic,
     /// A sequence of equilibria at increasing load factors.
     QuasiStatic,
+    /// Equilibria traced along the load path by arc-length continuation, through limit points of the
+    /// load (snap-through) and of the deflection (snap-back); the load factor is an unknown.
+    ArcLength,
 }
 
 /// `\[time\]`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TimeSection {
-    /// `"dynamic"` (default) or `"quasi_static"`.
+    /// `"dynamic"` (default), `"quasi_static"` or `"arc_length"`.
     pub mode: Option<TimeMode>,
     /// (Maximum) time step \[s\]; required in dynamic mode.
     pub dt: Option<f64>,
-    /// End time \[s\]; required in dynamic mode.
+    /// End time \[s\]; required in dynamic mode. In `arc_length` mode the load factor at which the
+    /// path ends, reached from below (default 1).
     pub end: Option<f64>,
     /// Output frames per second (default 30, the reference code's default).
     pub output_fps: Option<f64>,
@@ -144,6 +148,12 @@ pub struct TimeSection {
     pub levels: Option<Vec<f64>>,
     /// Quasi-static: `n` equal load steps `1/n, 2/n, …, 1` (instead of `levels`).
     pub n_levels: Option<usize>,
+    /// Arc length: the load-factor increment of the first step, which sets the arc length of every
+    /// step (later steps shorten where the corrector needs more iterations, never lengthen beyond it;
+    /// default 0.05).
+    pub initial_increment: Option<f64>,
+    /// Arc length: at most this many steps before the path must reach `end` (default 1000).
+    pub max_steps: Option<usize>,
 }
 
 /// Linear solver names.
@@ -189,8 +199,12 @@ pub enum InitialGuessName {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverSection {
-    /// Residual tolerance in N and N·m (default 1e-7, the paper's).
+    /// An absolute residual tolerance in N and N·m (the paper's scenes use 1e-7). Without it the
+    /// tolerance is relative: `relative_tolerance` times the largest external load, reaction or first
+    /// residual of the step, never below the residual's round-off floor.
     pub tolerance: Option<f64>,
+    /// The relative residual tolerance when no absolute `tolerance` is given (default 1e-6).
+    pub relative_tolerance: Option<f64>,
     /// Maximum Newton iterations per step (default 100).
     pub max_newton_iterations: Option<usize>,
     /// Maximum line-search halvings (default 20).

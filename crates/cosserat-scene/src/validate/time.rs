@@ -6,6 +6,7 @@ use crate::schema::{
     DomainSplitName, InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode, TimeSection,
 };
 use crate::spec::{OutputSpec, SolverSpec, TimeSpec};
+use cosserat_solver::Tolerance;
 use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
 
@@ -18,8 +19,15 @@ const N_SAMPLE_TIMES: usize = 200;
 /// Highest allowed frame subdivision level (each level multiplies the output triangles by 4).
 const MAX_SUBDIVISION: usize = 4;
 
-/// The most load levels of a quasi-static run (each is a Newton solve and an output).
+/// The most load levels of a quasi-static run, or steps of a path (each is a Newton solve and an
+/// output).
 const MAX_LEVELS: usize = 100_000;
+
+/// The first load-factor increment of an arc-length path when the scene gives none.
+const DEFAULT_INITIAL_INCREMENT: f64 = 0.05;
+
+/// The most steps of an arc-length path when the scene gives none.
+const DEFAULT_MAX_PATH_STEPS: usize = 1000;
 
 /// The most time steps a dynamic run may ask for (`end / dt`): far beyond any run that finishes.
 const MAX_STEPS: f64 = 1e9;
@@ -27,18 +35,18 @@ const MAX_STEPS: f64 = 1e9;
 impl Ctx<'_> {
     pub(super) fn time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
         match time.mode.unwrap_or(TimeMode::Dynamic) {
-            TimeMode::Dynamic => self.dynamic(time),
-            TimeMode::QuasiStatic => self.quasi_static(time),
+            TimeMode::Dynamic => self.dynamic_time(time),
+            TimeMode::QuasiStatic => self.quasi_static_time(time),
+            TimeMode::ArcLength => self.arc_length_time(time),
         }
     }
 
-    /// Time stepping: the step, the end time, the output interval.
-    fn dynamic(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
-        for (key, given) in [("levels", time.levels.is_some()), ("n_levels", time.n_levels.is_some())] {
-            if given {
-                return Err(self.invalid(&format!("time.{key}"), "only used in `quasi_static` mode"));
-            }
-        }
+    fn dynamic_time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
+        self.refuse(
+            time,
+            &["levels", "n_levels", "initial_increment", "max_steps"],
+            "dynamic",
+        )?;
         let dt = time.dt.ok_or_else(|| self.invalid("time.dt", "required in dynamic mode"))?;
         let dt = self.positive("time.dt", dt)?;
         let end = time.end.ok_or_else(|| self.invalid("time.end", "required in dynamic mode"))?;
@@ -94,22 +102,20 @@ impl Ctx<'_> {
         })
     }
 
-    /// Load levels: `levels` or `n_levels`.
-    fn quasi_static(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
-        for (key, given) in [
-            ("dt", time.dt.is_some()),
-            ("end", time.end.is_some()),
-            ("output_fps", time.output_fps.is_some()),
-            ("output_interval", time.output_interval.is_some()),
-            ("adaptive", time.adaptive.is_some()),
-        ] {
-            if given {
-                return Err(self.invalid(
-                    &format!("time.{key}"),
-                    "not used in `quasi_static` mode (the load factors are `levels` or `n_levels`)",
-                ));
-            }
-        }
+    fn quasi_static_time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
+        self.refuse(
+            time,
+            &[
+                "dt",
+                "end",
+                "output_fps",
+                "output_interval",
+                "adaptive",
+                "initial_increment",
+                "max_steps",
+            ],
+            "quasi_static",
+        )?;
         let levels = match (&time.levels, time.n_levels) {
             (Some(_), Some(_)) => {
                 return Err(self.invalid("time.n_levels", "give `levels` or `n_levels`, not both"));
@@ -140,14 +146,80 @@ impl Ctx<'_> {
         Ok(TimeSpec::QuasiStatic { levels })
     }
 
+    /// `arc_length`: every equilibrium along the path is written; the load factor may fall below zero
+    /// and rise beyond `end` on the way (scripts are checked from −2 `end` to 2 `end`).
+    fn arc_length_time(&mut self, time: &TimeSection) -> Result<TimeSpec, SceneError> {
+        self.refuse(
+            time,
+            &["dt", "output_fps", "output_interval", "adaptive", "levels", "n_levels"],
+            "arc_length",
+        )?;
+        let end = time.end.unwrap_or(1.0);
+        if !(end.is_finite() && end > 0.0) {
+            return Err(self.invalid("time.end", format!("must be a positive load factor (got {end})")));
+        }
+        let initial_increment = time.initial_increment.unwrap_or(DEFAULT_INITIAL_INCREMENT);
+        if !(initial_increment.is_finite() && initial_increment > 0.0 && initial_increment <= end) {
+            return Err(self.invalid(
+                "time.initial_increment",
+                format!("must lie in (0, end = {end}] (got {initial_increment})"),
+            ));
+        }
+        let max_steps = time.max_steps.unwrap_or(DEFAULT_MAX_PATH_STEPS);
+        if max_steps == 0 || max_steps > MAX_LEVELS {
+            return Err(self.invalid(
+                "time.max_steps",
+                format!("must lie between 1 and {MAX_LEVELS} (got {max_steps})"),
+            ));
+        }
+        self.sample_times = (0..=N_SAMPLE_TIMES)
+            .map(|k| end * (4.0 * k as f64 / N_SAMPLE_TIMES as f64 - 2.0))
+            .collect();
+        Ok(TimeSpec::ArcLength {
+            initial_increment,
+            end,
+            max_steps,
+        })
+    }
+
+    /// Refuses the `keys` of `[time]` that `mode` does not use.
+    fn refuse(&self, time: &TimeSection, keys: &[&str], mode: &str) -> Result<(), SceneError> {
+        let given = |key: &str| match key {
+            "dt" => time.dt.is_some(),
+            "end" => time.end.is_some(),
+            "output_fps" => time.output_fps.is_some(),
+            "output_interval" => time.output_interval.is_some(),
+            "adaptive" => time.adaptive.is_some(),
+            "levels" => time.levels.is_some(),
+            "n_levels" => time.n_levels.is_some(),
+            "initial_increment" => time.initial_increment.is_some(),
+            "max_steps" => time.max_steps.is_some(),
+            _ => false,
+        };
+        match keys.iter().find(|k| given(k)) {
+            Some(key) => Err(self.invalid(&format!("time.{key}"), format!("not used in `{mode}` mode"))),
+            None => Ok(()),
+        }
+    }
+
     pub(super) fn solver(&self, solver: Option<&SolverSection>) -> Result<SolverSpec, SceneError> {
         let Some(s) = solver else {
             return Ok(default_solver());
         };
         let d = default_solver();
-        let tolerance = match s.tolerance {
-            Some(t) => self.positive("solver.tolerance", t)?,
-            None => d.tolerance,
+        let tolerance = match (s.tolerance, s.relative_tolerance) {
+            (Some(_), Some(_)) => {
+                return Err(self.invalid(
+                    "solver.relative_tolerance",
+                    "give an absolute `tolerance` or a `relative_tolerance`, not both",
+                ));
+            }
+            (Some(t), None) => Tolerance::Absolute(self.positive("solver.tolerance", t)?),
+            (None, Some(r)) if r.is_finite() && r > 0.0 && r < 1.0 => Tolerance::Relative(r),
+            (None, Some(r)) => {
+                return Err(self.invalid("solver.relative_tolerance", format!("must lie in (0, 1) (got {r})")));
+            }
+            (None, None) => d.tolerance,
         };
         let max_newton_iterations = s.max_newton_iterations.unwrap_or(d.max_newton_iterations);
         if max_newton_iterations == 0 {
@@ -191,10 +263,11 @@ impl Ctx<'_> {
     }
 }
 
-/// The paper's solver settings (experiments.md §1.5) with our defaults where the reference has none.
+/// The paper's solver settings (experiments.md §1.5) with our defaults where the reference has none,
+/// and a relative tolerance instead of its absolute 1e-7 (which scenes can still give).
 fn default_solver() -> SolverSpec {
     SolverSpec {
-        tolerance: 1e-7,
+        tolerance: Tolerance::default(),
         max_newton_iterations: 100,
         max_line_search_iterations: 20,
         linear_solver: LinearSolverKind::Auto,

@@ -141,6 +141,23 @@ fn time_values_are_checked() {
         message(&[("end = 1.0", "end = -1.0")], &[]),
         "scene.toml:5: time.end: must be finite and non-negative (got -1)"
     );
+    // Arc-length paths: no time step, a first increment within the path, and either tolerance.
+    assert_eq!(
+        message(&[], &["time.mode=arc_length"]),
+        "scene.toml:4: time.dt: not used in `arc_length` mode"
+    );
+    assert_eq!(
+        message(
+            &[("dt = 0.01\n", "")],
+            &["time.mode=arc_length", "time.initial_increment=2"]
+        ),
+        "override `time.initial_increment=2`: time.initial_increment: must lie in (0, end = 1] (got 2)"
+    );
+    assert_eq!(
+        message(&[], &["solver.tolerance=1e-7", "solver.relative_tolerance=1e-6"]),
+        "override `solver.relative_tolerance=1e-6`: solver.relative_tolerance: give an absolute `tolerance` or a \
+         `relative_tolerance`, not both"
+    );
 }
 
 #[test]
@@ -261,7 +278,7 @@ fn overrides_are_named_in_errors() {
     assert_eq!(
         message(&[], &["time.dtt=0.1"]),
         "override `time.dtt=0.1`: time.dtt: unknown field `dtt`, expected one of `mode`, `dt`, `end`, `output_fps`, \
-         `output_interval`, `adaptive`, `levels`, `n_levels`"
+         `output_interval`, `adaptive`, `levels`, `n_levels`, `initial_increment`, `max_steps`"
     );
     assert_eq!(
         message(&[], &["boundary.3.position.stiffness=1"]),

@@ -72,7 +72,7 @@ fn array_entries_and_missing_tables_are_reached() {
         Some(PositionEnforcement::Penalty(5.0))
     );
     assert!(!spec.output.frames);
-    assert_eq!(spec.solver.tolerance, 1e-9);
+    assert_eq!(spec.solver.tolerance, cosserat_solver::Tolerance::Absolute(1e-9));
     // A whole inline table replaces the region.
     let spec = load(&["boundary.0.region={ all = true }"]);
     assert_eq!(spec.boundaries[0].selection.disp_nodes.len(), 33);

@@ -1,37 +1,47 @@
 //! Newton's method with a backtracking (noise-resistant) Armijo line search for a
 //! [`NewtonProblem`] on a fixed sparse Hessian pattern.
 //!
-//! The algorithm follows the reference code's `NewtonsMethod` (model.md §7.1) without its quirks:
-//! - convergence is tested wherever the gradient of an accepted iterate is known (the initial state,
-//!   the full feasible Newton step, a line-search point whose gradient was needed, or the start of the
-//!   next iteration, where the Hessian assembly returns the gradient anyway), not only after a full
-//!   step;
-//! - the Armijo bound carries the step length `α`;
-//! - `max_iterations` Newton steps are really allowed;
-//! - the residual ignores fixed unknowns, whose gradient entries are reaction forces.
+//! One iteration from `x`:
+//! 1. assemble the Hessian with the gradient (or reuse the last factors for a chord step);
+//! 2. solve `H dx = −∇Π` with fixed unknowns eliminated: Cholesky, or, when `H` is not positive
+//!    definite, Cholesky of `H + μ D` with the smallest tried shift that makes it so
+//!    ([`IndefiniteHessian`]); with [`LinearSolverKind::Cg`] inexactly, to the relative residual of the
+//!    forcing sequence [`NewtonSettings::cg_forcing`] (truncated Newton-CG);
+//! 3. take the full step (shortened to the problem's feasible fraction and halved while the state is
+//!    invalid) with its gradient, accept it if it passes the Armijo test or the convergence test,
+//!    otherwise backtrack on energies (the noise-resistant Armijo test of `line_search.rs`);
+//! 4. stop when the residual passes the convergence test ([`Tolerance`]), or when the solve has
+//!    stagnated at the residual's round-off floor.
 //!
-//! One iteration: assemble the Hessian and gradient; solve `H dx = −∇Π` with fixed unknowns
-//! eliminated (with [`LinearSolverKind::Cg`] inexactly, to the relative residual of the forcing
-//! sequence [`NewtonSettings::cg_forcing`]: an inexact, truncated Newton-CG method); flip `dx` if it is not a descent direction (or fail); cap the step by the problem's
-//! feasible fraction and halve it until the state is valid; evaluate the gradient at the full feasible
-//! step and stop if the residual is below the tolerance; otherwise backtrack until the Armijo test
-//! passes. NaN or infinity in any returned quantity is an error, never an accepted state.
+//! It follows the reference code's `NewtonsMethod` (model.md §7.1) without its quirks: convergence is
+//! tested wherever the gradient of an accepted iterate is known (the initial state, the full step, a
+//! line-search point whose gradient was needed, or the start of the next iteration, where the Hessian
+//! assembly returns the gradient anyway); the Armijo bound carries the step length `α`;
+//! `max_iterations` Newton steps are really allowed; the residual ignores fixed unknowns, whose
+//! gradient entries are reaction forces. NaN or infinity in any returned quantity is an error, never an
+//! accepted state.
 
 use std::time::Instant;
 
 use faer::sparse::SymbolicSparseColMatRef;
 
-use crate::error::{NewtonError, NonFiniteQuantity, ProblemError};
+use crate::error::NewtonError;
 use crate::line_search::ArmijoTest;
-use crate::linear::{CgStop, LinearSolverKind, SparseSolver};
+use crate::linear::{LinearSolverKind, SparseSolver};
 use crate::problem::NewtonProblem;
-use cosserat_assembly::finite::first_non_finite;
 
+mod convergence;
+mod direction;
+mod evaluation;
 mod report;
 mod settings;
+mod step;
 
+pub(crate) use convergence::ConvergenceTest;
+pub use convergence::{Convergence, Criterion, Tolerance};
+pub(crate) use evaluation::round_off_scale;
 pub use report::{FactorisationCounts, NewtonReport};
-pub use settings::NewtonSettings;
+pub use settings::{IndefiniteHessian, NewtonSettings};
 
 /// Newton's method with all buffers and the symbolic factorisation of one Hessian pattern.
 ///
@@ -49,27 +59,62 @@ pub struct NewtonSolver {
     x_trial: Vec<f64>,
     fixed: Vec<bool>,
     has_fixed: bool,
+    /// Per-unknown scratch of the round-off floor: the magnitudes `m` of the unknowns and the row sums
+    /// `Σ_j |H_ij| m_j`.
+    scratch: (Vec<f64>, Vec<f64>),
     /// Whether the next solve assembles the Hessian with its first gradient (see [`Self::solve`]).
     start_with_hessian: bool,
+    /// Position of each diagonal entry in the pattern's values.
+    diagonal_slots: Vec<usize>,
+    /// `D` of the shift `H + μ D` (see [`direction`]).
+    shift_scale: Vec<f64>,
+    /// Trial states of the line search's extrapolation along negative curvature.
+    x_extra: Vec<f64>,
+    /// The last shift `μ` that made an indefinite Hessian positive definite (the next one starts near
+    /// it).
+    last_shift: f64,
 }
 
-/// Counters of one solve, turned into a report or an error.
+/// What is known at the current iterate `x`.
+#[derive(Debug, Clone, Copy)]
+struct Point {
+    /// `Π(x)`.
+    energy: f64,
+    /// `grad` holds `∇Π(x)`, and the last residual recorded is `x`'s.
+    gradient: bool,
+    /// `hess_values` holds `∇²Π(x)`, not yet factorised.
+    hessian: bool,
+}
+
+/// The state of one solve: residual history, counters, convergence test.
 struct Run {
     residuals: Vec<f64>,
+    iterations: usize,
     report: NewtonReport,
+    test: ConvergenceTest,
+    /// The Newton decrement `−dx·∇Π` of the last direction, when `dx` solved `H dx = −∇Π` exactly with
+    /// a positive definite `H` (the stagnation test needs it).
+    decrement: Option<f64>,
+    /// Whether the round-off floor has been estimated in this solve.
+    floor_known: bool,
+    /// Whether the last direction came from a shifted (indefinite) Hessian.
+    shifted: bool,
 }
 
 impl Run {
     fn last_residual(&self) -> f64 {
         self.residuals.last().copied().unwrap_or(f64::NAN)
     }
+}
 
-    fn finish(mut self, iterations: usize, energy: f64) -> NewtonReport {
-        self.report.iterations = iterations;
-        self.report.energy = energy;
-        self.report.residuals = self.residuals;
-        self.report
-    }
+/// How the line search of one iteration ended.
+enum Step {
+    /// The full (feasible) step `α dx` was accepted, with its gradient.
+    Full { alpha: f64 },
+    /// A shorter step was accepted.
+    Backtracked,
+    /// No step length passed.
+    Failed,
 }
 
 impl NewtonSolver {
@@ -79,7 +124,8 @@ impl NewtonSolver {
     /// [`NewtonError::InvalidSetting`] or [`NewtonError::Setup`] if the pattern is malformed.
     pub fn try_new(pattern: SymbolicSparseColMatRef<'_, usize>, settings: NewtonSettings) -> Result<Self, NewtonError> {
         settings.validate()?;
-        let linear = SparseSolver::try_new(pattern, settings.linear_solver).map_err(NewtonError::Setup)?;
+        let linear =
+            SparseSolver::try_new(pattern, effective_linear_settings(&settings)).map_err(NewtonError::Setup)?;
         let n = linear.n();
         let nnz = linear.nnz();
         Ok(Self {
@@ -92,7 +138,12 @@ impl NewtonSolver {
             x_trial: vec![0.0; n],
             fixed: vec![false; n],
             has_fixed: false,
+            scratch: (vec![0.0; n], vec![0.0; n]),
             start_with_hessian: true,
+            diagonal_slots: diagonal_slots(pattern),
+            shift_scale: vec![0.0; n],
+            x_extra: Vec::new(),
+            last_shift: 0.0,
         })
     }
 
@@ -140,220 +191,154 @@ impl NewtonSolver {
         x: &mut [f64],
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, x)?;
-        let s = self.settings;
-        let armijo = ArmijoTest {
-            c: s.armijo_constant,
-            noise_resistant: s.noise_resistant_line_search,
-        };
         let mut run = Run {
-            residuals: Vec::with_capacity(s.max_iterations + 1),
-            report: NewtonReport {
-                iterations: 0,
-                residuals: Vec::new(),
-                energy: f64::NAN,
-                line_search_backtracks: 0,
-                chord_iterations: 0,
-                feasibility_halvings: 0,
-                direction_flips: 0,
-                factorisations: FactorisationCounts::default(),
-                cg_iterations: 0,
-                cg_negative_curvature_stops: 0,
-                cg_iteration_cap_stops: 0,
-                assembly_seconds: 0.0,
-                evaluation_seconds: 0.0,
-                linear_solve_seconds: 0.0,
-                factorisation_seconds: 0.0,
-            },
+            residuals: Vec::with_capacity(self.settings.max_iterations + 1),
+            iterations: 0,
+            report: NewtonReport::empty(),
+            test: ConvergenceTest::new(self.settings.tolerance, 0.0, 0.0, 0.0),
+            decrement: None,
+            floor_known: false,
+            shifted: false,
         };
-
-        // A solve seldom starts at a solution (a time step starts at its predictor), so the first
-        // Hessian is assembled at once and its gradient gives the first residual: one gradient
-        // evaluation less per solve. After a solve that stopped where it started, the next one
-        // evaluates the gradient alone first, so that a state at rest does not pay for a Hessian.
-        let mut hessian_at_x = None;
-        let energy = if self.start_with_hessian && s.max_iterations > 0 {
-            let e = self.eval_hessian(problem, x, 0, &mut run)?;
-            hessian_at_x = Some(e);
-            e
-        } else {
-            self.eval_gradient(problem, x, 0, &mut run)?
-        };
-        let r = self.residual(&self.grad);
-        run.residuals.push(r);
-        let converged_at_start = r < s.residual_tolerance && s.min_iterations == 0;
-        self.start_with_hessian = !converged_at_start;
-        if converged_at_start {
-            return Ok(run.finish(0, energy));
+        let result = self.minimise(problem, x, &mut run);
+        // A solve that stopped where it started lets the next one evaluate the gradient alone first, so
+        // that a state at rest does not pay for a Hessian; any other starts with the Hessian, whose
+        // assembly brings the first gradient (one gradient evaluation less per solve).
+        self.start_with_hessian = !(result.is_ok() && run.iterations == 0);
+        match result {
+            Ok((energy, convergence)) => {
+                let mut report = run.report;
+                report.iterations = run.iterations;
+                report.energy = energy;
+                report.residuals = run.residuals;
+                report.convergence = convergence;
+                Ok(report)
+            }
+            Err(error) => Err(error.with_residuals(run.residuals)),
         }
-        // Whether `grad` holds ∇Π(x) and the last residual belongs to `x`.
-        let mut grad_current = true;
-        // Energy at `x` while `grad_current` (for chord steps, which do not reassemble).
-        let mut energy_current = energy;
-        // Whether the next iteration may reuse the last factorisation (see `reuse_max_ratio`).
-        let mut reuse_next = false;
-        let mut k = 0;
+    }
+
+    /// Newton's iteration from `x`: the energy at the solution and how it converged, or why not.
+    fn minimise<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+        run: &mut Run,
+    ) -> Result<(f64, Convergence), NewtonError> {
+        let s = self.settings;
+        let mut at = self.start(problem, x, run)?;
+        let mut reuse = false;
         loop {
+            if !at.gradient {
+                self.refresh(problem, x, &mut at, run)?;
+            }
+            let (k, r) = (run.iterations, run.last_residual());
+            if k >= s.min_iterations && run.test.accepts(r) {
+                return Ok((at.energy, run.test.record(Criterion::Residual)));
+            }
+            if run.test.stagnated(&run.residuals, run.decrement, false) {
+                return Ok((at.energy, run.test.record(Criterion::Stagnated)));
+            }
             if k == s.max_iterations {
-                if !grad_current {
-                    let energy = self.eval_gradient(problem, x, k, &mut run)?;
-                    let r = self.residual(&self.grad);
-                    run.residuals.push(r);
-                    if r < s.residual_tolerance && k >= s.min_iterations {
-                        return Ok(run.finish(k, energy));
-                    }
-                }
                 return Err(NewtonError::MaxIterations {
                     iterations: k,
-                    residuals: run.residuals,
+                    residuals: Vec::new(),
                 });
             }
-            k += 1;
-
-            let chord = reuse_next && grad_current;
-            let e0 = match (chord, hessian_at_x.take()) {
-                (true, _) => energy_current,
-                (false, Some(e)) => e,
-                (false, None) => self.eval_hessian(problem, x, k, &mut run)?,
-            };
-            if !grad_current {
-                let r = self.residual(&self.grad);
-                run.residuals.push(r);
-                grad_current = true;
-                if r < s.residual_tolerance && k > s.min_iterations {
-                    return Ok(run.finish(k - 1, e0));
-                }
-            }
-            let r0 = run.last_residual();
-            if r0 == 0.0 {
+            run.iterations += 1;
+            if r == 0.0 {
                 // Exactly stationary: the Newton step is zero whatever the Hessian, and no direction
                 // (least of all a descent direction) exists.
                 run.residuals.push(0.0);
-                return Ok(run.finish(k, e0));
+                return Ok((at.energy, run.test.record(Criterion::Residual)));
             }
-
-            let slope = match chord.then(|| self.chord_direction(k, &mut run)) {
-                Some(Ok(slope)) => {
-                    run.report.chord_iterations += 1;
-                    slope
+            let chord = reuse && !at.hessian;
+            let slope = self.direction(problem, x, &mut at, chord, run)?;
+            match self.step(problem, x, slope, &mut at, run)? {
+                Step::Full { alpha } => {
+                    // A full step with fast progress lets the next iteration keep the factorisation.
+                    reuse = alpha == 1.0
+                        && s.linear_solver.kind != LinearSolverKind::Cg
+                        && s.reuse_max_ratio.is_some_and(|ratio| run.last_residual() < ratio * r);
                 }
-                // No chord step, or an unusable one: a full Newton step from the same point.
-                other => {
-                    if other.is_some() {
-                        self.eval_hessian(problem, x, k, &mut run)?;
-                    }
-                    self.newton_direction(k, &mut run)?
-                }
-            };
-            let mut alpha = self.feasible_fraction(problem, x, k, &mut run)?;
-
-            // The full feasible step, with its gradient: halve while the state is invalid.
-            let e1 = loop {
-                self.set_trial(x, alpha);
-                match self.eval_trial_gradient(problem, &mut run) {
-                    Ok(e) => break e,
-                    Err(ProblemError::InvalidState { .. }) => {
-                        alpha *= 0.5;
-                        run.report.feasibility_halvings += 1;
-                        if alpha < s.min_step_fraction {
-                            return Err(NewtonError::InfeasibleStep {
-                                iteration: k,
-                                step_fraction: alpha,
-                                residuals: run.residuals,
-                            });
-                        }
-                    }
-                    Err(source) => {
-                        return Err(NewtonError::Problem {
-                            iteration: k,
-                            source,
-                            residuals: run.residuals,
-                        });
-                    }
-                }
-            };
-            self.check_energy(e1, k, &run)?;
-            self.check_gradient(&self.grad_trial, k, &run)?;
-            let r1 = self.residual(&self.grad_trial);
-            if r1 < s.residual_tolerance
-                || armijo.accepts_with_gradient(e0, e1, alpha, slope, &self.dx, &self.grad, &self.grad_trial)
-            {
-                self.accept_with_gradient(x, &mut run, r1);
-                if r1 < s.residual_tolerance && k >= s.min_iterations {
-                    return Ok(run.finish(k, e1));
-                }
-                energy_current = e1;
-                // A full step with fast progress lets the next iteration keep the factorisation.
-                reuse_next = alpha == 1.0
-                    && s.linear_solver.kind != LinearSolverKind::Cg
-                    && s.reuse_max_ratio.is_some_and(|ratio| r1 < ratio * r0);
-                continue;
-            }
-
-            // Backtracking.
-            let mut accepted = false;
-            for _ in 0..s.max_line_search_iterations {
-                alpha *= s.backtracking_factor;
-                run.report.line_search_backtracks += 1;
-                self.set_trial(x, alpha);
-                let e = match self.eval_trial_value(problem, &mut run) {
-                    Ok(e) => e,
-                    Err(ProblemError::InvalidState { .. }) => continue,
-                    Err(source) => {
-                        return Err(NewtonError::Problem {
-                            iteration: k,
-                            source,
-                            residuals: run.residuals,
-                        });
-                    }
-                };
-                self.check_energy(e, k, &run)?;
-                if armijo.sufficient_decrease(e0, e, alpha, slope) {
-                    x.copy_from_slice(&self.x_trial);
-                    grad_current = false;
-                    reuse_next = false;
-                    accepted = true;
-                    break;
-                }
-                if armijo.in_noise_regime(e0, e) {
-                    let e = match self.eval_trial_gradient(problem, &mut run) {
-                        Ok(e) => e,
-                        Err(ProblemError::InvalidState { .. }) => continue,
-                        Err(source) => {
-                            return Err(NewtonError::Problem {
-                                iteration: k,
-                                source,
-                                residuals: run.residuals,
-                            });
-                        }
-                    };
-                    self.check_energy(e, k, &run)?;
-                    self.check_gradient(&self.grad_trial, k, &run)?;
-                    if armijo.estimated_decrease(alpha, slope, &self.dx, &self.grad, &self.grad_trial) {
-                        let r = self.residual(&self.grad_trial);
-                        self.accept_with_gradient(x, &mut run, r);
-                        grad_current = true;
-                        energy_current = e;
-                        reuse_next = false;
-                        accepted = true;
-                        if r < s.residual_tolerance && k >= s.min_iterations {
-                            return Ok(run.finish(k, e));
-                        }
-                        break;
-                    }
-                }
-            }
-            if !accepted && chord {
+                Step::Backtracked => reuse = false,
                 // The old factors gave a poor direction: retry this point with a fresh Newton step.
-                reuse_next = false;
-                continue;
+                Step::Failed if chord => reuse = false,
+                Step::Failed if run.test.stagnated(&run.residuals, run.decrement, true) => {
+                    return Ok((at.energy, run.test.record(Criterion::Stagnated)));
+                }
+                Step::Failed => {
+                    return Err(NewtonError::LineSearchFailed {
+                        iteration: run.iterations,
+                        residual: r,
+                        residuals: Vec::new(),
+                    });
+                }
             }
-            if !accepted {
-                return Err(NewtonError::LineSearchFailed {
-                    iteration: k,
-                    residual: r0,
-                    residuals: run.residuals,
-                });
-            }
+        }
+    }
+
+    /// Evaluates the initial state: the Hessian with the gradient (see [`Self::solve`]) or the gradient
+    /// alone; records the first residual and sets up the convergence test.
+    fn start<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        run: &mut Run,
+    ) -> Result<Point, NewtonError> {
+        let hessian = self.start_with_hessian && self.settings.max_iterations > 0;
+        let energy = if hessian {
+            self.eval_hessian(problem, x, 0, run)?
+        } else {
+            self.eval_gradient(problem, x, 0, run)?
+        };
+        let r0 = self.residual(&self.grad);
+        run.residuals.push(r0);
+        let load = problem.load_scale() / self.settings.residual_scale;
+        run.test = ConvergenceTest::new(self.settings.tolerance, load, r0, energy);
+        run.test.observe_reactions(self.reactions());
+        if hessian {
+            self.estimate_floor(problem, x, run);
+        }
+        Ok(Point {
+            energy,
+            gradient: true,
+            hessian,
+        })
+    }
+
+    /// Brings the gradient (and, unless the iterations are used up, the Hessian) up to date at `x`
+    /// after a step accepted on its energy alone, and records the residual.
+    fn refresh<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &[f64],
+        at: &mut Point,
+        run: &mut Run,
+    ) -> Result<(), NewtonError> {
+        let k = run.iterations;
+        at.hessian = k < self.settings.max_iterations;
+        at.energy = if at.hessian {
+            self.eval_hessian(problem, x, k + 1, run)?
+        } else {
+            self.eval_gradient(problem, x, k, run)?
+        };
+        at.gradient = true;
+        run.residuals.push(self.residual(&self.grad));
+        run.test.observe_reactions(self.reactions());
+        run.test.observe_energy(at.energy);
+        if at.hessian {
+            self.estimate_floor(problem, x, run);
+        }
+        Ok(())
+    }
+
+    /// Estimates the residual's round-off floor from the first Hessian of the solve (with a relative
+    /// tolerance only: an absolute one has no floor).
+    fn estimate_floor<P: NewtonProblem + ?Sized>(&mut self, problem: &P, x: &[f64], run: &mut Run) {
+        if !run.floor_known && matches!(self.settings.tolerance, Tolerance::Relative(_)) {
+            run.test.observe_stiffness(self.stiffness_scale(problem, x));
+            run.floor_known = true;
         }
     }
 
@@ -361,7 +346,7 @@ impl NewtonSolver {
     fn prepare<P: NewtonProblem + ?Sized>(&mut self, problem: &P, x: &[f64]) -> Result<(), NewtonError> {
         self.settings.validate()?;
         self.linear
-            .set_settings(self.settings.linear_solver)
+            .set_settings(effective_linear_settings(&self.settings))
             .map_err(NewtonError::Setup)?;
         let n = self.linear.n();
         let mismatch = |what, found| NewtonError::DimensionMismatch {
@@ -392,250 +377,39 @@ impl NewtonSolver {
         Ok(())
     }
 
-    /// `max_i |g_i| / scale` over free unknowns.
-    fn residual(&self, g: &[f64]) -> f64 {
-        let max = g
-            .iter()
-            .zip(&self.fixed)
-            .filter(|(_, f)| !**f)
-            .fold(0.0_f64, |m, (v, _)| m.max(v.abs()));
-        max / self.settings.residual_scale
+    /// The Armijo test of the settings.
+    fn armijo(&self) -> ArmijoTest {
+        ArmijoTest {
+            c: self.settings.armijo_constant,
+            noise_resistant: self.settings.noise_resistant_line_search,
+        }
     }
+}
 
-    fn check_energy(&self, e: f64, iteration: usize, run: &Run) -> Result<(), NewtonError> {
-        if e.is_finite() {
-            Ok(())
-        } else {
-            Err(NewtonError::NonFinite {
-                iteration,
-                quantity: NonFiniteQuantity::Energy,
-                index: None,
-                residuals: run.residuals.clone(),
-            })
-        }
+/// The linear solver's settings for Newton's settings: with the shift strategy, `Auto` factorises by
+/// Cholesky alone (the shift replaces the indefinite and LU fallbacks).
+fn effective_linear_settings(settings: &NewtonSettings) -> crate::linear::LinearSolverSettings {
+    let mut linear = settings.linear_solver;
+    if linear.kind == LinearSolverKind::Auto && settings.indefinite_hessian == IndefiniteHessian::Shift {
+        linear.kind = LinearSolverKind::Cholesky;
     }
+    linear
+}
 
-    fn check_gradient(&self, g: &[f64], iteration: usize, run: &Run) -> Result<(), NewtonError> {
-        match first_non_finite(g) {
-            None => Ok(()),
-            Some(i) => Err(NewtonError::NonFinite {
-                iteration,
-                quantity: NonFiniteQuantity::Gradient,
-                index: Some(i),
-                residuals: run.residuals.clone(),
-            }),
-        }
-    }
+/// The position of each column's diagonal entry in the values of an upper-triangle pattern (every
+/// diagonal entry is stored; the linear solver has checked it).
+fn diagonal_slots(pattern: SymbolicSparseColMatRef<'_, usize>) -> Vec<usize> {
+    let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+    (0..pattern.ncols())
+        .map(|j| {
+            (col_ptr[j]..col_ptr[j + 1])
+                .find(|&k| row_idx[k] == j)
+                .expect("the linear solver accepts only patterns with every diagonal entry")
+        })
+        .collect()
+}
 
-    /// Energy and gradient at `x` into `grad`, checked.
-    fn eval_gradient<P: NewtonProblem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        x: &[f64],
-        iteration: usize,
-        run: &mut Run,
-    ) -> Result<f64, NewtonError> {
-        self.grad.fill(0.0);
-        let t = Instant::now();
-        let result = problem.gradient(x, &mut self.grad);
-        run.report.evaluation_seconds += t.elapsed().as_secs_f64();
-        let e = result.map_err(|source| NewtonError::Problem {
-            iteration,
-            source,
-            residuals: run.residuals.clone(),
-        })?;
-        self.check_energy(e, iteration, run)?;
-        self.check_gradient(&self.grad, iteration, run)?;
-        Ok(e)
-    }
-
-    /// Energy, gradient and Hessian at `x`, checked.
-    fn eval_hessian<P: NewtonProblem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        x: &[f64],
-        iteration: usize,
-        run: &mut Run,
-    ) -> Result<f64, NewtonError> {
-        self.grad.fill(0.0);
-        self.hess_values.fill(0.0);
-        let t = Instant::now();
-        let result = problem.hessian(x, &mut self.grad, &mut self.hess_values);
-        run.report.assembly_seconds += t.elapsed().as_secs_f64();
-        let e = result.map_err(|source| NewtonError::Problem {
-            iteration,
-            source,
-            residuals: run.residuals.clone(),
-        })?;
-        self.check_energy(e, iteration, run)?;
-        self.check_gradient(&self.grad, iteration, run)?;
-        if let Some(i) = first_non_finite(&self.hess_values) {
-            return Err(NewtonError::NonFinite {
-                iteration,
-                quantity: NonFiniteQuantity::Hessian,
-                index: Some(i),
-                residuals: run.residuals.clone(),
-            });
-        }
-        Ok(e)
-    }
-
-    /// Solves `H dx = −∇Π` (with CG to the forcing tolerance), makes `dx` a descent direction and
-    /// returns the slope `dx·∇Π < 0`.
-    fn newton_direction(&mut self, iteration: usize, run: &mut Run) -> Result<f64, NewtonError> {
-        for (d, g) in self.dx.iter_mut().zip(&self.grad) {
-            *d = -g;
-        }
-        let t = Instant::now();
-        let fixed = self.has_fixed.then_some(self.fixed.as_slice());
-        let cg = self.settings.linear_solver.kind == LinearSolverKind::Cg;
-        let tolerance = if cg {
-            let g_norm = self
-                .grad
-                .iter()
-                .zip(&self.fixed)
-                .filter(|(_, f)| !**f)
-                .map(|(g, _)| g * g)
-                .sum::<f64>()
-                .sqrt();
-            self.linear.set_cg_relative_tolerance(
-                self.settings
-                    .cg_forcing
-                    .relative_tolerance(g_norm / self.settings.residual_scale),
-            )
-        } else {
-            Ok(())
-        };
-        let result = tolerance
-            .and_then(|()| {
-                let t_factor = Instant::now();
-                let factorised = self.linear.factorise(&self.hess_values, fixed);
-                run.report.factorisation_seconds += t_factor.elapsed().as_secs_f64();
-                factorised
-            })
-            .and_then(|_| self.linear.solve_in_place(&mut self.dx));
-        run.report.linear_solve_seconds += t.elapsed().as_secs_f64();
-        let used = result.map_err(|source| NewtonError::LinearSolve {
-            iteration,
-            source,
-            residuals: run.residuals.clone(),
-        })?;
-        run.report.factorisations.record(used);
-        if let Some(cg) = self.linear.last_cg_report() {
-            run.report.cg_iterations += cg.iterations;
-            match cg.stop {
-                CgStop::NegativeCurvature => run.report.cg_negative_curvature_stops += 1,
-                CgStop::IterationCap => run.report.cg_iteration_cap_stops += 1,
-                CgStop::Converged => {}
-            }
-        }
-        let mut slope: f64 = self.dx.iter().zip(&self.grad).map(|(d, g)| d * g).sum();
-        if slope > 0.0 && self.settings.flip_on_non_descent {
-            self.dx.iter_mut().for_each(|d| *d = -*d);
-            slope = -slope;
-            run.report.direction_flips += 1;
-        }
-        // A zero slope (a direction orthogonal to a non-zero gradient) cannot decrease the energy.
-        if slope < 0.0 {
-            Ok(slope)
-        } else {
-            Err(NewtonError::NotDescent {
-                iteration,
-                slope,
-                residuals: run.residuals.clone(),
-            })
-        }
-    }
-
-    /// A chord direction: solves with the factors of an earlier iteration (no new factorisation).
-    fn chord_direction(&mut self, iteration: usize, run: &mut Run) -> Result<f64, NewtonError> {
-        for (d, g) in self.dx.iter_mut().zip(&self.grad) {
-            *d = -g;
-        }
-        let t = Instant::now();
-        let result = self.linear.solve_in_place(&mut self.dx);
-        run.report.linear_solve_seconds += t.elapsed().as_secs_f64();
-        result.map_err(|source| NewtonError::LinearSolve {
-            iteration,
-            source,
-            residuals: run.residuals.clone(),
-        })?;
-        let slope: f64 = self.dx.iter().zip(&self.grad).map(|(d, g)| d * g).sum();
-        if slope < 0.0 {
-            Ok(slope)
-        } else {
-            Err(NewtonError::NotDescent {
-                iteration,
-                slope,
-                residuals: run.residuals.clone(),
-            })
-        }
-    }
-
-    /// The problem's feasible step fraction, capped at 1 and checked against the minimum.
-    fn feasible_fraction<P: NewtonProblem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        x: &[f64],
-        iteration: usize,
-        run: &mut Run,
-    ) -> Result<f64, NewtonError> {
-        let alpha = problem.max_step_fraction(x, &self.dx);
-        if alpha.is_nan() {
-            return Err(NewtonError::NonFinite {
-                iteration,
-                quantity: NonFiniteQuantity::StepFraction,
-                index: None,
-                residuals: run.residuals.clone(),
-            });
-        }
-        let alpha = alpha.min(1.0);
-        if alpha < self.settings.min_step_fraction {
-            return Err(NewtonError::InfeasibleStep {
-                iteration,
-                step_fraction: alpha,
-                residuals: run.residuals.clone(),
-            });
-        }
-        Ok(alpha)
-    }
-
-    /// `x_trial = x + α dx`.
-    fn set_trial(&mut self, x: &[f64], alpha: f64) {
-        for ((t, xi), d) in self.x_trial.iter_mut().zip(x).zip(&self.dx) {
-            *t = xi + alpha * d;
-        }
-    }
-
-    /// Energy and gradient at `x_trial` into `grad_trial`, unchecked.
-    fn eval_trial_gradient<P: NewtonProblem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        run: &mut Run,
-    ) -> Result<f64, ProblemError> {
-        self.grad_trial.fill(0.0);
-        let t = Instant::now();
-        let result = problem.gradient(&self.x_trial, &mut self.grad_trial);
-        run.report.evaluation_seconds += t.elapsed().as_secs_f64();
-        result
-    }
-
-    /// Energy at `x_trial`, unchecked.
-    fn eval_trial_value<P: NewtonProblem + ?Sized>(
-        &mut self,
-        problem: &mut P,
-        run: &mut Run,
-    ) -> Result<f64, ProblemError> {
-        let t = Instant::now();
-        let result = problem.value(&self.x_trial);
-        run.report.evaluation_seconds += t.elapsed().as_secs_f64();
-        result
-    }
-
-    /// Accepts `x_trial` together with its gradient and records its residual.
-    fn accept_with_gradient(&mut self, x: &mut [f64], run: &mut Run, residual: f64) {
-        x.copy_from_slice(&self.x_trial);
-        std::mem::swap(&mut self.grad, &mut self.grad_trial);
-        run.residuals.push(residual);
-    }
+/// Seconds since `t`.
+fn since(t: Instant) -> f64 {
+    t.elapsed().as_secs_f64()
 }

@@ -1,5 +1,6 @@
 //! What a converged Newton solve reports: iterations, residual history, factorisations and timings.
 
+use super::convergence::{Convergence, Criterion};
 use crate::error::Factorisation;
 
 /// How often each factorisation produced a Newton step.
@@ -44,6 +45,13 @@ pub struct NewtonReport {
     pub feasibility_halvings: usize,
     /// Number of Newton directions negated because they did not descend.
     pub direction_flips: usize,
+    /// Iterations whose Hessian was not positive definite and was shifted
+    /// ([`IndefiniteHessian::Shift`](crate::IndefiniteHessian::Shift)).
+    pub shifted_iterations: usize,
+    /// Doublings of shifted steps along negative curvature.
+    pub extrapolations: usize,
+    /// The test the solve passed, its tolerance, load scale and round-off floor.
+    pub convergence: Convergence,
     /// Which factorisation solved each step, counted.
     pub factorisations: FactorisationCounts,
     /// Conjugate-gradient iterations over all CG solves (0 without [`LinearSolverKind::Cg`](crate::LinearSolverKind::Cg)).
@@ -64,8 +72,42 @@ pub struct NewtonReport {
 }
 
 impl NewtonReport {
+    /// A report with nothing counted yet.
+    pub(super) fn empty() -> Self {
+        Self {
+            iterations: 0,
+            residuals: Vec::new(),
+            energy: f64::NAN,
+            line_search_backtracks: 0,
+            chord_iterations: 0,
+            feasibility_halvings: 0,
+            direction_flips: 0,
+            shifted_iterations: 0,
+            extrapolations: 0,
+            convergence: Convergence {
+                criterion: Criterion::Residual,
+                tolerance: f64::NAN,
+                load_scale: f64::NAN,
+                floor: f64::NAN,
+            },
+            factorisations: FactorisationCounts::default(),
+            cg_iterations: 0,
+            cg_negative_curvature_stops: 0,
+            cg_iteration_cap_stops: 0,
+            assembly_seconds: 0.0,
+            evaluation_seconds: 0.0,
+            linear_solve_seconds: 0.0,
+            factorisation_seconds: 0.0,
+        }
+    }
+
     /// The final residual.
     pub fn residual(&self) -> f64 {
         self.residuals.last().copied().unwrap_or(f64::NAN)
+    }
+
+    /// The final residual over the load scale.
+    pub fn relative_residual(&self) -> f64 {
+        self.convergence.relative_residual(self.residual())
     }
 }

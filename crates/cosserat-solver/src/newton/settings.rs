@@ -1,14 +1,32 @@
 //! The settings of Newton's method and their validation.
 
+use super::convergence::Tolerance;
 use crate::error::{NewtonError, SettingName};
 use crate::linear::{CgForcing, LinearSolverSettings};
+
+/// What Newton's method does when the Hessian is not positive definite (with the default
+/// [`LinearSolverKind::Auto`](crate::LinearSolverKind::Auto); an explicitly chosen factorisation is
+/// always used as it is).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IndefiniteHessian {
+    /// A Levenberg-style shift: Cholesky of `H + μ D` with `D` the absolute diagonal of `H` and the
+    /// smallest `μ` (grown by factors of 10 from the previous solve's) that makes it positive definite.
+    /// The step is then a descent direction that turns from Newton's towards the scaled gradient as
+    /// the curvature gets more negative, the behaviour of a trust region. Default.
+    #[default]
+    Shift,
+    /// The symmetric indefinite factorisation (then LU) of `H` itself, with the direction negated when
+    /// it ascends (the reference code's behaviour).
+    Factorise,
+}
 
 /// Settings of Newton's method. Defaults are those of the paper's shell scenes (model.md §7.3).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NewtonSettings {
-    /// Convergence tolerance on the residual `max_i |∂Π/∂x_i| / residual_scale` over free unknowns
-    /// (default 1e-7, in the residual's units; see `residual_scale`).
-    pub residual_tolerance: f64,
+    /// Convergence test on the residual `max_i |∂Π/∂x_i| / residual_scale` over free unknowns (default
+    /// [`Tolerance::Relative`] with [`Tolerance::DEFAULT_RELATIVE`]: relative to the problem's loads,
+    /// never below the residual's round-off floor; see [`Tolerance`]).
+    pub tolerance: Tolerance,
     /// Divisor turning gradient entries into the residual (default 1). When the unknowns are
     /// velocities and `Π` is the incremental potential of a step of length `Δt`, `∂Π/∂v = Δt · f`, so
     /// `residual_scale = Δt` (in s) makes the residual a force in N for velocity unknowns and a torque
@@ -16,8 +34,8 @@ pub struct NewtonSettings {
     pub residual_scale: f64,
     /// Maximum number of Newton iterations (linear solves), default 100.
     pub max_iterations: usize,
-    /// Minimum number of Newton iterations before convergence may be declared, default 0. With an
-    /// absolute residual tolerance, a good initial guess can already satisfy it; one iteration then still
+    /// Minimum number of Newton iterations before convergence may be declared, default 0. A good initial
+    /// guess can already satisfy the tolerance; one iteration then still
     /// adds the step's linear response (the time stepper uses 1, so small but growing forces — an
     /// unstable mode — are always integrated). At an exactly stationary point (every free gradient entry
     /// zero) that response is zero: such an iteration takes the zero step and converges.
@@ -42,6 +60,8 @@ pub struct NewtonSettings {
     /// Negate the Newton direction when it is not a descent direction (default on); otherwise fail with
     /// [`NewtonError::NotDescent`].
     pub flip_on_non_descent: bool,
+    /// What to do with a Hessian that is not positive definite (default [`IndefiniteHessian::Shift`]).
+    pub indefinite_hessian: IndefiniteHessian,
     /// Smallest accepted fraction of the Newton step when the problem limits it or rejects states
     /// (default 0.01); below it the iteration fails with [`NewtonError::InfeasibleStep`].
     pub min_step_fraction: f64,
@@ -58,7 +78,7 @@ pub struct NewtonSettings {
 impl Default for NewtonSettings {
     fn default() -> Self {
         Self {
-            residual_tolerance: 1e-7,
+            tolerance: Tolerance::default(),
             residual_scale: 1.0,
             max_iterations: 100,
             min_iterations: 0,
@@ -68,6 +88,7 @@ impl Default for NewtonSettings {
             backtracking_factor: 0.5,
             noise_resistant_line_search: true,
             flip_on_non_descent: true,
+            indefinite_hessian: IndefiniteHessian::default(),
             min_step_fraction: 0.01,
             linear_solver: LinearSolverSettings::default(),
             cg_forcing: CgForcing::Reference,
@@ -86,8 +107,9 @@ impl NewtonSettings {
         let checks = [
             (
                 SettingName::ResidualTolerance,
-                self.residual_tolerance,
-                positive(self.residual_tolerance),
+                self.tolerance.value(),
+                positive(self.tolerance.value())
+                    && !(matches!(self.tolerance, Tolerance::Relative(_)) && self.tolerance.value() >= 1.0),
             ),
             (
                 SettingName::ResidualScale,

@@ -228,3 +228,39 @@ fn a_failed_step_is_retried_with_half_the_time_step_and_then_stops_with_a_diagno
     assert_eq!(sys.potential.parts.state, before);
     assert_eq!(stepper.time(), 0.0);
 }
+
+#[test]
+fn rotation_updates_running_to_a_half_turn_are_reflected_across_it() {
+    use cosserat_solver::NewtonProblem;
+    use cosserat_solver::potential_problem::PotentialProblem;
+    let dt = 0.01;
+    let mut sys = strip_system(
+        ElementPair::Tri6Tri3,
+        (0.1, 0.01),
+        (2, 1),
+        steel_like(),
+        Vector3::zeros(),
+        true,
+        dt,
+    );
+    let layout = sys.potential.parts.layout;
+    let problem = PotentialProblem::new(&mut sys.potential, None);
+    let n = layout.n_blocks() * 3;
+    let block = |k: usize| 3 * layout.rot_block(k);
+    let disp = 3 * layout.disp_block(0);
+    // Cayley parameters |Δt ω| of 2000 (moving out), 500 (below the threshold of 1000), and 2000
+    // coming in from 3000; a velocity of 2000/Δt m/s is no rotation.
+    let mut from = vec![0.0; n];
+    let mut x = vec![0.0; n];
+    x[block(0)] = 2000.0 / dt;
+    x[block(1) + 1] = 500.0 / dt;
+    from[block(2) + 2] = 3000.0 / dt;
+    x[block(2) + 2] = 2000.0 / dt;
+    x[disp] = 2000.0 / dt;
+    let before = x.clone();
+    problem.cross_singularities(&from, &mut x);
+    assert_eq!(x[block(0)], -before[block(0)], "reflected across the half turn");
+    for i in (0..n).filter(|&i| i != block(0)) {
+        assert_eq!(x[i], before[i], "unknown {i} moved");
+    }
+}

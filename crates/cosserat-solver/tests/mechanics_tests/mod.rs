@@ -1,3 +1,4 @@
 mod common;
+mod continuation;
 mod dynamics;
 mod statics;

@@ -244,7 +244,7 @@ fn newton_converges_quadratically_near_an_equilibrium() {
     let mut first_step = |eps: f64| -> (f64, f64) {
         let settings = cosserat_solver::NewtonSettings {
             max_iterations: 1,
-            residual_tolerance: 1e-300,
+            tolerance: cosserat_solver::Tolerance::Absolute(1e-300),
             ..Default::default()
         };
         let mut solver = cosserat_solver::NewtonSolver::try_new(sys.potential.pattern().symbolic(), settings).unwrap();

@@ -292,6 +292,7 @@ fn newton_cg(forcing: CgForcing) -> NewtonSettings {
     NewtonSettings {
         linear_solver: cg_settings(1e-8, None),
         cg_forcing: forcing,
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-7),
         ..Default::default()
     }
 }
@@ -364,7 +365,7 @@ fn newton_with_cg_reaches_the_spring_chain_equilibrium_with_fixed_walls() {
     // The softest mode is transverse with stiffness about T/d ≥ 1 N/m: a force residual of 1e-10 N
     // bounds the position error by about 1e-10 m.
     let settings = NewtonSettings {
-        residual_tolerance: 1e-10,
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-10),
         ..newton_cg(CgForcing::Reference)
     };
     let mut solver = NewtonSolver::for_problem(&chain, settings).unwrap();
@@ -393,7 +394,7 @@ fn a_fixed_forcing_converges_linearly_and_sets_the_cg_tolerance() {
     let (mut chain, start, exact) = stretched_chain();
     let mut x = start;
     let settings = NewtonSettings {
-        residual_tolerance: 1e-10,
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-10),
         ..newton_cg(CgForcing::Fixed(0.25))
     };
     let mut solver = NewtonSolver::for_problem(&chain, settings).unwrap();
@@ -408,7 +409,7 @@ fn a_fixed_forcing_converges_linearly_and_sets_the_cg_tolerance() {
     // 1 − η of the error in the energy norm (CG is optimal there): the gradient shrinks, but no faster
     // than a fixed fraction per step on average, so more iterations than with the reference forcing.
     let mut reference = newton_cg(CgForcing::Reference);
-    reference.residual_tolerance = 1e-10;
+    reference.tolerance = cosserat_solver::Tolerance::Absolute(1e-10);
     let (mut chain2, start2, _) = stretched_chain();
     let mut x2 = start2;
     let report_ref = NewtonSolver::for_problem(&chain2, reference)

@@ -1,6 +1,8 @@
 //! Test modules mirroring `src/`, plus shared fixtures (sparse matrices and toy problems).
 
 mod cg;
+mod continuation;
+mod convergence;
 mod error;
 mod fixtures;
 mod linear;

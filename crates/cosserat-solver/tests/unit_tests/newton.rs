@@ -3,14 +3,23 @@
 //! unknowns, feasibility, and typed failures that carry the residual history.
 
 use cosserat_solver::{
-    LinearSolverKind, LinearSolverSettings, NewtonError, NewtonProblem, NewtonSettings, NewtonSolver,
-    NonFiniteQuantity, ProblemError,
+    IndefiniteHessian, LinearSolverKind, LinearSolverSettings, NewtonError, NewtonProblem, NewtonSettings,
+    NewtonSolver, NonFiniteQuantity, ProblemError, Tolerance,
 };
 use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 use nalgebra::DVector;
 
 use super::fixtures::{block_grid, random_vector, rng};
 use super::toy::{Quadratic, Rosenbrock, Scalar, SpringChain, pattern_of};
+
+/// The reference code's Newton: absolute tolerance 1e-7, indefinite Hessians factorised as they are.
+fn reference_newton() -> NewtonSettings {
+    NewtonSettings {
+        tolerance: Tolerance::Absolute(1e-7),
+        indefinite_hessian: IndefiniteHessian::Factorise,
+        ..NewtonSettings::default()
+    }
+}
 
 fn solve<P: NewtonProblem>(
     problem: &mut P,
@@ -29,7 +38,7 @@ fn convex_quadratic_converges_in_one_iteration() {
     let reference = a.to_dense().cholesky().unwrap().solve(&DVector::from_column_slice(&b));
     let mut problem = Quadratic { a, b };
     let mut x = vec![0.0; problem.n_dofs()];
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert_eq!(report.iterations, 1);
     assert_eq!(report.residuals.len(), 2);
     assert_eq!(report.line_search_backtracks, 0);
@@ -48,7 +57,7 @@ fn convex_quadratic_converges_in_one_iteration() {
 fn start_at_the_minimiser_takes_zero_iterations() {
     let mut problem = Rosenbrock::new(2);
     let mut x = [1.0, 1.0];
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert_eq!(report.iterations, 0);
     assert_eq!(report.residuals, vec![0.0]);
     assert_eq!(x, [1.0, 1.0]);
@@ -91,7 +100,7 @@ fn the_first_hessian_brings_the_first_gradient_unless_the_last_solve_started_con
         gradients: 0,
         hessians: 0,
     };
-    let mut solver = NewtonSolver::for_problem(&problem, NewtonSettings::default()).unwrap();
+    let mut solver = NewtonSolver::for_problem(&problem, reference_newton()).unwrap();
     let mut x = vec![0.0; problem.n_dofs()];
     let mut counts = |problem: &mut Counting<Quadratic>, x: &mut Vec<f64>| {
         (problem.gradients, problem.hessians) = (0, 0);
@@ -114,7 +123,7 @@ fn the_first_hessian_brings_the_first_gradient_unless_the_last_solve_started_con
 fn rosenbrock_converges_from_the_standard_start() {
     let mut problem = Rosenbrock::new(2);
     let mut x = [-1.2, 1.0];
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert!(report.residual() < 1e-7);
     assert_eq!(report.residuals.len(), report.iterations + 1);
     // Near (1, 1) the Hessian [[802, −400], [−400, 200]] has smallest eigenvalue ≈ 0.4, so a gradient
@@ -133,7 +142,7 @@ fn chained_rosenbrock_converges_with_a_tridiagonal_hessian() {
     let mut problem = Rosenbrock::new(n);
     assert_eq!(problem.pattern.row_idx().len(), 2 * n - 1);
     let mut x: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { -1.2 } else { 1.0 }).collect();
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert!(report.residual() < 1e-7);
     assert_eq!(report.residuals.len(), report.iterations + 1);
     let err = x.iter().map(|v| (v - 1.0).abs()).fold(0.0, f64::max);
@@ -187,8 +196,8 @@ fn spring_chain_reaches_the_analytic_equilibrium() {
     // The softest mode is transverse with stiffness T/d ≈ 1 N/m, so a force residual of 1e-11 N bounds
     // the position error by about 1e-11 m.
     let settings = NewtonSettings {
-        residual_tolerance: 1e-11,
-        ..Default::default()
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-11),
+        ..reference_newton()
     };
     let report = solve(&mut chain, &mut x, settings).unwrap();
     assert!(report.residual() < 1e-11);
@@ -201,7 +210,7 @@ fn spring_chain_reaches_the_analytic_equilibrium() {
 fn fixed_unknowns_keep_their_values_and_do_not_count_in_the_residual() {
     let (mut chain, start, _) = stretched_chain();
     let mut x = start.clone();
-    let report = solve(&mut chain, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut chain, &mut x, reference_newton()).unwrap();
     let n = x.len();
     for i in (0..3).chain(n - 3..n) {
         assert_eq!(x[i], start[i], "wall unknown {i} moved");
@@ -238,13 +247,13 @@ fn assert_quadratic_tail(residuals: &[f64]) {
 fn convergence_is_quadratic_near_the_solution() {
     let (mut chain, start, _) = stretched_chain();
     let mut x = start;
-    let report = solve(&mut chain, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut chain, &mut x, reference_newton()).unwrap();
     assert_quadratic_tail(&report.residuals);
 
     let n = 30;
     let mut problem = Rosenbrock::new(n);
     let mut x: Vec<f64> = (0..n).map(|i| if i % 2 == 0 { -1.2 } else { 1.0 }).collect();
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert_quadratic_tail(&report.residuals);
 }
 
@@ -252,7 +261,7 @@ fn convergence_is_quadratic_near_the_solution() {
 fn one_solver_serves_repeated_solves_without_new_analysis() {
     let n = 12;
     let mut problem = Rosenbrock::new(n);
-    let mut solver = NewtonSolver::for_problem(&problem, NewtonSettings::default()).unwrap();
+    let mut solver = NewtonSolver::for_problem(&problem, reference_newton()).unwrap();
     let mut r = rng(13);
     for _ in 0..3 {
         let mut x: Vec<f64> = random_vector(n, &mut r).iter().map(|v| 1.0 + 0.3 * v).collect();
@@ -273,7 +282,7 @@ fn the_chosen_linear_solver_is_used_and_reported() {
             kind: LinearSolverKind::Lu,
             ..Default::default()
         },
-        ..Default::default()
+        ..reference_newton()
     };
     let report = solve(&mut problem, &mut x, settings).unwrap();
     assert_eq!(report.factorisations.lu, report.iterations);
@@ -287,7 +296,7 @@ fn residual_scale_divides_the_gradient() {
     let settings = NewtonSettings {
         residual_scale: 1e-2,
         max_iterations: 1,
-        ..Default::default()
+        ..reference_newton()
     };
     let err = solve(&mut problem, &mut x, settings).unwrap_err();
     assert!((err.residuals()[0] - 215.6 / 1e-2).abs() < 1e-9);
@@ -297,13 +306,13 @@ fn residual_scale_divides_the_gradient() {
 fn max_iterations_failure_carries_the_residual_history() {
     let mut full = Rosenbrock::new(2);
     let mut x = [-1.2, 1.0];
-    let converged = solve(&mut full, &mut x, NewtonSettings::default()).unwrap();
+    let converged = solve(&mut full, &mut x, reference_newton()).unwrap();
 
     let mut problem = Rosenbrock::new(2);
     let mut x = [-1.2, 1.0];
     let settings = NewtonSettings {
         max_iterations: 3,
-        ..Default::default()
+        ..reference_newton()
     };
     match solve(&mut problem, &mut x, settings) {
         Err(NewtonError::MaxIterations { iterations, residuals }) => {
@@ -379,7 +388,7 @@ fn non_finite_values_are_errors_never_states() {
     ];
     for (mut problem, quantity, index, iteration) in cases {
         let mut x = start;
-        match solve(&mut problem, &mut x, NewtonSettings::default()) {
+        match solve(&mut problem, &mut x, reference_newton()) {
             Err(NewtonError::NonFinite {
                 quantity: q,
                 index: i,
@@ -395,7 +404,7 @@ fn non_finite_values_are_errors_never_states() {
     // NaN energies in the line search: Rosenbrock backtracks in its second iteration.
     let mut problem = Faulty::new(false, false, true);
     let mut x = start;
-    match solve(&mut problem, &mut x, NewtonSettings::default()) {
+    match solve(&mut problem, &mut x, reference_newton()) {
         Err(NewtonError::NonFinite {
             quantity: NonFiniteQuantity::Energy,
             residuals,
@@ -415,7 +424,7 @@ fn invalid_states_shorten_the_step() {
     let mut problem = Scalar::new(|x: f64| x - x.ln(), |x: f64| 1.0 - 1.0 / x, |x: f64| 1.0 / (x * x));
     problem.lower = f64::MIN_POSITIVE;
     let mut x = [10.0];
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert!(report.feasibility_halvings >= 4);
     // |Π'(x)| = |1 − 1/x| < 1e-7 implies |x − 1| < 1.1e-7.
     assert!((x[0] - 1.0).abs() < 1.1e-7, "{x:?}");
@@ -429,7 +438,7 @@ fn steps_below_the_minimum_fraction_are_infeasible() {
     capped.max_fraction = 1e-3;
     let mut x = [0.0];
     assert!(matches!(
-        solve(&mut capped, &mut x, NewtonSettings::default()),
+        solve(&mut capped, &mut x, reference_newton()),
         Err(NewtonError::InfeasibleStep { iteration: 1, .. })
     ));
     assert_eq!(x, [0.0]);
@@ -438,7 +447,7 @@ fn steps_below_the_minimum_fraction_are_infeasible() {
     let mut walled = quadratic();
     walled.lower = -1.5;
     let mut x = [0.0];
-    match solve(&mut walled, &mut x, NewtonSettings::default()) {
+    match solve(&mut walled, &mut x, reference_newton()) {
         Err(NewtonError::InfeasibleStep {
             step_fraction,
             residuals,
@@ -466,7 +475,7 @@ fn ascent_directions_are_flipped_or_rejected() {
     let mut x = [0.1];
     let settings = NewtonSettings {
         flip_on_non_descent: false,
-        ..Default::default()
+        ..reference_newton()
     };
     match solve(&mut problem, &mut x, settings) {
         Err(NewtonError::NotDescent { iteration, slope, .. }) => {
@@ -477,7 +486,7 @@ fn ascent_directions_are_flipped_or_rejected() {
     }
     let mut problem = well();
     let mut x = [0.1];
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert!(report.direction_flips >= 1);
     assert!(
         report.factorisations.lblt >= 1,
@@ -494,7 +503,7 @@ fn line_search_failure_is_reported() {
     let mut x = [0.0];
     let settings = NewtonSettings {
         noise_resistant_line_search: false,
-        ..Default::default()
+        ..reference_newton()
     };
     match solve(&mut problem, &mut x, settings) {
         Err(NewtonError::LineSearchFailed {
@@ -524,7 +533,7 @@ fn noise_resistant_line_search_accepts_steps_hidden_by_round_off() {
     };
     let mut problem = offset();
     let mut x = [1.03];
-    let report = solve(&mut problem, &mut x, NewtonSettings::default()).unwrap();
+    let report = solve(&mut problem, &mut x, reference_newton()).unwrap();
     assert!(report.residual() < 1e-7);
     assert!((x[0] - 1.0).abs() < 3e-3);
 
@@ -532,7 +541,7 @@ fn noise_resistant_line_search_accepts_steps_hidden_by_round_off() {
     let mut x = [1.03];
     let settings = NewtonSettings {
         noise_resistant_line_search: false,
-        ..Default::default()
+        ..reference_newton()
     };
     assert!(matches!(
         solve(&mut problem, &mut x, settings),
@@ -543,7 +552,7 @@ fn noise_resistant_line_search_accepts_steps_hidden_by_round_off() {
 #[test]
 fn misuse_is_reported_not_panicked() {
     let mut problem = Rosenbrock::new(3);
-    let mut solver = NewtonSolver::for_problem(&problem, NewtonSettings::default()).unwrap();
+    let mut solver = NewtonSolver::for_problem(&problem, reference_newton()).unwrap();
     let mut short = [0.0; 2];
     assert!(matches!(
         solver.solve(&mut problem, &mut short),
@@ -596,8 +605,8 @@ fn misuse_is_reported_not_panicked() {
 fn chord_steps_reuse_the_factorisation_and_reach_the_same_equilibrium() {
     let (mut chain, start, exact) = stretched_chain();
     let newton = NewtonSettings {
-        residual_tolerance: 1e-11,
-        ..Default::default()
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-11),
+        ..reference_newton()
     };
     let chord = NewtonSettings {
         reuse_max_ratio: Some(0.1),

@@ -46,10 +46,12 @@ fn cg_time_steps_agree_with_direct_time_steps() {
     let mut lu_sys = small_system([4, 2, 1], material(), true, 0.0);
     clamp(&mut cg_sys);
     clamp(&mut lu_sys);
-    let mut cg_settings = TimeStepSettings::fixed(0.01);
+    let mut lu_settings = TimeStepSettings::fixed(0.01);
+    lu_settings.newton.tolerance = cosserat_solver::Tolerance::Absolute(1e-7);
+    let mut cg_settings = lu_settings;
     cg_settings.newton.linear_solver = cg();
     let mut cg_stepper = TimeStepper::new(&cg_sys.potential, cg_settings).unwrap();
-    let mut lu_stepper = TimeStepper::new(&lu_sys.potential, TimeStepSettings::fixed(0.01)).unwrap();
+    let mut lu_stepper = TimeStepper::new(&lu_sys.potential, lu_settings).unwrap();
     let mut total_cg = 0;
     for _ in 0..5 {
         let a = cg_stepper.step(&mut cg_sys.potential, &mut |_, _, _| {}).unwrap();
@@ -79,7 +81,7 @@ fn one_cg_newton_solve_matches_the_direct_solution() {
     let n = sys.potential.n_dofs();
     let direct = NewtonSettings {
         residual_scale: 0.01,
-        residual_tolerance: 1e-9,
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-9),
         ..Default::default()
     };
     let iterative = NewtonSettings {
@@ -115,7 +117,7 @@ fn quasi_static_cg_levels_agree_with_direct_levels() {
         let settings = QuasiStaticSettings {
             newton: NewtonSettings {
                 linear_solver,
-                residual_tolerance: 1e-9,
+                tolerance: cosserat_solver::Tolerance::Absolute(1e-9),
                 ..Default::default()
             },
             ..Default::default()

@@ -1,0 +1,168 @@
+//! Arc-length continuation on a problem with a closed-form equilibrium path through two limit points
+//! of the load and two of the displacement (snap-through and snap-back).
+
+use cosserat_solver::{ArcLengthSettings, NewtonProblem, PathProblem, ProblemError, trace_path};
+use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
+
+use super::toy::{pattern_of, slot};
+
+/// A shallow two-bar (von Mises) truss loaded through a soft spring: unknowns the apex's downward
+/// displacement `w` and the loaded end's `v`,
+///
+/// `Π(w, v; λ) = k (L(w) − L₀)² + ½ k_s (v − w)² − λ P v`, `L(w) = √(a² + (h − w)²)`.
+///
+/// On the equilibrium path the spring carries the truss force, `λ P = k_s (v − w) = F(w)` with
+/// `F(w) = 2k (L₀ − L)(h − w)/L`, so `λ(w) = F(w)/P` and `v(w) = w + F(w)/k_s`: `F` rises to a
+/// maximum, falls through zero where the bars are flat (`w = h`) to a minimum and rises again
+/// (snap-through), and where `F' < −k_s`, `v` decreases along the path (snap-back).
+struct SpringTruss {
+    a: f64,
+    h: f64,
+    k: f64,
+    ks: f64,
+    p: f64,
+    lambda: f64,
+    /// The committed equilibrium `(w, v)`.
+    base: [f64; 2],
+    pattern: SymbolicSparseColMat<usize>,
+}
+
+impl SpringTruss {
+    fn new() -> Self {
+        Self {
+            a: 1.0,
+            h: 0.5,
+            k: 1.0,
+            ks: 0.1,
+            p: 1.0,
+            lambda: 0.0,
+            base: [0.0; 2],
+            pattern: pattern_of(2, [(0, 0), (0, 1), (1, 1)]),
+        }
+    }
+
+    fn rest_length(&self) -> f64 {
+        (self.a * self.a + self.h * self.h).sqrt()
+    }
+
+    /// The truss force `F(w)` (downward load it carries).
+    fn force(&self, w: f64) -> f64 {
+        let l = (self.a * self.a + (self.h - w).powi(2)).sqrt();
+        2.0 * self.k * (self.rest_length() - l) * (self.h - w) / l
+    }
+}
+
+impl NewtonProblem for SpringTruss {
+    fn n_dofs(&self) -> usize {
+        2
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        let (w, v) = (self.base[0] + x[0], self.base[1] + x[1]);
+        let l = (self.a * self.a + (self.h - w).powi(2)).sqrt();
+        Ok(self.k * (l - self.rest_length()).powi(2) + 0.5 * self.ks * (v - w).powi(2) - self.lambda * self.p * v)
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        let (w, v) = (self.base[0] + x[0], self.base[1] + x[1]);
+        g[0] = self.force(w) - self.ks * (v - w);
+        g[1] = self.ks * (v - w) - self.lambda * self.p;
+        self.value(x)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        let w = self.base[0] + x[0];
+        let l = (self.a * self.a + (self.h - w).powi(2)).sqrt();
+        let dl = -(self.h - w) / l;
+        let d2l = self.a * self.a / l.powi(3);
+        h[slot(&self.pattern, 0, 0)] = 2.0 * self.k * (dl * dl + (l - self.rest_length()) * d2l) + self.ks;
+        h[slot(&self.pattern, 0, 1)] = -self.ks;
+        h[slot(&self.pattern, 1, 1)] = self.ks;
+        self.gradient(x, g)
+    }
+}
+
+impl PathProblem for SpringTruss {
+    fn set_load_factor(&mut self, lambda: f64) -> Result<(), ProblemError> {
+        self.lambda = lambda;
+        Ok(())
+    }
+    fn commit(&mut self, x: &[f64]) {
+        self.base[0] += x[0];
+        self.base[1] += x[1];
+    }
+}
+
+#[test]
+fn arc_length_follows_snap_through_and_snap_back_on_the_closed_form_path() {
+    let mut truss = SpringTruss::new();
+    // The extreme loads of the path, from the closed form on a fine grid of w.
+    let grid: Vec<f64> = (0..=20_000).map(|i| 2.0 * truss.h * i as f64 / 20_000.0).collect();
+    let f_max = grid.iter().map(|&w| truss.force(w)).fold(f64::NEG_INFINITY, f64::max);
+    let f_min = grid.iter().map(|&w| truss.force(w)).fold(f64::INFINITY, f64::min);
+    let settings = ArcLengthSettings {
+        initial_increment: 0.05 * f_max / truss.p,
+        end: 1.5 * f_max / truss.p,
+        ..ArcLengthSettings::default()
+    };
+    let mut path = Vec::new();
+    let points = trace_path(&mut truss, &settings, &mut |t, point| {
+        path.push((t.base[0], t.base[1], point.load_factor));
+    })
+    .unwrap();
+    assert_eq!(points.len(), path.len());
+    let (w_end, _, l_end) = *path.last().unwrap();
+    assert_eq!(l_end, settings.end);
+    assert!(
+        w_end > 2.0 * truss.h,
+        "the path ends beyond the inverted truss's zero force: w = {w_end}"
+    );
+    // Every equilibrium lies on the closed-form path, to the corrector's tolerance (a millionth of the
+    // load).
+    for &(w, v, lambda) in &path {
+        let f = truss.force(w);
+        assert!(
+            (lambda * truss.p - f).abs() < 1e-6 * f_max,
+            "λ P = {} vs F(w) = {f}",
+            lambda * truss.p
+        );
+        let v_exact = w + lambda * truss.p / truss.ks;
+        assert!((v - v_exact).abs() < 1e-6 * f_max / truss.ks, "v = {v} vs {v_exact}");
+    }
+    // Followed continuously: w grows along the path (no jump to another branch), the load passes both
+    // limit points (its sampled extremes lie within 2 % of the exact ones) and v decreases over a part
+    // of the path (snap-back).
+    assert!(
+        path.windows(2).all(|p| p[1].0 > p[0].0),
+        "w must increase along the path"
+    );
+    // The limit points: the largest load before the bars lie flat (w < h), the smallest before they
+    // are unloaded again (w < 2h).
+    let l_max = path
+        .iter()
+        .filter(|p| p.0 < truss.h)
+        .map(|p| p.2)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let l_min = path
+        .iter()
+        .filter(|p| p.0 < 2.0 * truss.h)
+        .map(|p| p.2)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        l_max * truss.p > 0.98 * f_max && l_max * truss.p <= f_max * (1.0 + 1e-6),
+        "{l_max}"
+    );
+    assert!(
+        l_min * truss.p < 0.98 * f_min && l_min * truss.p >= f_min * (1.0 + 1e-6),
+        "{l_min}"
+    );
+    assert!(path.windows(2).any(|p| p[1].1 < p[0].1), "no snap-back in v");
+    let iterations: usize = points.iter().map(|p| p.iterations).sum();
+    eprintln!(
+        "spring truss: {} steps, {:.2} corrector iterations per step, λ from {l_min:.4} to {l_max:.4} (exact {:.4} to {:.4})",
+        points.len(),
+        iterations as f64 / points.len() as f64,
+        f_min / truss.p,
+        f_max / truss.p
+    );
+}
