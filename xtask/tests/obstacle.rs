@@ -1,7 +1,7 @@
 //! Goals of the locking issue that the stabilised strain projection reaches, pinned on their named
 //! meshes (docs/validation.md has the whole ladders, both interpolations): the pinched hemisphere within
-//! 2 % on 8 bands, and the thin Sze 3.1 cantilever (h/L = 1e-3) within 1 % of the elastica on 20 × 2
-//! quads. Each run takes a few seconds in release.
+//! 2 % on 8 bands, and the thin Sze 3.1 cantilever (h/L = 1e-3 and 1e-4) within 1 % of the elastica on
+//! 20 × 2 quads. Each run takes a few seconds in release.
 
 use xtask::obstacle::course;
 use xtask::runner::{RunPoint, Runner, run_point};
