@@ -7,6 +7,7 @@
 
 pub mod experiments;
 pub mod locking;
+pub mod obstacle;
 pub mod paper;
 pub mod path_validation;
 pub mod plot;

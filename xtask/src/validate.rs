@@ -333,5 +333,6 @@ pub fn run_all(o: &Options) -> Result<String> {
     writeln!(md, "## Summary\n\n{summary}\n{READING}")?;
     md.push_str(&body);
     md.push_str(&crate::path_validation::run_all(o)?);
+    md.push_str(&crate::obstacle::run_all(&o.runner, &o.out, o.quick)?);
     Ok(md)
 }

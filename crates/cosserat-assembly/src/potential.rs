@@ -64,6 +64,9 @@ pub trait ShellEnergy: PotentialTerm {
     /// over the rest one, negative where the element is folded over relative to its directors
     /// (`(F̂₁ × F̂₂) · R n₀`). Below zero means an inverted element.
     fn min_area_ratio(&self, state: &SystemState) -> f64;
+    /// The strain-quadratic elastic energy of a state split by strain part (membrane, drilling,
+    /// transverse shear, bending).
+    fn energy_parts(&self, state: &SystemState) -> cosserat_material::strain_space::EnergyParts;
 }
 
 impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellEnergy
@@ -87,6 +90,10 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn min_area_ratio(&self, state: &SystemState) -> f64 {
         self.min_area_ratio(state)
+    }
+
+    fn energy_parts(&self, state: &SystemState) -> cosserat_material::strain_space::EnergyParts {
+        self.energy_parts(state)
     }
 }
 

@@ -22,10 +22,11 @@ use cosserat_material::kernel::{
     LocalDerivatives, PointInput, PointShape, add_node_second_derivatives, point_gradient, point_hessian_deferred_into,
     point_value,
 };
+use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
-use cosserat_material::strain_space::{DensityMatrix, StrainVector, strain_offset};
+use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, strain_offset};
 use cosserat_material::volume::{volume_density, volume_hessian};
-use cosserat_material::{AxlVariant, Moduli};
+use cosserat_material::{AxlVariant, Moduli, StrainProjection};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 use std::sync::Mutex;
 
@@ -166,6 +167,37 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         min
     }
 
+    /// The strain-quadratic energy of a state (its end-of-step positions and rotations) split by strain
+    /// part, with the strains of the shell's discretisation.
+    pub fn energy_parts(&self, state: &SystemState) -> EnergyParts {
+        let n_qp = self.disc.rest.points_per_element;
+        let mut parts = EnergyParts::default();
+        for (e, (d, r)) in self.disc.disp_elements.iter().zip(&self.disc.rot_elements).enumerate() {
+            let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
+            let node_r: [Matrix3<f64>; NR] = std::array::from_fn(|k| rotation_matrix(&state.q[r[k]]));
+            let points: Vec<ValuePoint<'_, NU, NR>> = (0..n_qp)
+                .map(|g| {
+                    let p = e * n_qp + g;
+                    let shape = &self.disc.rest.shapes[p];
+                    ValuePoint {
+                        shape,
+                        f_hat: f_hat(shape, &x),
+                        r: rotation_matrix(&state.q_points[self.disc.first_point + p]),
+                        offset: self.offset(p),
+                        density: self.disc.rest.densities.get(p),
+                    }
+                })
+                .collect();
+            let node_r = std::array::from_fn(|k| &node_r[k]);
+            let projection = self.disc.rest.projections.get(e);
+            let strains = projected::element_strains(&points, node_r, projection, self.disc.axl);
+            for (p, s) in points.iter().zip(&strains) {
+                parts.add(s, p.density.matrix(), p.shape.weight);
+            }
+        }
+        parts
+    }
+
     /// Clears prescribed rest fields.
     pub fn clear_rest_fields(&mut self) {
         self.offsets = None;
@@ -214,6 +246,24 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
         let node_r: [&Matrix3<f64>; NR] = std::array::from_fn(|k| eval.rotations.matrix(r[k]));
+        if let Some(projection) = self.disc.rest.projections.get(e) {
+            let n_qp = self.disc.rest.points_per_element;
+            let points: Vec<ValuePoint<'_, NU, NR>> = (0..n_qp)
+                .map(|g| {
+                    let p = e * n_qp + g;
+                    let shape = &self.disc.rest.shapes[p];
+                    let q = &eval.state.q_points[self.disc.first_point + p];
+                    ValuePoint {
+                        shape,
+                        f_hat: f_hat(shape, &x),
+                        r: rotation_matrix(&quaternion_update(q, &point_omega(shape, &omega), eval.dt)),
+                        offset: self.offset(p),
+                        density: self.disc.rest.densities.get(p),
+                    }
+                })
+                .collect();
+            return projected::element_value(&points, node_r, projection, self.disc.axl, self.disc.volume.as_ref());
+        }
         let mut value = 0.0;
         for g in 0..self.disc.rest.points_per_element {
             let p = e * self.disc.rest.points_per_element + g;
@@ -266,7 +316,75 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
     }
 
+    /// [`Self::element_derivatives`] under a strain projection: all points of the element at once.
+    fn projected_derivatives(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        projection: &StrainProjection,
+        with_hessian: bool,
+        slot: &mut ElementSlot<NE, NL>,
+    ) {
+        let ElementSlot {
+            derivatives: out,
+            local,
+        } = slot;
+        let x = self.positions(e, eval);
+        let omega = self.omegas(e, eval);
+        let r = &self.disc.rot_elements[e];
+        let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
+        let n_qp = self.disc.rest.points_per_element;
+        let jets: Vec<RotationJet> = (0..n_qp)
+            .map(|g| {
+                let p = e * n_qp + g;
+                let q = &eval.state.q_points[self.disc.first_point + p];
+                RotationJet::of_update(q, &point_omega(&self.disc.rest.shapes[p], &omega), eval.dt)
+            })
+            .collect();
+        let points: Vec<ElementPoint<'_, NU, NR>> = jets
+            .iter()
+            .enumerate()
+            .map(|(g, jet)| {
+                let p = e * n_qp + g;
+                let shape = &self.disc.rest.shapes[p];
+                ElementPoint {
+                    shape,
+                    input: PointInput {
+                        f_hat: f_hat(shape, &x),
+                        point_jet: jet,
+                        node_jets,
+                        offset: self.offset(p),
+                    },
+                    density: self.disc.rest.densities.get(p),
+                }
+            })
+            .collect();
+        let volume = self.disc.volume.as_ref();
+        if !with_hessian {
+            projected::element_gradient::<NU, NR, NL, NE>(&points, projection, self.disc.axl, volume, eval.dt, out);
+            mark_non_finite(out, false);
+            return;
+        }
+        if n_qp == 0 {
+            out.hessian.fill(0.0);
+        }
+        let weights = projected::element_hessian(&points, projection, self.disc.axl, volume, eval.dt, local, out);
+        for (k, w) in weights.iter().enumerate() {
+            add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
+        }
+        if self.project_pd {
+            out.fill_lower_from_upper();
+            out.hessian = project_positive_semidefinite(&out.hessian);
+            out.clear_below_block_diagonal();
+        }
+        mark_non_finite(out, true);
+    }
+
     fn element_derivatives(&self, e: usize, eval: &Evaluation<'_>, with_hessian: bool, slot: &mut ElementSlot<NE, NL>) {
+        if let Some(projection) = self.disc.rest.projections.get(e) {
+            self.projected_derivatives(e, eval, projection, with_hessian, slot);
+            return;
+        }
         let ElementSlot {
             derivatives: out,
             local,

@@ -190,13 +190,13 @@ pub fn point_value<const NU: usize, const NR: usize>(
 }
 
 /// The σ-dependent intermediate quantities shared by gradient and Hessian.
-struct Stress<const NR: usize> {
-    value: f64,
+pub(crate) struct Stress<const NR: usize> {
+    pub(crate) value: f64,
     /// `w_γ = Q σ_Ê,γ` (world frame).
     w: [Vector3<f64>; 2],
     /// `R U_k`, the weights of the nodal rotations' derivatives, with `U_k = Σ_γ C_kγ T_γ` and `T_γ` the
     /// axial adjoint of `Q σ_Γ̂,γ`.
-    ru: [Matrix3<f64>; NR],
+    pub(crate) ru: [Matrix3<f64>; NR],
     /// `Y + Z = Σ_k R_k U_kᵀ + Σ_γ F̂_γ w_γᵀ`: `⟨R_i, Y + Z⟩` is the gradient along the point rotation.
     yz: Matrix3<f64>,
     /// The interpolated rotation gradients `X_γ = Σ_k C_kγ R_k`.
@@ -210,13 +210,39 @@ fn stress<const NU: usize, const NR: usize>(
     d: &DensityMatrix,
     variant: AxlVariant,
 ) -> Stress<NR> {
+    let node_r = input.node_jets.map(|j| &j.r);
+    let x = rotation_gradients(shape, node_r);
+    let s = strains_from_rotation_gradients(shape, &input.f_hat, &input.point_jet.r, &x, input.offset, variant);
+    let sigma = d.mul_vector(&s);
+    let mut st = stress_of(shape, input, x, &sigma, variant);
+    st.value = 0.5 * s.dot(&sigma);
+    st
+}
+
+/// The strains of a point from its input (offset subtracted), with its rotation gradients `X_γ`.
+#[inline]
+pub(crate) fn point_strains<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    variant: AxlVariant,
+) -> (StrainVector, [Matrix3<f64>; 2]) {
+    let x = rotation_gradients(shape, input.node_jets.map(|j| &j.r));
+    let s = strains_from_rotation_gradients(shape, &input.f_hat, &input.point_jet.r, &x, input.offset, variant);
+    (s, x)
+}
+
+/// The intermediate quantities of a given stress `σ = ∂Ψ/∂s` (its `value` is left zero).
+#[inline]
+pub(crate) fn stress_of<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    x: [Matrix3<f64>; 2],
+    sigma: &StrainVector,
+    variant: AxlVariant,
+) -> Stress<NR> {
     let q = &shape.frame;
     let r = &input.point_jet.r;
     let node_r = input.node_jets.map(|j| &j.r);
-    let x = rotation_gradients(shape, node_r);
-    let s = strains_from_rotation_gradients(shape, &input.f_hat, r, &x, input.offset, variant);
-    let sigma = d.mul_vector(&s);
-    let value = 0.5 * s.dot(&sigma);
     let w = [q * sigma.fixed_rows::<3>(0), q * sigma.fixed_rows::<3>(3)];
     let tau = [q * sigma.fixed_rows::<3>(9), q * sigma.fixed_rows::<3>(12)];
     let mut yz = input.f_hat[0] * w[0].transpose() + input.f_hat[1] * w[1].transpose();
@@ -241,7 +267,13 @@ fn stress<const NU: usize, const NR: usize>(
             }
         }
     }
-    Stress { value, w, ru, yz, x }
+    Stress {
+        value: 0.0,
+        w,
+        ru,
+        yz,
+        x,
+    }
 }
 
 /// `M [ν]×`: column `j` is `M (ν × e_j)`, a combination of the other two columns of `M`.
@@ -263,7 +295,7 @@ pub fn point_gradient<const NU: usize, const NR: usize, const NL: usize>(
     (st.value, gradient_from_stress(shape, input, &st))
 }
 
-fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
+pub(crate) fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,
     st: &Stress<NR>,
@@ -297,7 +329,7 @@ fn gradient_from_stress<const NU: usize, const NR: usize, const NL: usize>(
 /// in vector registers, where dot products of strain columns would each be one long chain of
 /// dependent additions.
 #[inline]
-fn local_hessian_from_strains<const NL: usize>(
+pub(crate) fn local_hessian_from_strains<const NL: usize>(
     jac_t: &SMatrix<f64, NL, 12>,
     qrt: &Matrix3<f64>,
     d: &DensityMatrix,
@@ -416,21 +448,30 @@ pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: u
     variant: AxlVariant,
     out: &mut LocalDerivatives<NL>,
 ) -> [Matrix3<f64>; NR] {
-    // Long because it is the innermost kernel of every Hessian: its terms share the point's rotation
-    // jets and strain columns, which a split would recompute or pass along in many arguments.
     const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
     let st = stress(shape, input, d, variant);
     out.value = st.value;
     out.gradient = gradient_from_stress(shape, input, &st);
-    let jet = input.point_jet;
-    let q = &shape.frame;
-    let qt = q.transpose();
-    let r = &jet.r;
-    let rt = r.transpose();
+    let (jac_t, qrt) = strain_jacobian(shape, input, &st, variant);
+    local_hessian_from_strains(&jac_t, &qrt, d, &mut out.hessian);
+    add_second_order_terms(shape, input, &st, &mut out.hessian);
+    st.ru
+}
 
-    // Jacobian of the 12 variable strains with respect to the locals, transposed (row `c` = derivative
-    // along local `c`). Its `F̂` columns are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere; they are left
-    // out here and used in that form by `local_hessian_from_strains`.
+/// The Jacobian of a point's 12 variable strains with respect to its locals, transposed (row `c` =
+/// derivative along local `c`), and `QᵀRᵀ`.
+///
+/// Its `F̂` columns are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere; they are left out (zero rows of
+/// the result) and used in that form by [`local_hessian_from_strains`].
+pub(crate) fn strain_jacobian<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    st: &Stress<NR>,
+    variant: AxlVariant,
+) -> (SMatrix<f64, NL, 12>, Matrix3<f64>) {
+    let jet = input.point_jet;
+    let qt = shape.frame.transpose();
+    let rt = jet.r.transpose();
     let mut jac_t = SMatrix::<f64, NL, 12>::zeros();
     let qrt = qt * rt;
     // Strain derivatives along the point rotation (the factor M_k is applied per node below).
@@ -462,11 +503,20 @@ pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: u
             }
         }
     }
+    (jac_t, qrt)
+}
 
-    let hessian = &mut out.hessian;
-    local_hessian_from_strains(&jac_t, &qrt, d, hessian);
-
-    // Second-order terms of the bilinear strain maps, weighted by σ.
+/// Adds the second-order terms of the bilinear strain maps, weighted by the stress of `st`, to a
+/// point's local Hessian (without the nodal rotations' own second derivatives, whose weights are
+/// `st.ru`; see [`point_hessian_deferred_into`]).
+pub(crate) fn add_second_order_terms<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    st: &Stress<NR>,
+    hessian: &mut SMatrix<f64, NL, NL>,
+) {
+    let jet = input.point_jet;
+    let r = &jet.r;
     // (∂R/∂ω_i) w_γ = ξ_i × R w_γ.
     let rw = [r * st.w[0], r * st.w[1]];
     let mut d1w = [[Vector3::zeros(); 2]; 3];
@@ -514,5 +564,4 @@ pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: u
             }
         }
     }
-    st.ru
 }

@@ -12,6 +12,8 @@
 //! - [`strain_space`]: the rest-frame strain vector and the density's constant Hessian `D` (num-dual);
 //! - [`kernel`]: the fast exact energy, gradient and Hessian of a quadrature point w.r.t. its compact
 //!   locals; [`element`]: the constant map from locals to element unknowns;
+//! - [`projection`], [`projected`]: the stabilised strain projection against locking and its element
+//!   kernel;
 //! - [`oracle`]: the same energy composed directly, for tests (finite differences, dual oracles);
 //! - [`volume`]: the optional nonlinear membrane volume term.
 //!
@@ -37,6 +39,8 @@ pub mod kernel;
 pub mod model;
 pub mod oracle;
 pub mod parameters;
+pub mod projected;
+pub mod projection;
 pub mod rest;
 pub mod strain_space;
 pub mod volume;
@@ -44,3 +48,4 @@ pub mod volume;
 pub use error::{MaterialError, RestStateError};
 pub use model::{AxlVariant, CurvedTerms, EnergyTerm, MembraneVolume, ModelOptions, ShellModel, TermSet};
 pub use parameters::{MaterialParameters, Moduli, poisson_ratio_problem};
+pub use projection::{StabilizationConstants, StrainInterpolation, StrainProjection};

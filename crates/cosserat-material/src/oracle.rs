@@ -37,12 +37,12 @@ pub struct PointContext<'a, const NU: usize, const NR: usize> {
     pub axl: AxlVariant,
 }
 
-/// The energy density of a point as a function of its locals `F̂` and `ω_k` (per unit rest area).
-pub fn local_energy<T: Real, const NU: usize, const NR: usize>(
+/// The strains `(Ê, Γ̂)` of a point in its rest frame (offset subtracted) as functions of its locals.
+pub fn local_strains<T: Real, const NU: usize, const NR: usize>(
     ctx: &PointContext<'_, NU, NR>,
     f_hat: &[Vector3<T>; 2],
     omega: &[Vector3<T>; NR],
-) -> T {
+) -> (Matrix3<T>, Matrix3<T>) {
     let shape = ctx.shape;
     let mut omega_point = Vector3::<T>::zeros();
     for k in 0..NR {
@@ -69,6 +69,16 @@ pub fn local_energy<T: Real, const NU: usize, const NR: usize>(
             g[(a, c)] -= T::from(ctx.offset[9 + 3 * c + a]);
         }
     }
+    (e, g)
+}
+
+/// The energy density of a point as a function of its locals `F̂` and `ω_k` (per unit rest area).
+pub fn local_energy<T: Real, const NU: usize, const NR: usize>(
+    ctx: &PointContext<'_, NU, NR>,
+    f_hat: &[Vector3<T>; 2],
+    omega: &[Vector3<T>; NR],
+) -> T {
+    let (e, g) = local_strains(ctx, f_hat, omega);
     let mut psi = density(ctx.terms, &e, &g, ctx.geometry, ctx.moduli);
     if ctx.terms.contains(crate::model::EnergyTerm::NonlinearVolume) {
         psi += volume_density(f_hat, ctx.moduli);

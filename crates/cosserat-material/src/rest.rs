@@ -12,6 +12,7 @@ use crate::error::RestStateError;
 use crate::kernel::PointShape;
 use crate::model::{ModelOptions, ShellModel, TermSet};
 use crate::parameters::Moduli;
+use crate::projection::{StabilizationConstants, StrainInterpolation, StrainProjection};
 use crate::strain_space::{DensityTable, StrainMatrix, local_geometry, strain_hessian};
 use cosserat_fem::mesh::{CurvatureSettings, MeshElement, Tri3Mesh, rest_geometry};
 use cosserat_fem::{MeshError, QuadratureRule, ShapeFunctions, TriMesh};
@@ -29,6 +30,10 @@ pub struct RestOptions {
     /// A point counts as flat when `|b|_F · √A_e` is below this (dimensionless; `A_e` the element's
     /// area). Default `1e-8`.
     pub flat_tolerance: f64,
+    /// How the points' strains enter the energy. Default [`StrainInterpolation::Paper`].
+    pub interpolation: StrainInterpolation,
+    /// The constants of [`StrainInterpolation::Stabilized`].
+    pub stabilization: StabilizationConstants,
 }
 
 impl RestOptions {
@@ -38,6 +43,8 @@ impl RestOptions {
             model,
             curvature: CurvatureSettings::default(),
             flat_tolerance: 1e-8,
+            interpolation: StrainInterpolation::Paper,
+            stabilization: StabilizationConstants::DEFAULT,
         }
     }
 }
@@ -63,6 +70,9 @@ pub struct ShellRest<const NU: usize, const NR: usize> {
     pub n_curved_points: usize,
     /// Rest area of each element (sum of its point weights) \[m²\].
     pub element_areas: Vec<f64>,
+    /// The strain projection of each element under [`StrainInterpolation::Stabilized`] (empty under
+    /// [`StrainInterpolation::Paper`]).
+    pub projections: Vec<StrainProjection>,
 }
 
 /// Computes the rest state of a shell.
@@ -131,8 +141,13 @@ where
     let mut curvature = Vec::with_capacity(n_el * n_qp);
     let mut element_areas = Vec::with_capacity(n_el);
     let mut n_curved_points = 0;
+    let mut projections = Vec::new();
     for e in 0..n_el {
         let nodes = disp.element_nodes(e);
+        if options.interpolation == StrainInterpolation::Stabilized {
+            let size = (0..3).map(|i| (nodes[(i + 1) % 3] - nodes[i]).norm()).fold(0.0, f64::max);
+            projections.push(StrainProjection::new(&options.stabilization, moduli.thickness, size));
+        }
         let mut area = 0.0;
         for (g, (xi, w)) in rule.iter().enumerate() {
             let grad = E::gradients(xi);
@@ -202,5 +217,6 @@ where
         nonlinear_volume,
         n_curved_points,
         element_areas,
+        projections,
     })
 }

@@ -215,3 +215,48 @@ impl DensityTable {
         self.matrices.len()
     }
 }
+
+/// The strain-quadratic energy split by the part of the strain it comes from \[J\]. Each part is
+/// `½ sₚᵀ D sₚ` integrated, with `sₚ` the strain vector restricted to that part; on curved points `D`
+/// couples the parts, and `total` minus the sum of the parts is that coupling.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct EnergyParts {
+    /// The symmetric tangential block of `E` (in-plane stretch and shear).
+    pub membrane: f64,
+    /// The skew tangential block of `E` (drilling).
+    pub drilling: f64,
+    /// The normal row of `E` (transverse shear).
+    pub shear: f64,
+    /// `Γ` (bending and curvature terms).
+    pub bending: f64,
+    /// The whole strain-quadratic energy.
+    pub total: f64,
+}
+
+impl EnergyParts {
+    /// Adds a point's strains `s` with density Hessian `d` and integration weight `weight`.
+    pub fn add(&mut self, s: &StrainVector, d: &StrainMatrix, weight: f64) {
+        let quad = |v: &StrainVector| 0.5 * v.dot(&(d * v)) * weight;
+        // Ê column-major: (a, γ) at 3γ + a; rows 0, 1 tangential, row 2 normal.
+        let (sym, skw) = (0.5 * (s[3] + s[1]), 0.5 * (s[3] - s[1]));
+        let mut membrane = StrainVector::zeros();
+        membrane[0] = s[0];
+        membrane[4] = s[4];
+        membrane[1] = sym;
+        membrane[3] = sym;
+        let mut drilling = StrainVector::zeros();
+        drilling[1] = -skw;
+        drilling[3] = skw;
+        let mut shear = StrainVector::zeros();
+        for i in [2, 5, 8] {
+            shear[i] = s[i];
+        }
+        let mut bending = *s;
+        bending.fixed_rows_mut::<9>(0).fill(0.0);
+        self.membrane += quad(&membrane);
+        self.drilling += quad(&drilling);
+        self.shear += quad(&shear);
+        self.bending += quad(&bending);
+        self.total += quad(s);
+    }
+}

@@ -3,10 +3,23 @@
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
 use nalgebra::Vector3;
 
 pub fn strip(pair: ElementPair, nx: usize, ny: usize, model: ShellModel, dynamic: bool) -> System {
+    strip_with(pair, nx, ny, model, dynamic, StrainInterpolation::Paper)
+}
+
+pub fn strip_with(
+    pair: ElementPair,
+    nx: usize,
+    ny: usize,
+    model: ShellModel,
+    dynamic: bool,
+    interpolation: StrainInterpolation,
+) -> System {
+    let mut rest = RestOptions::new(ModelOptions::new(model));
+    rest.interpolation = interpolation;
     let grid = procedural::rectangle_grid(0.1, 0.02, nx, ny).unwrap();
     let mut material = MaterialParameters::new(1e-3, 1e6, 0.3, 1000.0, 1e-3);
     material.mu_c_factor = 0.7;
@@ -15,7 +28,7 @@ pub fn strip(pair: ElementPair, nx: usize, ny: usize, model: ShellModel, dynamic
         mesh: ShellMesh::from_tri3(grid.mesh, pair, chord_placement),
         pair,
         material,
-        rest: RestOptions::new(ModelOptions::new(model)),
+        rest,
         quadrature: None,
         damping: 0.5,
         angular_inertia_density: 0.0,

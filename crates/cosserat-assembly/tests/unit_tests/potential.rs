@@ -1,11 +1,11 @@
 //! The assembled incremental potential: derivatives against finite differences, rest state,
 //! determinism across thread counts.
 
-use super::common::strip;
+use super::common::{strip, strip_with};
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionPenalty, RotationPenalty};
 use cosserat_assembly::{ElementPair, IncrementalPotential, Parallelism};
 use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
-use cosserat_material::ShellModel;
+use cosserat_material::{ShellModel, StrainInterpolation};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -78,8 +78,12 @@ fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
 }
 
 fn check_derivatives(pair: ElementPair, model: ShellModel, seed: u64) {
+    check_derivatives_with(pair, model, seed, StrainInterpolation::Paper);
+}
+
+fn check_derivatives_with(pair: ElementPair, model: ShellModel, seed: u64, interpolation: StrainInterpolation) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut p = strip(pair, 2, 1, model, true).potential;
+    let mut p = strip_with(pair, 2, 1, model, true, interpolation).potential;
     decorate(&mut p, &mut rng);
     let n = p.n_dofs();
     let u: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
@@ -117,6 +121,17 @@ fn assembled_derivatives_match_finite_differences() {
     check_derivatives(ElementPair::Tri3Tri3, ShellModel::Plate, 1);
     check_derivatives(ElementPair::Tri6Tri3, ShellModel::Plate, 2);
     check_derivatives(ElementPair::Tri6Tri6, ShellModel::Shell, 3);
+    for (seed, pair) in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3, ElementPair::Tri6Tri6]
+        .into_iter()
+        .enumerate()
+    {
+        check_derivatives_with(
+            pair,
+            ShellModel::Plate,
+            10 + seed as u64,
+            StrainInterpolation::Stabilized,
+        );
+    }
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
@@ -171,9 +186,15 @@ fn a_plate_at_rest_without_loads_has_zero_energy_and_gradient() {
 
 #[test]
 fn assembly_is_bit_identical_for_one_and_two_threads() {
+    for interpolation in [StrainInterpolation::Paper, StrainInterpolation::Stabilized] {
+        check_thread_counts(interpolation);
+    }
+}
+
+fn check_thread_counts(interpolation: StrainInterpolation) {
     // 40 × 8 quads = 640 elements: more than one chunk of the ordered parallel map.
     let mut rng = ChaCha8Rng::seed_from_u64(9);
-    let mut p = strip(ElementPair::Tri6Tri3, 40, 8, ShellModel::Plate, true).potential;
+    let mut p = strip_with(ElementPair::Tri6Tri3, 40, 8, ShellModel::Plate, true, interpolation).potential;
     decorate(&mut p, &mut rng);
     let u: Vec<f64> = (0..p.n_dofs()).map(|_| rng.random_range(-0.5..0.5)).collect();
     let mut run = |threads: usize, par: Parallelism| {

@@ -1,4 +1,6 @@
 mod common;
+mod curved_terms;
 mod density;
 mod kernel;
 mod parameters;
+mod projected;

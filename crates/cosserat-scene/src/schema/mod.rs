@@ -469,6 +469,16 @@ pub enum AxlName {
     UpperTriangle,
 }
 
+/// Strain-interpolation names.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrainInterpolationName {
+    /// Every quadrature point's own strains (the paper's discretisation).
+    Paper,
+    /// Element means plus scaled fluctuations of the membrane, drilling and shear strains.
+    Stabilized,
+}
+
 /// Rest-curvature source names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -537,6 +547,9 @@ pub struct MaterialSection {
     pub membrane_volume: Option<MembraneVolumeName>,
     /// Axial vector (default `"skew_part"`).
     pub axl: Option<AxlName>,
+    /// How the quadrature points' strains enter the energy: `"paper"` or `"stabilized"` (default
+    /// `"paper"`).
+    pub strain_interpolation: Option<StrainInterpolationName>,
     /// Rest-curvature normal field (default `"auto"`).
     pub curvature_source: Option<CurvatureSourceName>,
     /// Weighting of averaged normals (default `"max"`).

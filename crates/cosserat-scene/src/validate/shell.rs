@@ -10,6 +10,7 @@ use crate::region::ShellNodes;
 use crate::schema::{
     AxlName, CurvatureSourceName, CurvedTermsName, ElementName, ExprValue, GeneratorName, LawName, MaterialSection,
     MembraneVolumeName, MeshSection, ModelName, NormalWeightingName, RestVolumeName, SceneFile,
+    StrainInterpolationName,
 };
 use crate::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ModelKind, ShellSpec, SurfaceMesh};
 use cosserat_assembly::{ElementPair, ShellMesh};
@@ -19,6 +20,7 @@ use cosserat_fem::{ElementKind, MeshError, QuadratureRule};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{
     AxlVariant, CurvedTerms, MaterialError, MaterialParameters, MembraneVolume, ModelOptions, ShellModel,
+    StrainInterpolation,
 };
 use cosserat_volume::grid::PlanarGrid;
 use nalgebra::{Matrix3, Vector3};
@@ -613,6 +615,10 @@ impl Ctx<'_> {
             ));
         }
         let mut rest = RestOptions::new(model);
+        rest.interpolation = match m.strain_interpolation {
+            None | Some(StrainInterpolationName::Paper) => StrainInterpolation::Paper,
+            Some(StrainInterpolationName::Stabilized) => StrainInterpolation::Stabilized,
+        };
         if let Some(source) = m.curvature_source {
             rest.curvature.source = match source {
                 CurvatureSourceName::Auto => CurvatureSource::Auto,
@@ -697,6 +703,7 @@ impl Ctx<'_> {
             ("curved_terms", m.curved_terms.is_some()),
             ("membrane_volume", m.membrane_volume.is_some()),
             ("axl", m.axl.is_some()),
+            ("strain_interpolation", m.strain_interpolation.is_some()),
             ("curvature_source", m.curvature_source.is_some()),
             ("normal_weighting", m.normal_weighting.is_some()),
         ];
@@ -705,6 +712,7 @@ impl Ctx<'_> {
             "curved_terms",
             "membrane_volume",
             "axl",
+            "strain_interpolation",
             "curvature_source",
             "normal_weighting",
         ];

@@ -1,0 +1,146 @@
+//! Strain interpolation: which strains of an element's quadrature points enter the energy.
+//!
+//! The paper's discretisation ([`StrainInterpolation::Paper`]) evaluates the energy density at every
+//! quadrature point with that point's own strains. On thin elements (element size `h_e` many
+//! thicknesses `h`) the membrane and transverse-shear parts of `E` are constraints that the
+//! displacement and rotation spaces cannot satisfy point by point: the shell locks.
+//!
+//! [`StrainInterpolation::Stabilized`] replaces, in each element, the membrane, drilling and
+//! transverse-shear strains of a point by their element mean plus a scaled fluctuation,
+//!
+//! `s̃_p = s̄ + α (s_p − s̄)`, with `s̄ = Σ_q w_q s_q / Σ_q w_q` and `α = √β`, `β = h² / (h² + c h_e²)`,
+//!
+//! per part (`c` per part, [`StabilizationConstants`]); the curvature strains `Γ` and the constant
+//! strains are untouched. The energy is the paper's density of the projected strains,
+//! `Σ_p w_p Ψ(s̃_p)`: constant strain states are represented exactly (membrane and shear patch tests),
+//! the mean carries the full stiffness, and only the fluctuation, which is what locks, is softened to
+//! the bending scale `h²/h_e²`. As the mesh is refined (`h_e → 0`) `β → 1` and the paper's
+//! discretisation is recovered.
+
+use crate::strain_space::StrainVector;
+
+/// How the strains of an element's points enter its energy.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum StrainInterpolation {
+    /// Every point's own strains (the paper's discretisation).
+    #[default]
+    Paper,
+    /// Element means plus a fluctuation scaled by `√β` for the membrane, drilling and transverse-shear
+    /// strains (module documentation).
+    Stabilized,
+}
+
+/// The constants `c` of `β = h² / (h² + c h_e²)`, per strain part; `f64::INFINITY` keeps a part's
+/// point strains.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StabilizationConstants {
+    /// In-plane stretch and shear: the symmetric tangential block of `E`.
+    pub membrane: f64,
+    /// Drilling: the skew tangential block of `E`.
+    pub drilling: f64,
+    /// Transverse shear: the normal row of `E`.
+    pub shear: f64,
+}
+
+impl StabilizationConstants {
+    /// The constants of [`StrainInterpolation::Stabilized`].
+    pub const DEFAULT: Self = Self {
+        membrane: 1.0,
+        drilling: 1.0,
+        shear: 1.0,
+    };
+}
+
+/// The projection of one element: the factors `α = √β` of the fluctuations of its parts.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct StrainProjection {
+    /// Membrane (symmetric tangential block of `E`).
+    pub membrane: f64,
+    /// Drilling (skew tangential block of `E`).
+    pub drilling: f64,
+    /// Transverse shear (normal row of `E`).
+    pub shear: f64,
+}
+
+impl StrainProjection {
+    /// The projection of an element of size `h_e` (longest edge) and thickness `h`.
+    pub fn new(constants: &StabilizationConstants, thickness: f64, element_size: f64) -> Self {
+        let alpha = |c: f64| {
+            if c.is_infinite() {
+                1.0
+            } else {
+                let h2 = thickness * thickness;
+                (h2 / (h2 + c * element_size * element_size)).sqrt()
+            }
+        };
+        Self {
+            membrane: alpha(constants.membrane),
+            drilling: alpha(constants.drilling),
+            shear: alpha(constants.shear),
+        }
+    }
+
+    /// `B v = (I − P) v`: the part of `v` that the projection removes from a point's strains,
+    /// `s̃_p = s_p − B (s_p − s̄)`. `B` is symmetric and zero outside the entries 0–5 (the variable
+    /// columns of `Ê`).
+    #[inline]
+    pub fn removed(&self, v: &StrainVector) -> StrainVector {
+        let mut out = StrainVector::zeros();
+        let (bm, bd, bs) = (1.0 - self.membrane, 1.0 - self.drilling, 1.0 - self.shear);
+        // Ê column-major: (a, γ) at 3γ + a; rows 0, 1 tangential, row 2 normal.
+        out[0] = bm * v[0];
+        out[4] = bm * v[4];
+        let sym = 0.5 * (v[1] + v[3]);
+        let skw = 0.5 * (v[3] - v[1]);
+        out[1] = bm * sym - bd * skw;
+        out[3] = bm * sym + bd * skw;
+        out[2] = bs * v[2];
+        out[5] = bs * v[5];
+        out
+    }
+
+    /// `B` applied to the strain columns of a transposed Jacobian (column `s` = gradient of strain
+    /// entry `s`, for the 12 variable strains): columns 0–5 are combined as [`Self::removed`] combines
+    /// entries, the others become zero.
+    pub fn removed_columns<const N: usize>(&self, m: &nalgebra::SMatrix<f64, N, 12>) -> nalgebra::SMatrix<f64, N, 12> {
+        let mut out = nalgebra::SMatrix::<f64, N, 12>::zeros();
+        let (bm, bd, bs) = (1.0 - self.membrane, 1.0 - self.drilling, 1.0 - self.shear);
+        for r in 0..N {
+            let v = |c: usize| m[(r, c)];
+            out[(r, 0)] = bm * v(0);
+            out[(r, 4)] = bm * v(4);
+            let sym = 0.5 * (v(1) + v(3));
+            let skw = 0.5 * (v(3) - v(1));
+            out[(r, 1)] = bm * sym - bd * skw;
+            out[(r, 3)] = bm * sym + bd * skw;
+            out[(r, 2)] = bs * v(2);
+            out[(r, 5)] = bs * v(5);
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn removed_is_symmetric_and_identity_when_factors_are_one() {
+        let p = StrainProjection {
+            membrane: 0.3,
+            drilling: 0.7,
+            shear: 0.1,
+        };
+        let b = nalgebra::SMatrix::<f64, 18, 18>::from_fn(|r, c| {
+            p.removed(&StrainVector::from_fn(|i, _| f64::from(u8::from(i == c))))[r]
+        });
+        assert!((b - b.transpose()).norm() < 1e-15);
+        let one = StrainProjection {
+            membrane: 1.0,
+            drilling: 1.0,
+            shear: 1.0,
+        };
+        let v = StrainVector::from_fn(|i, _| i as f64 + 1.0);
+        assert_eq!(one.removed(&v), StrainVector::zeros());
+    }
+}

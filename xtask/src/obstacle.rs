@@ -1,0 +1,215 @@
+//! The shell obstacle course of `cargo xtask validate`: the pinched hemisphere, the pinched cylinder
+//! and the Scordelis–Lo roof (linear benchmarks, docs/references.md), run with the paper's strain
+//! interpolation and the stabilised projection on refinement ladders, with the error against the
+//! reference over unknowns and wall time.
+
+use crate::postprocess::ProbeTable;
+use crate::runner::{RunOutcome, RunPoint, Runner, run_point};
+use anyhow::Result;
+use std::fmt::Write as _;
+use std::path::Path;
+
+/// One benchmark of the course.
+#[derive(Debug, Clone)]
+pub struct Benchmark {
+    /// The scene's name.
+    pub name: &'static str,
+    /// Title.
+    pub title: &'static str,
+    /// Scene file.
+    pub scene: &'static str,
+    /// The published value.
+    pub reference: f64,
+    /// What is compared.
+    pub quantity: &'static str,
+    /// Reads the compared value (in the benchmark's load scale) from the probes.
+    pub read: fn(&ProbeTable) -> Result<f64>,
+    /// Meshes, coarse to fine: label and overrides.
+    pub ladder: Vec<(String, Vec<String>)>,
+}
+
+/// The strain interpolations compared.
+pub const INTERPOLATIONS: [&str; 2] = ["paper", "stabilized"];
+
+fn hemisphere_ladder() -> Vec<(String, Vec<String>)> {
+    [(16, 5), (32, 10), (64, 20), (128, 40)]
+        .into_iter()
+        .map(|(lon, lat)| {
+            (
+                format!("{lon}×{lat} ({} bands)", lat * 4 / 5),
+                vec![format!("mesh.n_lon={lon}"), format!("mesh.n_lat={lat}")],
+            )
+        })
+        .collect()
+}
+
+fn cylinder_ladder() -> Vec<(String, Vec<String>)> {
+    [(16, 8), (32, 16), (64, 32)]
+        .into_iter()
+        .map(|(a, l)| {
+            (
+                format!("{a}×{l}"),
+                vec![format!("mesh.n_around={a}"), format!("mesh.n_along={l}")],
+            )
+        })
+        .collect()
+}
+
+fn roof_ladder() -> Vec<(String, Vec<String>)> {
+    [4, 8, 16, 32]
+        .into_iter()
+        .map(|n| (format!("{n}×{n}"), vec![format!("mesh.nx={n}"), format!("mesh.ny={n}")]))
+        .collect()
+}
+
+/// The three benchmarks.
+pub fn course() -> Vec<Benchmark> {
+    vec![
+        Benchmark {
+            name: "pinched_hemisphere",
+            title: "Pinched hemisphere, 18° hole",
+            scene: "scenes/validation/pinched_hemisphere.toml",
+            reference: 0.094,
+            quantity: "radial displacement under an outward load (× 1000 for loads of 2)",
+            read: |p| Ok(1000.0 * p.last("out.ux")?),
+            ladder: hemisphere_ladder(),
+        },
+        Benchmark {
+            name: "pinched_cylinder",
+            title: "Pinched cylinder with diaphragms",
+            scene: "scenes/validation/pinched_cylinder.toml",
+            reference: 1.8248e-5,
+            quantity: "radial displacement under a load",
+            read: |p| Ok(-p.last("a.ux")?),
+            ladder: cylinder_ladder(),
+        },
+        Benchmark {
+            name: "scordelis_lo_roof",
+            title: "Scordelis–Lo roof",
+            scene: "scenes/validation/scordelis_lo_roof.toml",
+            reference: 0.3024,
+            quantity: "vertical displacement at the midpoint of a free edge (× 1000 for the full weight)",
+            read: |p| Ok(-1000.0 * p.last("edge.uz")?),
+            ladder: roof_ladder(),
+        },
+    ]
+}
+
+/// One run of the course.
+#[derive(Debug, Clone)]
+pub struct CourseRun {
+    /// `paper` or `stabilized`.
+    pub interpolation: &'static str,
+    /// Mesh label.
+    pub mesh: String,
+    /// The outcome.
+    pub outcome: RunOutcome,
+    /// The compared value, if the run finished.
+    pub value: Option<f64>,
+}
+
+/// Runs a benchmark's ladder with both interpolations (`quick`: the two coarsest meshes).
+///
+/// # Errors
+/// I/O failures of the output directories.
+pub fn run_benchmark(b: &Benchmark, runner: &Runner, out: &Path, quick: bool) -> Result<Vec<CourseRun>> {
+    let mut runs = Vec::new();
+    for interpolation in INTERPOLATIONS {
+        for (i, (mesh, overrides)) in b.ladder.iter().enumerate() {
+            if quick && i >= 2 {
+                continue;
+            }
+            let mut ov = overrides.clone();
+            ov.push(format!("material.strain_interpolation={interpolation}"));
+            ov.push("output.frames=false".into());
+            let dir = out.join(b.name).join(format!("{interpolation}_{i}"));
+            eprintln!("{}: {interpolation} {mesh} ...", b.name);
+            let outcome = run_point(runner, &RunPoint::new(b.scene, &ov), &dir)?;
+            let value = outcome
+                .probes
+                .as_ref()
+                .filter(|_| outcome.is_ok())
+                .and_then(|p| (b.read)(p).ok());
+            runs.push(CourseRun {
+                interpolation,
+                mesh: mesh.clone(),
+                outcome,
+                value,
+            });
+        }
+    }
+    Ok(runs)
+}
+
+/// The markdown section of one benchmark: error against unknowns and wall time, both
+/// interpolations.
+///
+/// # Errors
+/// Formatting only.
+pub fn section(b: &Benchmark, runs: &[CourseRun]) -> Result<String> {
+    let mut md = String::new();
+    writeln!(md, "\n### {}\n", b.title)?;
+    writeln!(
+        md,
+        "Scene `{}`, Tri6/Tri3. Compared: {}; reference {}.\n",
+        b.scene, b.quantity, b.reference
+    )?;
+    writeln!(
+        md,
+        "| strain interpolation | mesh | unknowns | value | error | solve wall | total wall | status |\n|---|---|---|---|---|---|---|---|"
+    )?;
+    for r in runs {
+        let s = r.outcome.summary.as_ref();
+        let status = if r.outcome.is_ok() {
+            "ok".to_string()
+        } else {
+            format!("**failed**: {}", r.outcome.reason())
+        };
+        writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {:.2} s | {status} |",
+            r.interpolation,
+            r.mesh,
+            s.map_or("–".into(), |s| (s.n_displacement_dofs + s.n_rotation_dofs)
+                .to_string()),
+            r.value.map_or("–".into(), |v| format!("{v:.5e}")),
+            r.value
+                .map_or("–".into(), |v| format!("{:+.2} %", 100.0 * (v / b.reference - 1.0))),
+            s.map_or("–".into(), |s| format!("{:.2} s", s.wall_seconds)),
+            r.outcome.outer_seconds,
+        )?;
+    }
+    for interpolation in INTERPOLATIONS {
+        let within = |tol: f64| {
+            runs.iter()
+                .filter(|r| r.interpolation == interpolation)
+                .find(|r| r.value.is_some_and(|v| (v / b.reference - 1.0).abs() <= tol))
+                .map_or("none of the ladder".to_string(), |r| r.mesh.clone())
+        };
+        writeln!(
+            md,
+            "\n{interpolation}: coarsest mesh within 2 %: {}; within 1 %: {}.",
+            within(0.02),
+            within(0.01)
+        )?;
+    }
+    Ok(md)
+}
+
+/// Runs the course; returns its markdown section.
+///
+/// # Errors
+/// I/O failures.
+pub fn run_all(runner: &Runner, out: &Path, quick: bool) -> Result<String> {
+    let mut md = String::new();
+    writeln!(md, "\n## The shell obstacle course (linear)\n")?;
+    writeln!(
+        md,
+        "Tri6/Tri3 with the paper's strain interpolation (`material.strain_interpolation = \"paper\"`, the default) and the stabilised projection (`\"stabilized\"`, docs/model-notes.md). Error = value / reference − 1: negative is too stiff (locking), positive too flexible. *Solve wall* is the run's time loop, *total wall* the whole process including the rest-state set-up."
+    )?;
+    for b in course() {
+        let runs = run_benchmark(&b, runner, out, quick)?;
+        md.push_str(&section(&b, &runs)?);
+    }
+    Ok(md)
+}
