@@ -3,4 +3,5 @@ mod contact;
 mod kl_model;
 mod memory;
 mod run;
+mod script_targets;
 mod volume_model;
