@@ -18,7 +18,7 @@ use std::path::{Path, PathBuf};
 const SKIPPED_DIRS: [&str; 3] = ["target", "out", ".git"];
 
 /// Every crate of the workspace with the workspace crates it may depend on (normal dependencies).
-pub const LAYERS: [(&str, &[&str]); 13] = [
+pub const LAYERS: [(&str, &[&str]); 14] = [
     ("cosserat-geometry", &[]),
     ("cosserat-fem", &["cosserat-geometry"]),
     ("cosserat-material", &["cosserat-geometry", "cosserat-fem"]),
@@ -74,6 +74,7 @@ pub const LAYERS: [(&str, &[&str]); 13] = [
         ],
     ),
     ("xtask", &["cosserat"]),
+    ("cosserat-py", &["cosserat"]),
     ("cosserat-sparse", &[]),
 ];
 
