@@ -5,6 +5,7 @@ import json
 import os
 import signal
 import threading
+import time
 
 import pytest
 
@@ -77,3 +78,20 @@ def test_a_controller_in_a_run_sets_targets(tmp_path, strip_overrides):
     # Clamped at both ends and not turned: the strip stays at rest.
     assert (abs(x_held - held.rest_positions) < 1e-12).all()
     assert not (abs(x_free - free.rest_positions) < 1e-6).all()
+
+
+def test_steps_release_the_gil():
+    """Python threads run while a simulation steps: the steps run without the GIL."""
+    sim = cosserat.Simulation.load(STRIP, overrides=LONG)
+    done = threading.Event()
+    worker = threading.Thread(target=lambda: (sim.run_until(2.0), done.set()))
+    ticks = 0
+    worker.start()
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    worker.join()
+    assert sim.time == pytest.approx(2.0)
+    # 200 steps: the main thread ran between and during them (with the GIL held throughout the run
+    # it could not tick before the run returned).
+    assert ticks > 20
