@@ -299,7 +299,8 @@ impl PySimulation {
     /// `on_step(info)` is called after every step (or load level) with a `StepInfo`; it may set targets
     /// for the next step (`set_motion`, `set_load_scale`) and read views taken before the run. Returning
     /// `False` stops the run after that step (status `"interrupted"`); an exception stops it and is
-    /// raised after the outputs are written. Ctrl-C stops the run after its current step, writes the
+    /// raised after the outputs are written. It is called from the run's own thread, while the calling
+    /// thread watches for Ctrl-C. Ctrl-C stops the run after its current step, writes the
     /// summary (status `"interrupted"`) and raises `KeyboardInterrupt`.
     ///
     /// `threads`: the number of threads of the run (default: all cores, like the CLI).

@@ -42,7 +42,7 @@ def test_an_override_error_names_the_override():
 
 
 def test_a_dict_error_names_the_field_without_a_line():
-    import tomllib
+    tomllib = pytest.importorskip("tomllib")
 
     scene = tomllib.loads(STRIP.read_text())
     scene["time"]["dt"] = -0.01
