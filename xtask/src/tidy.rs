@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 const SKIPPED_DIRS: [&str; 3] = ["target", "out", ".git"];
 
 /// Every crate of the workspace with the workspace crates it may depend on (normal dependencies).
-pub const LAYERS: [(&str, &[&str]); 13] = [
+pub const LAYERS: [(&str, &[&str]); 14] = [
     ("cosserat-geometry", &[]),
     ("cosserat-sparse", &[]),
     ("cosserat-fem", &["cosserat-geometry"]),
@@ -77,6 +77,7 @@ pub const LAYERS: [(&str, &[&str]); 13] = [
         ],
     ),
     ("xtask", &["cosserat"]),
+    ("cosserat-py", &["cosserat"]),
 ];
 
 /// External crates the numeric core (geometry, fem, material) must not use: the core is generic

@@ -4,6 +4,10 @@
 //! lists, distributions become nodal weights, and each step only evaluates the scene's time functions
 //! and writes targets and forces into the potential's parts. (Rest fields belong to the model, moving
 //! obstacles to contact.)
+//!
+//! A program driving a run (a controller between steps) replaces a boundary's scripted motion with a
+//! [`RigidMotion`] of its own ([`Scripts::set_motion`]) or a load's scale with a number
+//! ([`Scripts::set_load_scale`]); the items are named as in the scene.
 
 use crate::error::SimulationError;
 use crate::placement::NodeMap;
@@ -32,6 +36,96 @@ struct BoundaryScript {
     position_constraint: Option<(usize, [bool; 3])>,
     rotation: Option<(usize, f64)>,
     angular_velocity: Option<(usize, f64, [TimeFunction; 3])>,
+    /// The motion set by the program, in place of `motion`.
+    motion_override: Option<RigidMotion>,
+}
+
+/// A rigid motion of a boundary's nodes from their positions when the scene was built: the target of
+/// a node at `X` is `rotation · (X − center) + center + translation`, and the target of its rotation
+/// is `rotation`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidMotion {
+    /// The rotation (orthonormal, determinant 1).
+    pub rotation: Matrix3<f64>,
+    /// The point the rotation turns about \[m\].
+    pub center: Vector3<f64>,
+    /// The translation after the rotation \[m\].
+    pub translation: Vector3<f64>,
+}
+
+impl RigidMotion {
+    /// A rotation by `angle` \[rad\] about `axis` (normalised here) through `center`.
+    ///
+    /// # Errors
+    /// [`ScriptTargetError::InvalidValue`] for a zero or non-finite axis, or a non-finite angle or
+    /// centre.
+    pub fn about_axis(axis: Vector3<f64>, angle: f64, center: Vector3<f64>) -> Result<Self, ScriptTargetError> {
+        let norm = axis.norm();
+        if !(norm > 0.0 && norm.is_finite() && angle.is_finite() && center.iter().all(|c| c.is_finite())) {
+            return Err(ScriptTargetError::InvalidValue(format!(
+                "a rotation needs a finite non-zero axis, a finite angle and centre (got axis {:?}, angle {angle}, \
+                 centre {:?})",
+                axis.as_slice(),
+                center.as_slice()
+            )));
+        }
+        Ok(Self {
+            rotation: exp_map(&(axis * (angle / norm))),
+            center,
+            translation: Vector3::zeros(),
+        })
+    }
+
+    /// Checks that the entries are finite and the rotation is one (orthonormal, determinant 1).
+    ///
+    /// # Errors
+    /// [`ScriptTargetError::InvalidValue`] saying what is wrong.
+    pub fn check(&self) -> Result<(), ScriptTargetError> {
+        let r = &self.rotation;
+        let finite = r.iter().chain(&self.center).chain(&self.translation).all(|v| v.is_finite());
+        // Round-off of a rotation built in double precision stays far below this.
+        let orthonormal = (r.transpose() * r - Matrix3::identity()).norm() < 1e-9 && r.determinant() > 0.0;
+        if finite && orthonormal {
+            Ok(())
+        } else {
+            Err(ScriptTargetError::InvalidValue(format!(
+                "a motion needs finite values and a rotation matrix (orthonormal, determinant 1); got \
+                 rotation {:?}, centre {:?}, translation {:?}",
+                r.as_slice(),
+                self.center.as_slice(),
+                self.translation.as_slice()
+            )))
+        }
+    }
+
+    fn target(&self, x: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation * (x - self.center) + self.center + self.translation
+    }
+}
+
+/// A script target that cannot be set.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum ScriptTargetError {
+    /// No boundary condition has this name.
+    #[error("no boundary named `{name}` (the scene has: {known})")]
+    UnknownBoundary {
+        /// The name asked for.
+        name: String,
+        /// The scene's boundary names, comma-separated.
+        known: String,
+    },
+    /// No load has this name.
+    #[error("no load named `{name}` (the scene has: {known})")]
+    UnknownLoad {
+        /// The name asked for.
+        name: String,
+        /// The scene's load names, comma-separated.
+        known: String,
+    },
+    /// A value is not finite or not a rigid motion.
+    #[error("{0}")]
+    InvalidValue(String),
 }
 
 /// A load with its nodal forces (or torques) at scale 1, or its follower-pressure term.
@@ -43,6 +137,8 @@ struct LoadScript {
     follower: Option<(FollowerHandle, f64)>,
     scale: TimeFunction,
     timing: Timing,
+    /// The scale set by the program, in place of `scale`.
+    scale_override: Option<f64>,
 }
 
 /// The follower-pressure term of a load, by element type.
@@ -231,6 +327,7 @@ impl Scripts {
             position_constraint: None,
             rotation: None,
             angular_velocity: None,
+            motion_override: None,
         };
         match bc.position {
             Some((PositionEnforcement::Penalty(k), axes)) => {
@@ -289,6 +386,7 @@ impl Scripts {
             follower: None,
             scale: load.scale.clone(),
             timing: load.timing,
+            scale_override: None,
         };
         let (vector, distribution) = match &load.kind {
             LoadKind::Force { vector, distribution } => (*vector, *distribution),
@@ -360,6 +458,65 @@ impl Scripts {
         Ok(script)
     }
 
+    /// The names of the scene's boundary conditions, in scene order.
+    pub fn boundary_names(&self) -> impl Iterator<Item = &str> {
+        self.boundaries.iter().map(|b| b.name.as_str())
+    }
+
+    /// The names of the scene's loads, in scene order.
+    pub fn load_names(&self) -> impl Iterator<Item = &str> {
+        self.loads.iter().map(|l| l.name.as_str())
+    }
+
+    /// Prescribes `motion` for the boundary `name` from the next step on, in place of the scene's
+    /// motion (`None`: back to the scene's). The boundary's stiffnesses, axes, timing and activity
+    /// window stay as the scene sets them.
+    ///
+    /// # Errors
+    /// [`ScriptTargetError::UnknownBoundary`]; [`ScriptTargetError::InvalidValue`] for a motion with
+    /// non-finite entries or a rotation that is not orthonormal with determinant 1.
+    pub fn set_motion(&mut self, name: &str, motion: Option<RigidMotion>) -> Result<(), ScriptTargetError> {
+        if let Some(m) = &motion {
+            m.check()?;
+        }
+        let known = || self.boundary_names().collect::<Vec<_>>().join(", ");
+        match self.boundaries.iter().position(|b| b.name == name) {
+            Some(idx) => {
+                self.boundaries[idx].motion_override = motion;
+                Ok(())
+            }
+            None => Err(ScriptTargetError::UnknownBoundary {
+                name: name.into(),
+                known: known(),
+            }),
+        }
+    }
+
+    /// Sets the scale of the load `name` from the next step on, in place of the scene's scale function
+    /// (`None`: back to the scene's).
+    ///
+    /// # Errors
+    /// [`ScriptTargetError::UnknownLoad`]; [`ScriptTargetError::InvalidValue`] for a scale that is not
+    /// finite.
+    pub fn set_load_scale(&mut self, name: &str, scale: Option<f64>) -> Result<(), ScriptTargetError> {
+        if let Some(s) = scale.filter(|s| !s.is_finite()) {
+            return Err(ScriptTargetError::InvalidValue(format!(
+                "load `{name}`: the scale must be finite (got {s})"
+            )));
+        }
+        let known = || self.load_names().collect::<Vec<_>>().join(", ");
+        match self.loads.iter().position(|l| l.name == name) {
+            Some(idx) => {
+                self.loads[idx].scale_override = scale;
+                Ok(())
+            }
+            None => Err(ScriptTargetError::UnknownLoad {
+                name: name.into(),
+                known: known(),
+            }),
+        }
+    }
+
     /// Sets targets and loads for the step from `t` to `t + dt`.
     ///
     /// # Errors
@@ -378,19 +535,12 @@ impl Scripts {
             let value = |what: &str, f: &TimeFunction| {
                 finite(f.eval(tau), tau, || format!("boundary `{}`: {what}", bc.name), f)
             };
-            let (rotation, center) = match &bc.motion.rotation {
-                Some((axis, center, angle)) => (exp_map(&(axis * value("rotation angle", angle)?)), *center),
-                None => (Matrix3::identity(), Vector3::zeros()),
+            let motion = match bc.motion_override {
+                Some(motion) => motion,
+                None => scripted_motion(&bc.motion, &value)?,
             };
-            let translation = match &bc.motion.translation {
-                Some(d) => Vector3::new(
-                    value("translation x", &d[0])?,
-                    value("translation y", &d[1])?,
-                    value("translation z", &d[2])?,
-                ),
-                None => Vector3::zeros(),
-            };
-            let target = |x: &Vector3<f64>| rotation * (x - center) + center + translation;
+            let rotation = motion.rotation;
+            let target = |x: &Vector3<f64>| motion.target(x);
             if let Some((idx, k)) = bc.position_penalty {
                 let p = &mut parts.position_penalties[idx];
                 p.stiffness = if on { k } else { 0.0 };
@@ -422,12 +572,15 @@ impl Scripts {
             parts.loads.torques.fill(Vector3::zeros());
             for load in &self.loads {
                 let tau = at(load.timing);
-                let s = finite(
-                    load.scale.eval(tau),
-                    tau,
-                    || format!("load `{}`: scale", load.name),
-                    &load.scale,
-                )?;
+                let s = match load.scale_override {
+                    Some(s) => s,
+                    None => finite(
+                        load.scale.eval(tau),
+                        tau,
+                        || format!("load `{}`: scale", load.name),
+                        &load.scale,
+                    )?,
+                };
                 if let Some((handle, pressure)) = load.follower {
                     handle.set(potential, pressure * s);
                     continue;
@@ -445,6 +598,30 @@ impl Scripts {
         }
         Ok(())
     }
+}
+
+/// The motion a boundary's time functions prescribe, with `value` evaluating them.
+fn scripted_motion(
+    motion: &MotionSpec,
+    value: &dyn Fn(&str, &TimeFunction) -> Result<f64, ScriptError>,
+) -> Result<RigidMotion, ScriptError> {
+    let (rotation, center) = match &motion.rotation {
+        Some((axis, center, angle)) => (exp_map(&(axis * value("rotation angle", angle)?)), *center),
+        None => (Matrix3::identity(), Vector3::zeros()),
+    };
+    let translation = match &motion.translation {
+        Some(d) => Vector3::new(
+            value("translation x", &d[0])?,
+            value("translation y", &d[1])?,
+            value("translation z", &d[2])?,
+        ),
+        None => Vector3::zeros(),
+    };
+    Ok(RigidMotion {
+        rotation,
+        center,
+        translation,
+    })
 }
 
 /// `value` if it is finite; otherwise the error naming the item and the expression.

@@ -17,7 +17,7 @@ use crate::record::{RunStats, peak_memory_mb};
 use crate::scripts::Scripts;
 use crate::stop::StopRequest;
 use cosserat_assembly::{IncrementalPotential, PSEUDO_TIME_STEP, SystemOptions};
-use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, write_failure_summary};
+use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, VtuFrame, write_failure_summary};
 use cosserat_scene::spec::{SceneSpec, SolverSpec, TimeSpec};
 use cosserat_solver::{
     QuasiStaticSettings, QuasiStaticStepper, ScriptError, StepError, StepReport, TimeStepSettings, TimeStepper,
@@ -147,6 +147,36 @@ impl Simulation {
         self.model.placements()
     }
 
+    /// Rest positions of all displacement nodes of the system \[m\].
+    pub fn rest_positions(&self) -> &[nalgebra::Vector3<f64>] {
+        self.model.rest_positions()
+    }
+
+    /// The scripted boundary conditions and loads.
+    pub fn scripts(&self) -> &Scripts {
+        &self.scripts
+    }
+
+    /// The scripted boundary conditions and loads, mutably: a controller sets targets and load scales
+    /// between steps ([`Scripts::set_motion`], [`Scripts::set_load_scale`]).
+    pub fn scripts_mut(&mut self) -> &mut Scripts {
+        &mut self.scripts
+    }
+
+    /// The time (or load factor) of the last completed step.
+    pub fn time(&self) -> f64 {
+        self.t_reached
+    }
+
+    /// The output frame of the current state, as [`Simulation::run`] writes it at this time.
+    pub fn frame(&self) -> VtuFrame {
+        let mut frame = self.model.frame(&self.potential.parts.state, self.t_reached);
+        if let Some(contact) = &self.contact {
+            contact.decorate_frame(&mut frame);
+        }
+        frame
+    }
+
     /// The contact of the run, when the scene has contact.
     pub fn contact(&self) -> Option<&ContactRun> {
         self.contact.as_ref()
@@ -187,6 +217,7 @@ impl Simulation {
                     contact.after_step(&self.potential);
                 }
                 self.stats.record_step(&report, t0.elapsed().as_secs_f64());
+                self.t_reached = report.t;
                 Ok(report)
             }
             Err(e) => {
@@ -227,6 +258,20 @@ impl Simulation {
         progress: &mut dyn FnMut(&StepInfo),
         stop: &StopRequest,
     ) -> Result<RunSummary, SimulationError> {
+        self.run_controlled(dir, &mut |info, _| progress(info), stop)
+    }
+
+    /// [`Simulation::run`] with a controller: `controller` is called after every step (or load level)
+    /// with the scripts, whose targets and load scales it may set for the next step.
+    ///
+    /// # Errors
+    /// As [`Simulation::run`].
+    pub fn run_controlled(
+        &mut self,
+        dir: &Path,
+        progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
+        stop: &StopRequest,
+    ) -> Result<RunSummary, SimulationError> {
         let start = Instant::now();
         let mut writer = RunWriter::create(dir, &self.probe_columns())?;
         writer.set_formats(self.frame_formats)?;
@@ -264,7 +309,7 @@ impl Simulation {
         &mut self,
         writer: &mut RunWriter,
         (dt, end, adaptive, output_interval): (f64, f64, bool, f64),
-        progress: &mut dyn FnMut(&StepInfo),
+        progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
         let mut stepper = TimeStepper::new(&self.potential, self.time_step_settings(dt, adaptive))?;
@@ -281,14 +326,15 @@ impl Simulation {
                 Err(e) => return Ok(Outcome::failed_step(&e)),
             };
             self.t_reached = report.t;
-            progress(&StepInfo {
+            let info = StepInfo {
                 step: self.stats.steps,
                 t: report.t,
                 end,
                 dt: report.dt,
                 newton_iterations: report.newton.iterations,
                 residual: report.newton.residual(),
-            });
+            };
+            progress(&info, &mut self.scripts);
             if schedule.due(report.t) {
                 self.record_output(writer, report.t)?;
             }
@@ -301,7 +347,7 @@ impl Simulation {
         &mut self,
         writer: &mut RunWriter,
         levels: &[f64],
-        progress: &mut dyn FnMut(&StepInfo),
+        progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
         let settings = QuasiStaticSettings {
@@ -333,14 +379,15 @@ impl Simulation {
             }
             self.stats.record_level(&report, t0.elapsed().as_secs_f64());
             self.t_reached = target;
-            progress(&StepInfo {
+            let info = StepInfo {
                 step: self.stats.steps,
                 t: target,
                 end,
                 dt: target - previous,
                 newton_iterations: report.total_iterations,
                 residual: report.newton.residual(),
-            });
+            };
+            progress(&info, &mut self.scripts);
             self.record_output(writer, target)?;
             previous = target;
         }

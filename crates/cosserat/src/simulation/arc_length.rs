@@ -4,6 +4,7 @@
 use super::{Simulation, StepInfo, prepare_step};
 use crate::error::SimulationError;
 use crate::outcome::Outcome;
+use crate::scripts::Scripts;
 use crate::stop::StopRequest;
 use cosserat_io::{FailedStep, RunWriter};
 use cosserat_solver::{ArcLengthSettings, PathError, PathStepper};
@@ -23,7 +24,7 @@ impl Simulation {
         initial_increment: f64,
         end: f64,
         max_steps: usize,
-        progress: &mut dyn FnMut(&StepInfo),
+        progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
         let mut newton = self.time_step_settings(1.0, false).newton;
@@ -56,14 +57,15 @@ impl Simulation {
             }
             self.stats.record_point(&point, t0.elapsed().as_secs_f64());
             self.t_reached = point.load_factor;
-            progress(&StepInfo {
+            let info = StepInfo {
                 step: point.step,
                 t: point.load_factor,
                 end,
                 dt: point.load_factor - previous,
                 newton_iterations: point.iterations + point.wasted_iterations,
                 residual: point.residual,
-            });
+            };
+            progress(&info, &mut self.scripts);
             self.record_output(writer, point.step as f64)?;
             previous = point.load_factor;
         }

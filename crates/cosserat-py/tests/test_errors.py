@@ -1,0 +1,59 @@
+"""Scene errors reach Python with the file, the line, the field and the reason."""
+
+import pytest
+
+import cosserat
+from conftest import STRIP
+
+def test_an_invalid_value_names_file_line_field_and_reason(tmp_path):
+    lines = STRIP.read_text().splitlines()
+    line = lines.index("dt = 0.01") + 1
+    lines[line - 1] = "dt = -0.01"
+    path = tmp_path / "bad.toml"
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(path)
+    e = caught.value
+    assert e.file == str(path)
+    assert e.line == line
+    assert e.field == "time.dt"
+    assert "positive" in e.reason
+    assert isinstance(e, ValueError)
+    assert f"{path}:{line}" in str(e)
+
+
+def test_an_unknown_key_is_a_scene_error(tmp_path):
+    path = tmp_path / "typo.toml"
+    path.write_text(STRIP.read_text().replace("youngs_modulus", "youngs_modulos"))
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(path)
+    e = caught.value
+    assert e.file == str(path) and e.line is not None
+    assert "youngs_modulos" in e.reason
+
+
+def test_an_override_error_names_the_override():
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(STRIP, overrides={"time.dt": -1.0})
+    e = caught.value
+    assert e.override == "time.dt=-1.0"
+    assert e.field == "time.dt"
+    assert "positive" in e.reason
+
+
+def test_a_dict_error_names_the_field_without_a_line():
+    tomllib = pytest.importorskip("tomllib")
+
+    scene = tomllib.loads(STRIP.read_text())
+    scene["time"]["dt"] = -0.01
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.from_dict(scene)
+    e = caught.value
+    assert e.file is None and e.line is None
+    assert e.field == "time.dt"
+
+
+def test_a_missing_file_is_a_scene_error(tmp_path):
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(tmp_path / "missing.toml")
+    assert caught.value.file == str(tmp_path / "missing.toml")

@@ -1,0 +1,54 @@
+"""A sweep of independent runs on Dask distributed: two worker processes, rows gathered in order."""
+
+import json
+
+import pytest
+
+import cosserat
+from cosserat import sweep
+from conftest import STRIP
+
+distributed = pytest.importorskip("distributed")
+
+
+@pytest.fixture(scope="module")
+def client():
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    with distributed.Client(cluster) as client:
+        yield client
+    cluster.close()
+
+
+def test_a_two_worker_sweep_gathers_one_table(client, tmp_path):
+    assert len(client.scheduler_info()["workers"]) == 2
+    runs = cosserat.grid(
+        STRIP,
+        tmp_path,
+        **{"mesh.nx": [8], "mesh.ny": [2], "time.end": [0.03], "material.youngs_modulus": [7e9, 70e9]},
+    )
+    bad = cosserat.RunDescription.of(STRIP, tmp_path / "bad", {"time.dt": -1}, label="bad")
+    rows = sweep.run_sweep(runs + [bad], client)
+    assert [r["label"] for r in rows] == [r.label for r in runs] + ["bad"]
+    soft, stiff, failed = rows
+    assert soft["status"] == stiff["status"] == "ok"
+    assert soft["n_steps"] == stiff["n_steps"] == 3
+    assert soft["set.material.youngs_modulus"] == 7e9
+    assert failed["status"] == "error" and "time.dt" in failed["reason"]
+    # Each row carries the final probes; the same description run here gives the same numbers.
+    probe_columns = [c for c in soft if c.startswith("probe.")]
+    assert probe_columns
+    again = runs[0].__class__.of(STRIP, tmp_path / "again", dict(runs[0].params), label="again").run()
+    assert [again[c] for c in probe_columns] == [soft[c] for c in probe_columns]
+    # The outputs are where the descriptions say, and the table is one CSV.
+    assert json.loads((tmp_path / runs[1].label / "summary.json").read_text())["status"] == "ok"
+    sweep.to_csv(rows, tmp_path / "sweep.csv")
+    assert len((tmp_path / "sweep.csv").read_text().splitlines()) == 4
+
+
+def test_descriptions_round_trip_through_json(tmp_path):
+    runs = cosserat.grid(STRIP, tmp_path, **{"mesh.nx": [4, 8]})
+    sweep.save_descriptions(runs, tmp_path / "runs.json")
+    loaded = sweep.load_descriptions(tmp_path / "runs.json")
+    assert [r.cli_args() for r in loaded] == [r.cli_args() for r in runs]
+    assert runs[0].cli_args() == ["run", str(STRIP), "--out", str(tmp_path / "nx=4"), "--set", "mesh.nx=4",
+                                  "--threads", "1"]
