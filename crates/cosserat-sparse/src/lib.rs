@@ -185,7 +185,7 @@ pub struct FactorStats {
 /// and solves many times.
 ///
 /// ```
-/// use cosserat_solver::linear::{LinearSolverKind, LinearSolverSettings, SparseSolver};
+/// use cosserat_sparse::{LinearSolverSettings, SparseSolver};
 /// use faer::sparse::SymbolicSparseColMat;
 /// // Upper triangle of [[4, 1], [1, 3]].
 /// let pattern = SymbolicSparseColMat::new_checked(2, 2, vec![0, 1, 3], None, vec![0, 0, 1]);
