@@ -29,6 +29,7 @@
 //! measurement). Scenes with free edges use dead pressure.
 
 use crate::error::AssemblyError;
+use crate::inertia::add3;
 use crate::pattern::SparsityPattern;
 use crate::scatter::ElementScatter;
 use crate::term::{Evaluation, PotentialTerm, finite};
@@ -248,13 +249,15 @@ impl<const N: usize> FollowerPressure<N> {
         finite(-self.pressure * load.volume, &|| self.name(), "element", e)
     }
 
-    /// The element gradient `−Δt p f` with respect to the velocities.
-    fn element_gradient(&self, load: &ElementLoad<N>, dt: f64) -> SVector<f64, { 3 * 6 }> {
-        let mut g = SVector::<f64, 18>::zeros();
-        for a in 0..N {
-            g.fixed_rows_mut::<3>(3 * a).copy_from(&(load.force[a] * (-dt * self.pressure)));
+    /// Adds element `e`'s gradient `−Δt p f` with respect to the velocities to `grad`.
+    fn add_gradient(&self, load: &ElementLoad<N>, e: usize, eval: &Evaluation<'_>, grad: &mut [f64]) {
+        for (a, &i) in self.elements[e].iter().enumerate() {
+            add3(
+                grad,
+                eval.layout.disp_block(i),
+                &(load.force[a] * (-eval.dt * self.pressure)),
+            );
         }
-        g
     }
 }
 
@@ -280,15 +283,10 @@ impl<const N: usize> PotentialTerm for FollowerPressure<N> {
 
     fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
         let mut total = 0.0;
-        for (e, el) in self.elements.iter().enumerate() {
+        for e in 0..self.elements.len() {
             let load = element_load(&self.positions(eval, e), false);
             total += self.energy(&load, e)?;
-            let g = self.element_gradient(&load, eval.dt);
-            for (a, &i) in el.iter().enumerate() {
-                for c in 0..3 {
-                    grad[3 * eval.layout.disp_block(i) + c] += g[3 * a + c];
-                }
-            }
+            self.add_gradient(&load, e, eval, grad);
         }
         Ok(total)
     }
@@ -306,15 +304,10 @@ impl<const N: usize> PotentialTerm for FollowerPressure<N> {
             .expect("the potential binds every term before evaluating it");
         let mut total = 0.0;
         let scale = -eval.dt * eval.dt * self.pressure * 0.5;
-        for (e, el) in self.elements.iter().enumerate() {
+        for e in 0..self.elements.len() {
             let load = element_load(&self.positions(eval, e), true);
             total += self.energy(&load, e)?;
-            let g = self.element_gradient(&load, eval.dt);
-            for (a, &i) in el.iter().enumerate() {
-                for c in 0..3 {
-                    grad[3 * eval.layout.disp_block(i) + c] += g[3 * a + c];
-                }
-            }
+            self.add_gradient(&load, e, eval, grad);
             let h = SMatrix::<f64, 18, 18>::from_fn(|r, c| {
                 let (a, b) = (r / 3, c / 3);
                 if a >= N || b >= N {
