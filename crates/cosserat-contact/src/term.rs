@@ -376,6 +376,38 @@ impl ContactTerm {
             .collect()
     }
 
+    /// The pairs of blocks the candidates of the run so far have coupled (the term's share of the
+    /// Hessian's pattern, which only grows).
+    pub fn block_pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.known_block_pairs.iter().copied()
+    }
+
+    /// Restores the coupled block pairs and the obstacles' positions of a committed state (to resume a
+    /// run from a checkpoint); the potential's dynamic pattern must be rebuilt afterwards.
+    ///
+    /// # Errors
+    /// [`ContactError::WrongLength`] when the obstacles or their vertices do not match.
+    pub fn restore(
+        &mut self,
+        block_pairs: impl IntoIterator<Item = (usize, usize)>,
+        obstacles: Vec<Vec<Vector3<f64>>>,
+    ) -> Result<(), ContactError> {
+        let fits = obstacles.len() == self.obstacle_start.len()
+            && obstacles.iter().zip(&self.obstacle_start).all(|(a, b)| a.len() == b.len());
+        if !fits {
+            return Err(ContactError::WrongLength {
+                what: "obstacle positions",
+                expected: self.obstacle_start.iter().map(Vec::len).sum(),
+                got: obstacles.iter().map(Vec::len).sum(),
+            });
+        }
+        self.known_block_pairs = block_pairs.into_iter().collect();
+        self.pattern_stale = true;
+        self.obstacle_end.clone_from(&obstacles);
+        self.obstacle_start = obstacles;
+        Ok(())
+    }
+
     /// Whether `pattern` couples every pair of blocks the candidates couple.
     pub fn fits_pattern(&self, pattern: &SparsityPattern) -> bool {
         self.known_block_pairs

@@ -31,6 +31,7 @@
 //! ```
 
 pub mod atomic;
+pub mod checkpoint;
 pub mod error;
 pub mod mesh_frames;
 mod number;

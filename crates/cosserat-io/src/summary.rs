@@ -227,6 +227,10 @@ pub struct RunSummary {
     pub stopped_at: Option<f64>,
     /// The step that failed, with every attempt (`null` unless a step failed).
     pub failed_step: Option<FailedStep>,
+    /// The step of the checkpoint this run was resumed from (absent for a run that started from the
+    /// beginning); the counts and times of the summary cover the whole run either way.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resumed_from: Option<usize>,
     /// The mechanical model.
     pub model: ModelRecord,
     /// Displacement element type, e.g. `"tri6"`.
