@@ -14,7 +14,7 @@ use crate::model::Model;
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHandle};
 use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm, Coverage, Obstacle};
-use cosserat_io::{ContactRecord, DataArray, VtuFrame};
+use cosserat_io::{BroadPhaseRecord, ContactRecord, DataArray, VtuFrame};
 use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
 use nalgebra::Vector3;
 
@@ -346,6 +346,14 @@ impl ContactRun {
             broad_phase_share: share(broad),
             n_evaluations: s.n_evaluations,
             n_ccd_queries: s.n_ccd_queries,
+            mean_step_fraction: (s.n_step_limits > 0).then(|| s.step_fraction_sum / s.n_step_limits as f64),
+            n_step_cuts: s.n_step_cuts,
+            broad_phase: BroadPhaseRecord {
+                queries: s.cache.queries,
+                requeries: s.cache.requeries,
+                builds: s.cache.builds,
+                uncached: s.cache.uncached,
+            },
             mean_active_pairs: if m.steps > 0 {
                 m.active_sum as f64 / m.steps as f64
             } else {
