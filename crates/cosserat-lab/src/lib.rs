@@ -9,7 +9,7 @@
 //! - [`bench_table`]: time per step of the reference code's cases (`cargo xtask bench-table`);
 //! - [`validate`], [`obstacle`], [`path_validation`]: the validation benchmarks
 //!   (`cargo xtask validate`);
-//! - [`study`], [`problem`], [`reference`]: the speed–accuracy study (`cargo xtask study`);
+//! - [`study`], [`problem`], [`reference`](mod@reference): the speed–accuracy study (`cargo xtask study`);
 //! - [`stability`], [`locking`]: the stability matrix and the locking study (`cargo xtask stability`);
 //! - [`paper`]: the paper's Table 1; [`postprocess`], [`plot`]: frame geometry and SVG plots;
 //!   [`runner`]: runs in child processes to measure their peak memory.
