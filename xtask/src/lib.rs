@@ -5,6 +5,7 @@
 //!
 //! xtask only orchestrates: every physical computation goes through the `cosserat` crate.
 
+pub mod ensemble;
 pub mod experiments;
 pub mod locking;
 pub mod obstacle;
