@@ -8,9 +8,9 @@
 //! feature: the full turn of the end (a huge rotation through the half turn), the coiling snaps of the
 //! multi-turn cells, the thin limit, the slivers and the extreme time steps.
 
+use cosserat_lab::ensemble::{ENSEMBLE_SIZE, perturbations, run_ensemble};
+use cosserat_lab::stability::{Cell, Settings, matrix};
 use std::path::PathBuf;
-use xtask::ensemble::{ENSEMBLE_SIZE, perturbations, run_ensemble};
-use xtask::stability::{Cell, Settings, matrix};
 
 /// The part of the matrix a test runs (the parts are balanced so that the test harness's threads
 /// share the work).

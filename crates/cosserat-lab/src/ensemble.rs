@@ -36,7 +36,7 @@ impl Perturbation {
 
 /// The ensemble's first `n` perturbations, the same on every call and machine: magnitudes
 /// log-uniform in \[1e-7, 1e-3\] with either sign, drawn from a fixed-seed SplitMix64 (a dozen lines;
-/// `rand` is not a dependency of xtask and reproducibility across its versions is not promised), and
+/// `rand` is not a dependency of this crate and reproducibility across its versions is not promised), and
 /// one and two threads alternating.
 pub fn perturbations(n: usize) -> Vec<Perturbation> {
     let mut rng = SplitMix64(0x0022_5eed);

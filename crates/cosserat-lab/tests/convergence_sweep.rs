@@ -6,8 +6,9 @@
 //! The cantilever: L = 1 m, b = 0.1 m, ν = 0, 20 × 2 Tri6/Tri3 quads, the root clamped (positions
 //! exactly, directors by a penalty of 1e3 E I / L), an end force P along z over the free edge.
 
+use cosserat::RunDescription;
+use cosserat_lab::runner::{RunOutcome, Runner, run_described};
 use std::path::PathBuf;
-use xtask::runner::{RunOutcome, RunPoint, Runner, run_point};
 
 const LENGTH: f64 = 1.0;
 const WIDTH: f64 = 0.1;
@@ -101,7 +102,8 @@ quantity = "displacement"
         std::fs::create_dir_all(&dir).expect("sweep directory");
         let scene = dir.with_extension("toml");
         std::fs::write(&scene, self.scene()).expect("scene file");
-        let outcome = run_point(&Runner::InProcess, &RunPoint::new(&scene, &[]), &dir).expect("output directory");
+        let outcome =
+            run_described(&Runner::InProcess, &RunDescription::new(&scene, &dir, &[])).expect("output directory");
         assert!(outcome.is_ok(), "{}: {}", self.name(), outcome.reason());
         let probes = outcome.probes.as_ref().expect("probes.csv");
         let w = probes.last_vec("tip", ["ux", "uy", "uz"]).expect("tip probe")[2];
