@@ -665,26 +665,26 @@ fn findings(records: &[CellRecord], variants: usize) -> String {
         s,
         "- **Ensemble.** {robust} of {m} cells complete all {variants} perturbed variants."
     );
-    if let Some(worst) = records.iter().min_by_key(|r| r.ensemble.completed) {
-        if !worst.ensemble.all_completed() {
-            let failing: Vec<String> = records
-                .iter()
-                .filter(|r| !r.ensemble.all_completed())
-                .map(|r| format!("{} = {} ({})", r.cell.group, r.cell.label, r.ensemble.rate()))
-                .collect();
-            let (i, p, why) = &worst.ensemble.failures[0];
-            let _ = write!(
-                s,
-                " The worst cell is {} = {} with {}; cells with failed variants: {}. A failed variant of the worst cell (variant {i}: clamp ×(1{:+.1e}), dt ×(1{:+.1e}), {} thread(s)): {why}.",
-                worst.cell.group,
-                worst.cell.label,
-                worst.ensemble.rate(),
-                failing.join(", "),
-                p.clamp,
-                p.dt,
-                p.threads
-            );
-        }
+    if let Some(worst) = records.iter().min_by_key(|r| r.ensemble.completed)
+        && !worst.ensemble.all_completed()
+    {
+        let failing: Vec<String> = records
+            .iter()
+            .filter(|r| !r.ensemble.all_completed())
+            .map(|r| format!("{} = {} ({})", r.cell.group, r.cell.label, r.ensemble.rate()))
+            .collect();
+        let (i, p, why) = &worst.ensemble.failures[0];
+        let _ = write!(
+            s,
+            " The worst cell is {} = {} with {}; cells with failed variants: {}. A failed variant of the worst cell (variant {i}: clamp ×(1{:+.1e}), dt ×(1{:+.1e}), {} thread(s)): {why}.",
+            worst.cell.group,
+            worst.cell.label,
+            worst.ensemble.rate(),
+            failing.join(", "),
+            p.clamp,
+            p.dt,
+            p.threads
+        );
     }
     let inverted: Vec<String> = records
         .iter()

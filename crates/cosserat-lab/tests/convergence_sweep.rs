@@ -127,7 +127,7 @@ fn relative_residual(case: &Case, outcome: &RunOutcome) -> f64 {
     let c = outcome
         .summary
         .as_ref()
-        .and_then(|s| s.convergence.clone())
+        .and_then(|s| s.convergence)
         .expect("convergence record");
     assert_eq!(
         c.tolerance_mode,
