@@ -15,6 +15,7 @@
 //!   [`runner`]: runs in child processes to measure their peak memory.
 
 pub mod bench_table;
+pub mod ensemble;
 pub mod experiments;
 pub mod locking;
 pub mod obstacle;

@@ -6,6 +6,7 @@
 //! user would apply. The locking study ([`crate::locking`]) is part of the same document,
 //! `docs/stability.md`.
 
+use crate::ensemble::{ENSEMBLE_SIZE, EnsembleResult, perturbations, run_ensemble};
 use crate::locking;
 use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
@@ -22,6 +23,9 @@ pub struct StabilityArgs {
     /// Reuse the locking study of the previous run (out/stability/locking.md) instead of running it.
     #[arg(long)]
     pub reuse_locking: bool,
+    /// Perturbed variants per cell (docs/stability.md says how many were run).
+    #[arg(long, default_value_t = ENSEMBLE_SIZE)]
+    pub variants: usize,
 }
 
 /// The base scene of the matrix.
@@ -52,6 +56,10 @@ pub struct Settings {
     pub tolerance: Option<f64>,
     /// Angular inertia density `ρ_θ` \[kg/m\] (the paper's scenes and the default use 0).
     pub angular_inertia_density: f64,
+    /// Duration of the hold after the twist \[s\].
+    pub hold: f64,
+    /// Factor on the clamps' rotation penalty (1: 1e3 × E h³/12); the ensemble perturbs it.
+    pub clamp_factor: f64,
 }
 
 impl Default for Settings {
@@ -68,6 +76,8 @@ impl Default for Settings {
             pair: ("tri6", "tri3"),
             tolerance: None,
             angular_inertia_density: 0.0,
+            hold: 0.5,
+            clamp_factor: 1.0,
         }
     }
 }
@@ -79,7 +89,7 @@ impl Settings {
         let lc = self.length_scale.unwrap_or(1e-3 * h);
         // Clamp penalty: 1e3 × the plate bending stiffness, so that E and h sweeps change the
         // material, not the clamp's relative stiffness.
-        let k = 1e3 * self.youngs_modulus * h.powi(3) / 12.0;
+        let k = self.clamp_factor * 1e3 * self.youngs_modulus * h.powi(3) / 12.0;
         let mut ov = vec![
             format!("material.thickness={h:e}"),
             format!("material.youngs_modulus={:e}", self.youngs_modulus),
@@ -87,7 +97,7 @@ impl Settings {
             format!("material.mu_c_factor={}", self.mu_c_factor),
             format!("material.length_scale={lc:e}"),
             format!("time.dt={:e}", self.dt),
-            format!("time.end={}", self.turns + 0.5),
+            format!("time.end={}", self.turns + self.hold),
             format!("time.output_interval={}", self.dt.max(0.05)),
             format!("boundary.0.rotation.stiffness={k:e}"),
             format!("boundary.1.rotation.stiffness={k:e}"),
@@ -457,7 +467,7 @@ fn fmt_opt<T>(v: Option<T>, f: impl Fn(T) -> String) -> String {
     v.map_or("–".into(), f)
 }
 
-fn row(c: &Cell, r: &CellResult) -> String {
+fn row(c: &Cell, r: &CellResult, e: &EnsembleResult) -> String {
     let status = if r.is_ok() {
         "ok".to_string()
     } else if r.non_finite {
@@ -468,9 +478,16 @@ fn row(c: &Cell, r: &CellResult) -> String {
         format!("**failed**: {}", r.outcome.reason())
     };
     format!(
-        "| {} | {} | {status} | {} | {} | {} | {} | {} | {} | {} |",
+        "| {} | {} | {status} | {}{} | {} | {} | {} | {} | {} | {} | {} | {} |",
         c.group,
         c.label,
+        e.rate(),
+        if e.inverted > 0 {
+            format!(" ({} inverted)", e.inverted)
+        } else {
+            String::new()
+        },
+        e.max_newton,
         fmt_opt(r.outcome.summary.as_ref(), |s| s.n_steps.to_string()),
         fmt_opt(r.newton, |(a, m)| format!("{a:.2} / {m}")),
         fmt_opt(r.reductions, |n| n.to_string()),
@@ -481,60 +498,100 @@ fn row(c: &Cell, r: &CellResult) -> String {
     )
 }
 
-/// Runs the matrix and the locking study; returns the markdown of `docs/stability.md`.
-///
-/// # Errors
-/// I/O failures.
-pub fn run_all(runner: &Runner, out: &Path, images: &Path, only: Option<&str>, reuse_locking: bool) -> Result<String> {
-    let started = std::time::Instant::now();
-    let mut table = String::new();
-    let mut remedies = String::new();
-    let mut failed = 0;
-    for (i, c) in matrix().iter().enumerate() {
+/// One cell's unperturbed run and its ensemble.
+struct CellRecord {
+    cell: Cell,
+    base: CellResult,
+    ensemble: EnsembleResult,
+}
+
+/// The remedy line for a failed cell (runs the remedy), or `None` for a cell that passed.
+fn remedy_line(runner: &Runner, c: &Cell, r: &CellResult, dir: &Path) -> Result<Option<String>> {
+    if r.is_ok() {
+        return Ok(None);
+    }
+    let line = match remedy(&c.settings, r) {
+        Some((fixed, why)) => {
+            let r2 = run_cell(runner, &fixed, dir)?;
+            format!(
+                "- **{} = {}**: {why}. With the remedy: {}.",
+                c.group,
+                c.label,
+                if r2.is_ok() {
+                    format!(
+                        "converged, {:.2} Newton iterations per step, {} step reductions",
+                        r2.newton.map_or(0.0, |n| n.0),
+                        r2.reductions.unwrap_or(0)
+                    )
+                } else {
+                    format!("still failing ({})", r2.outcome.reason())
+                }
+            )
+        }
+        None if r.outcome.is_ok() && r.inverted() => format!(
+            "- **{} = {}**: every step converged, but elements turned inside out (smallest area ratio {:.3}); the run warns about it. A run with inverted elements must not be trusted: refine across the strip (at least two elements) or reduce the twist per element.",
+            c.group,
+            c.label,
+            r.min_area_ratio.unwrap_or(f64::NAN)
+        ),
+        None => format!(
+            "- **{} = {}**: no remedy known: {}",
+            c.group,
+            c.label,
+            r.outcome.reason()
+        ),
+    };
+    Ok(Some(line))
+}
+
+/// Runs every selected cell unperturbed (with `runner`) and as an ensemble of `variants` perturbed
+/// runs (in this process, one or two threads each).
+fn run_matrix(runner: &Runner, out: &Path, only: Option<&str>, variants: usize) -> Result<Vec<CellRecord>> {
+    let perturbed = perturbations(variants);
+    let mut records = Vec::new();
+    for (i, c) in matrix().into_iter().enumerate() {
         if only.is_some_and(|f| !c.group.contains(f)) {
             continue;
         }
         eprintln!("stability: {} = {} ...", c.group, c.label);
-        let dir = out.join(format!("cell_{i:02}"));
-        let r = run_cell(runner, &c.settings, &dir)?;
-        writeln!(table, "{}", row(c, &r))?;
-        if !r.is_ok() {
-            failed += 1;
-            eprintln!("  failed: {}", r.outcome.reason());
-            match remedy(&c.settings, &r) {
-                Some((fixed, why)) => {
-                    let r2 = run_cell(runner, &fixed, &out.join(format!("cell_{i:02}_remedy")))?;
-                    writeln!(
-                        remedies,
-                        "- **{} = {}**: {why}. With the remedy: {}.",
-                        c.group,
-                        c.label,
-                        if r2.is_ok() {
-                            format!(
-                                "converged, {:.2} Newton iterations per step, {} step reductions",
-                                r2.newton.map_or(0.0, |n| n.0),
-                                r2.reductions.unwrap_or(0)
-                            )
-                        } else {
-                            format!("still failing ({})", r2.outcome.reason())
-                        }
-                    )?;
-                }
-                None if r.outcome.is_ok() && r.inverted() => writeln!(
-                    remedies,
-                    "- **{} = {}**: every step converged, but elements turned inside out (smallest area ratio {:.3}); the run warns about it. No setting of this cell avoids it; the coarse-strip remedy above does.",
-                    c.group,
-                    c.label,
-                    r.min_area_ratio.unwrap_or(f64::NAN)
-                )?,
-                None => writeln!(
-                    remedies,
-                    "- **{} = {}**: no remedy known: {}",
-                    c.group,
-                    c.label,
-                    r.outcome.reason()
-                )?,
-            }
+        let base = run_cell(runner, &c.settings, &out.join(format!("cell_{i:02}")))?;
+        let ensemble = run_ensemble(&c.settings, &perturbed, &out.join(format!("cell_{i:02}_ensemble")))?;
+        eprintln!(
+            "  {} (ensemble {})",
+            if base.is_ok() { "ok" } else { "failed" },
+            ensemble.rate()
+        );
+        records.push(CellRecord {
+            cell: c,
+            base,
+            ensemble,
+        });
+    }
+    Ok(records)
+}
+
+/// Runs the matrix with its ensembles and the locking study; returns the markdown of
+/// `docs/stability.md`.
+///
+/// # Errors
+/// I/O failures.
+pub fn run_all(
+    runner: &Runner,
+    out: &Path,
+    images: &Path,
+    only: Option<&str>,
+    reuse_locking: bool,
+    variants: usize,
+) -> Result<String> {
+    let started = std::time::Instant::now();
+    let records = run_matrix(runner, out, only, variants)?;
+    let mut table = String::new();
+    let mut remedies = String::new();
+    for (i, rec) in records.iter().enumerate() {
+        writeln!(table, "{}", row(&rec.cell, &rec.base, &rec.ensemble))?;
+        let dir = out.join(format!("cell_{i:02}_remedy"));
+        if let Some(line) = remedy_line(runner, &rec.cell, &rec.base, &dir)? {
+            writeln!(remedies, "{line}")?;
         }
     }
     let saved = out.join("locking.md");
@@ -551,8 +608,13 @@ pub fn run_all(runner: &Runner, out: &Path, images: &Path, only: Option<&str>, r
     writeln!(md, "# Stability at the extremes\n")?;
     writeln!(
         md,
-        "Generated by `cargo xtask stability{}` ({:.0} s, release build, one thread per run, each run in its own process so that a crash is recorded rather than fatal{}).\n",
+        "Generated by `cargo xtask stability{}{}` ({:.0} s, release build; the unperturbed run of each cell on one thread in its own process, so that a crash is recorded rather than fatal, the perturbed variants in the study's process{}).\n",
         if reuse_locking { " --reuse-locking" } else { "" },
+        if variants == ENSEMBLE_SIZE {
+            String::new()
+        } else {
+            format!(" --variants {variants}")
+        },
         started.elapsed().as_secs_f64(),
         if reuse_locking {
             "; the locking study is the previous run's, about 20 minutes of its own"
@@ -562,33 +624,122 @@ pub fn run_all(runner: &Runner, out: &Path, images: &Path, only: Option<&str>, r
     )?;
     writeln!(
         md,
-        "## The matrix\n\nBase scene `{BASE_SCENE}`: a 100 mm × 10 mm strip, h = 1 mm, E = 1 GPa, ν = 0.3, ρ = 1000 kg/m³, L_c = 1e-3·h, μ_c = μ, 10 × 2 Tri6/Tri3 quads, both ends clamped, the right end turned about the centre line at one turn per second, then held for 0.5 s without damping; dt = 10 ms with step halving on failure (adaptive), residual tolerance 1e-7. Each row changes one setting (the corners several). The clamps' rotation penalty stays at 1e3 × E h³/12.\n\nColumns: *Newton* is the average / largest number of iterations per step; *reductions* the number of dt halvings; *energy growth* the largest relative increase of kinetic + elastic energy during the hold phase over its value at the start of the hold (the clamps' penalty energy is not included; backward Euler only dissipates, so a positive value above round-off would signal an instability); *twist error* the angle between the right end's director d₃ and its prescribed direction at the end; *min area ratio* the smallest ratio of deformed to rest area over all quadrature points and output times (≤ 0 means an inverted element). Non-finite values are looked for in the probes and the energies.\n"
+        "## The matrix\n\nBase scene `{BASE_SCENE}`: a 100 mm × 10 mm strip, h = 1 mm, E = 1 GPa, ν = 0.3, ρ = 1000 kg/m³, L_c = 1e-3·h, μ_c = μ, 10 × 2 Tri6/Tri3 quads, both ends clamped, the right end turned about the centre line at one turn per second, then held for 0.5 s without damping; dt = 10 ms with step halving on failure (adaptive), default solver settings (no `solver.tolerance`: residuals relative to the load scale). Each row changes one setting (the corners several). The clamps' rotation penalty stays at 1e3 × E h³/12.\n\n{}\n\nColumns: *ensemble* is the number of perturbed variants that completed with finite values, of {variants} (variants with an inverted element are counted as completed and named in brackets); *ens. max* the largest Newton iterations of a step over the variants. The other columns are the unperturbed run's: *Newton* is the average / largest number of iterations per step; *reductions* the number of dt halvings; *energy growth* the largest relative increase of kinetic + elastic energy during the hold phase over its value at the start of the hold (the clamps' penalty energy is not included; backward Euler only dissipates, so a positive value above round-off would signal an instability); *twist error* the angle between the right end's director d₃ and its prescribed direction at the end; *min area ratio* the smallest ratio of deformed to rest area over all quadrature points and output times (≤ 0 means an inverted element). Non-finite values are looked for in the probes and the energies.\n",
+        ensemble_text(variants)
     )?;
     writeln!(
         md,
-        "| setting | value | status | steps | Newton avg / max | reductions | energy growth | twist error | min area ratio | wall |\n|---|---|---|---|---|---|---|---|---|---|"
+        "| setting | value | status | ensemble | ens. max | steps | Newton avg / max | reductions | energy growth | twist error | min area ratio | wall |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
     )?;
     md.push_str(&table);
-    writeln!(md, "\n{failed} cell(s) did not converge.\n")?;
+    md.push('\n');
     if !remedies.is_empty() {
         writeln!(md, "### Failed cells and their remedies\n\n{remedies}")?;
     }
-    md.push_str(FINDINGS);
+    md.push_str(&findings(&records, variants));
+    md.push_str(ADVICE);
     md.push_str(&locking);
     md.push_str(LOCKING_ADVICE);
     Ok(md)
 }
 
-/// What the matrix shows, the limits, and the remedies (measured in the tables of this document).
-const FINDINGS: &str = "
-## What limits the solver, and what to do
+/// How the ensemble is drawn.
+fn ensemble_text(variants: usize) -> String {
+    let full = if variants == ENSEMBLE_SIZE {
+        String::new()
+    } else {
+        format!(" (this page was generated with {variants} of the {ENSEMBLE_SIZE} variants the study runs by default)")
+    };
+    format!(
+        "Every cell is also run as an ensemble of {variants} perturbed variants{full}: the clamps' rotation penalty and the time step each changed by a relative amount of magnitude between 1e-7 and 1e-3 (log-uniform, either sign, from a fixed seed), on one and two threads alternately (which changes the order of the parallel sums). A cell that completes only for some roundings is not robust; `cargo test --release -p cosserat-lab --test stability_ensemble` runs the same {ENSEMBLE_SIZE} variants of every cell in CI, on shortened settings that keep each cell's hard feature."
+    )
+}
 
-- **Material and thickness extremes alone are fine.** One setting at a time, E from 1e3 to 1e11 Pa, ν up to 0.499, h/L down to 1e-5, μ_c/μ from 0 to 10, L_c from 0 to h and dt from 1e-4 to 0.1 s all converge with the default solver settings, without non-finite values or inverted elements; thin strips need more Newton iterations in their hardest steps (the *max* column). ν = 0.5 is rejected when the scene is read (`material.poisson_ratio: must lie in (-1, 0.5)`).
-- **μ_c = 0 together with L_c = 0** leaves the drilling rotation (about the normal) without any stiffness of its own: it is held only through the clamps. The runs converge, but with many more Newton iterations in the hardest steps, and the interior drilling rotation is not determined by the energy. Remedy: any L_c > 0 (1e-3·h changes the bending stiffness by a relative 1.2e-5) or μ_c > 0. The simulator warns about this combination when it builds the scene (on stderr and in `summary.json` under `warnings`), as it does about elements much longer than the thickness (locking, below).
-- **Coiling, and why halving the step does not help.** Once the twisted strip buckles into a coil (near 3.8 turns here), steps can fail, and the step halving then runs down to its floor (dt ≈ 1e-6 s) with the residual stalled well above the tolerance, which ends the run (the failed corners). Measured at dt = 0.01 s with ten turns: 4 × 1 quads stop at t = 3.79 s, 10 × 1 at t = 4.37 s and 40 × 1 at t = 3.93 s, while 10 × 2 (the matrix's ten-turn row, also run in CI) completes with 38 step reductions. A strip one element wide does not get through the snap whatever its length resolution, and finer is not always safer: 40 × 2 gets past the first snap but stops at t = 8.23 s. Newton's robustness in strongly coiled states is the weak point this matrix found; it is not a property of the model, and it is open work. Giving the rotations their inertia (`material.angular_inertia_density = ρh²/12`) lets the one-element-wide runs reach the end, but through inverted elements (smallest area ratio −0.94 on 4 × 1, −0.75 on 40 × 1, the ρ_θ corner's last column): that is not a remedy, and a run with a negative *min area ratio* must not be trusted. Remedy: at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second). Whether a run gets through the snaps is a matter of round-off: the 10 × 2 row completes with some roundings of the kernels and stalls with others (at t = 6.61 s and 7.75 s in two re-associations of the rotation jets, with the residual just above the tolerance), and a clamp stiffness that differs in its seventh digit flips it as well; that it completes is not a margin.
-- **Resolution.** Aspect ratio 100 by itself (4×40 quads, 25 mm × 0.25 mm) converges; the thin four-turn sliver corner fails on the twist per element along the strip (one turn per element), not on the aspect ratio.
-- **The residual tolerance is absolute.** Its round-off floor is about 1e-16·E·h times a factor that grows with the number of elements along the structure; a tolerance below it makes Newton run into its iteration limit. For stiff or very fine problems set `solver.tolerance` to about 1e-13·E·h or larger (the validation scenes use 1e-7 N and 1e-6 N for this reason, and the locking study scales it).
-- **Energy.** Without damping and with the ends held, kinetic plus elastic energy never grew by more than a few 1e-6 relative over the hold phase; those small changes are exchanges with the clamps' penalty energy, which the summary's energies leave out.
+/// The findings, generated from the records so that they cannot contradict the table.
+fn findings(records: &[CellRecord], variants: usize) -> String {
+    let mut s = String::from("\n## What the matrix shows\n\n");
+    let m = records.len();
+    let robust = records.iter().filter(|r| r.ensemble.all_completed()).count();
+    let base_ok = records.iter().filter(|r| r.base.is_ok()).count();
+    let _ = write!(
+        s,
+        "- **Ensemble.** {robust} of {m} cells complete all {variants} perturbed variants."
+    );
+    if let Some(worst) = records.iter().min_by_key(|r| r.ensemble.completed)
+        && !worst.ensemble.all_completed()
+    {
+        let failing: Vec<String> = records
+            .iter()
+            .filter(|r| !r.ensemble.all_completed())
+            .map(|r| format!("{} = {} ({})", r.cell.group, r.cell.label, r.ensemble.rate()))
+            .collect();
+        let (i, p, why) = &worst.ensemble.failures[0];
+        let _ = write!(
+            s,
+            " The worst cell is {} = {} with {}; cells with failed variants: {}. A failed variant of the worst cell (variant {i}: clamp ×(1{:+.1e}), dt ×(1{:+.1e}), {} thread(s)): {why}.",
+            worst.cell.group,
+            worst.cell.label,
+            worst.ensemble.rate(),
+            failing.join(", "),
+            p.clamp,
+            p.dt,
+            p.threads
+        );
+    }
+    let inverted: Vec<String> = records
+        .iter()
+        .filter(|r| r.ensemble.inverted > 0 || r.base.inverted())
+        .map(|r| format!("{} = {}", r.cell.group, r.cell.label))
+        .collect();
+    if inverted.is_empty() {
+        let _ = writeln!(s, " No run turned an element inside out.");
+    } else {
+        let _ = writeln!(
+            s,
+            " Runs that completed through inverted elements (not to be trusted): {}.",
+            inverted.join(", ")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "- **Unperturbed runs.** {base_ok} of {m} cells converge to the end with finite values and no inverted element."
+    );
+    if let Some(hardest) = records.iter().max_by_key(|r| r.ensemble.max_newton) {
+        let _ = writeln!(
+            s,
+            "- **Hardest steps.** The most Newton iterations in one step, over all runs, were {} ({} = {}); the unperturbed runs average {:.2} to {:.2} iterations per step.",
+            hardest.ensemble.max_newton.max(hardest.base.newton.map_or(0, |n| n.1)),
+            hardest.cell.group,
+            hardest.cell.label,
+            records
+                .iter()
+                .filter_map(|r| r.base.newton.map(|n| n.0))
+                .fold(f64::INFINITY, f64::min),
+            records.iter().filter_map(|r| r.base.newton.map(|n| n.0)).fold(0.0, f64::max),
+        );
+    }
+    let growth = records
+        .iter()
+        .filter_map(|r| r.base.energy_growth.map(|g| (g, r)))
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    if let Some((g, r)) = growth {
+        let _ = writeln!(
+            s,
+            "- **Energy.** Without damping and with the ends held, kinetic plus elastic energy grew by at most a relative {g:.1e} over the hold phase ({} = {}); small changes are exchanges with the clamps' penalty energy, which the summary's energies leave out.",
+            r.cell.group, r.cell.label
+        );
+    }
+    s
+}
+
+/// Advice that holds independently of the measured numbers.
+const ADVICE: &str = "
+## What to do at the extremes
+
+- **μ_c = 0 together with L_c = 0** leaves the drilling rotation (about the normal) without any stiffness of its own: it is held only through the clamps, and the interior drilling rotation is not determined by the energy. Give any L_c > 0 (1e-3·h changes the bending stiffness by a relative 1.2e-5) or μ_c > 0. The simulator warns about this combination when it builds the scene (on stderr and in `summary.json` under `warnings`), as it does about elements much longer than the thickness (locking, below).
+- **Coiling.** A twisted strip buckles into a coil after a few turns, and the coil snaps as the twist grows. Use at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second). Giving the rotations inertia (`material.angular_inertia_density = ρh²/12`) changes the dynamics of the snaps; check the *min area ratio*: a run with inverted elements must not be trusted.
+- **Tolerances.** Without `solver.tolerance` the residual is judged relative to the step's load scale (external loads, reactions, or the first residual), with a floor from the assembled stiffness and machine precision; a step that stagnates at that floor is accepted with a warning in `summary.json`. Set `solver.tolerance` only to require an absolute residual in force units.
+
 ";
 
 /// The advice drawn from the locking table.
@@ -610,6 +761,7 @@ pub fn run(args: &StabilityArgs) -> Result<i32> {
         &images,
         args.only.as_deref(),
         args.reuse_locking,
+        args.variants,
     )?;
     let path = PathBuf::from(if partial {
         "out/stability_partial.md"
