@@ -192,7 +192,7 @@ fn large_loads_converge_to_the_elastica_for_every_modulus() {
     }
 }
 
-/// Known limit (issue 22): at h/L = 1e-5 the large load fails at 1/8 of it on this 20 × 2 mesh (no
+/// Known limit: at h/L = 1e-5 the large load fails at 1/8 of it on this 20 × 2 mesh (no
 /// convergence in 100 Newton iterations, the residual stalled) for every modulus.
 #[test]
 #[ignore = "open: the thin strip under the large load stops at λ = 0.125"]
