@@ -26,6 +26,11 @@ pub struct StabilityArgs {
     /// Perturbed variants per cell (docs/stability.md says how many were run).
     #[arg(long, default_value_t = ENSEMBLE_SIZE)]
     pub variants: usize,
+    /// Write the matrix's runs (every cell and its perturbed variants) as a JSON list of run
+    /// descriptions to this file and stop (the Python package's `cosserat.sweep.load_descriptions`
+    /// reads it, e.g. to run the matrix on a Dask cluster).
+    #[arg(long, value_name = "FILE")]
+    pub emit_runs: Option<PathBuf>,
 }
 
 /// The base scene of the matrix.
@@ -387,15 +392,42 @@ pub fn assess(settings: &Settings, outcome: RunOutcome) -> CellResult {
     }
 }
 
+/// The run of a cell's settings into `dir`, on one thread.
+pub fn cell_run(settings: &Settings, dir: &Path) -> RunDescription {
+    // An absolute path lets tests run from any working directory.
+    RunDescription::new(crate::workspace_root().join(BASE_SCENE), dir, &settings.overrides())
+}
+
 /// Runs one cell of the matrix.
 ///
 /// # Errors
 /// I/O failures of the output directory.
 pub fn run_cell(runner: &Runner, settings: &Settings, dir: &Path) -> Result<CellResult> {
-    // An absolute path lets tests run from any working directory.
-    let scene = crate::workspace_root().join(BASE_SCENE);
-    let outcome = run_described(runner, &RunDescription::new(scene, dir, &settings.overrides()))?;
+    let outcome = run_described(runner, &cell_run(settings, dir))?;
     Ok(assess(settings, outcome))
+}
+
+/// Every run of the matrix (as [`run_all`] runs them, in the same folders): each cell, then its
+/// perturbed variants on their thread counts.
+pub fn matrix_runs(out: &Path, only: Option<&str>, variants: usize) -> Vec<RunDescription> {
+    let perturbed = perturbations(variants);
+    let mut runs = Vec::new();
+    for (i, c) in matrix().into_iter().enumerate() {
+        if only.is_some_and(|f| !c.group.contains(f)) {
+            continue;
+        }
+        let mut base = cell_run(&c.settings, &out.join(format!("cell_{i:02}")));
+        base.label = format!("{} = {}", c.group, c.label);
+        runs.push(base);
+        for (k, p) in perturbed.iter().enumerate() {
+            let dir = out.join(format!("cell_{i:02}_ensemble")).join(format!("variant_{k:02}"));
+            let mut run = cell_run(&p.apply(&c.settings), &dir);
+            run.label = format!("{} = {}, variant {k}", c.group, c.label);
+            run.threads = Some(p.threads);
+            runs.push(run);
+        }
+    }
+    runs
 }
 
 /// The remedy for a failed cell, as changed settings and a sentence, if one is known.
@@ -751,6 +783,12 @@ const LOCKING_ADVICE: &str = "Which pair to choose: **Tri6/Tri3** (quadratic dis
 /// # Errors
 /// I/O failures.
 pub fn run(args: &StabilityArgs) -> Result<i32> {
+    if let Some(path) = &args.emit_runs {
+        let runs = matrix_runs(Path::new("out/stability"), args.only.as_deref(), args.variants);
+        cosserat::run_description::write_runs(path, &runs)?;
+        eprintln!("wrote {} run descriptions to {}", runs.len(), path.display());
+        return Ok(0);
+    }
     let runner = Runner::current_exe()?;
     let partial = args.only.is_some();
     let images = PathBuf::from(if partial { "out/img" } else { "docs/img" });

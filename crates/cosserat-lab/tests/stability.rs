@@ -77,3 +77,23 @@ fn every_cell_of_the_matrix_and_its_remedy_settings_are_valid_scenes() {
         assert!(loaded.is_ok(), "{} = {}: {:?}", cell.group, cell.label, loaded.err());
     }
 }
+
+#[test]
+fn the_emitted_matrix_runs_are_the_cells_and_their_variants_as_valid_scenes() {
+    let out = std::path::Path::new("out/stability");
+    let runs = cosserat_lab::stability::matrix_runs(out, None, 2);
+    let cells = cosserat_lab::stability::matrix();
+    assert_eq!(runs.len(), 3 * cells.len());
+    for (c, chunk) in cells.iter().zip(runs.chunks(3)) {
+        assert_eq!(chunk[0].overrides, c.settings.overrides());
+        assert_eq!(chunk[0].threads, Some(1));
+        assert_eq!([chunk[1].threads, chunk[2].threads], [Some(1), Some(2)]);
+        for run in chunk {
+            let loaded = cosserat::scene::load_scene(&run.scene, &run.overrides);
+            assert!(loaded.is_ok(), "{}: {:?}", run.label, loaded.err());
+        }
+        // The variants differ from the cell in their clamp stiffness and time step only.
+        assert_ne!(chunk[1].overrides, chunk[0].overrides);
+        assert_eq!(chunk[1].overrides.len(), chunk[0].overrides.len());
+    }
+}
