@@ -17,8 +17,9 @@ use cosserat::io::ModelRecord;
 use cosserat::io::VtuFrame;
 use std::fmt::Write as _;
 
-/// The Kirchhoff–Love bunny at the Cosserat bunny's settings: h = 10 mm (Δt = 10 ms); with `--large`
-/// also h = 3.75 and 1.5 mm (Δt = 1 ms); quick runs take the small bunny for a few steps.
+/// The Kirchhoff–Love bunny at the Cosserat bunny's settings: h = 10 mm at the scene's time step; with
+/// `--large` also h = 3.75 and 1.5 mm at the paper's smaller time step; quick runs take the small bunny
+/// for a few steps.
 pub(super) fn bunny_kl_runs(o: &Options) -> Vec<RunSpec> {
     let (mesh, label) = if o.quick {
         ("bunny_lvl5_verts828.obj", " (lvl5 mesh)")
