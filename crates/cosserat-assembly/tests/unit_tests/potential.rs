@@ -132,6 +132,24 @@ fn assembled_derivatives_match_finite_differences() {
             StrainInterpolation::Stabilized,
         );
     }
+    check_derivatives_with(
+        ElementPair::Tri6Tri3,
+        ShellModel::Plate,
+        20,
+        StrainInterpolation::Assumed,
+    );
+    check_derivatives_with(
+        ElementPair::Tri6Tri6,
+        ShellModel::Shell,
+        21,
+        StrainInterpolation::Assumed,
+    );
+    check_derivatives_with(
+        ElementPair::Tri3Tri3,
+        ShellModel::Plate,
+        22,
+        StrainInterpolation::Assumed,
+    );
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
@@ -186,7 +204,11 @@ fn a_plate_at_rest_without_loads_has_zero_energy_and_gradient() {
 
 #[test]
 fn assembly_is_bit_identical_for_one_and_two_threads() {
-    for interpolation in [StrainInterpolation::Paper, StrainInterpolation::Stabilized] {
+    for interpolation in [
+        StrainInterpolation::Paper,
+        StrainInterpolation::Stabilized,
+        StrainInterpolation::Assumed,
+    ] {
         check_thread_counts(interpolation);
     }
 }
