@@ -2,6 +2,7 @@
 //! exactly the rigid null space, and on flat straight-sided elements (where every strain field of the
 //! element pair is linear) the linear stiffness is the paper's, so the paper's patch tests carry over.
 
+use super::common::dense_hessian;
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
 use cosserat_fem::mesh::procedural::GeneratedMesh;
 use cosserat_fem::mesh::{chord_placement, procedural};
@@ -36,21 +37,8 @@ fn build(generated: &GeneratedMesh, pair: ElementPair, on_surface: bool, interpo
 
 /// The Hessian at rest, dense.
 fn rest_hessian(system: &mut System) -> DMatrix<f64> {
-    let p = &mut system.potential;
-    let n = p.n_dofs();
-    let mut g = vec![0.0; n];
-    let mut values = vec![0.0; p.pattern().nnz()];
-    p.hessian(&vec![0.0; n], &mut g, &mut values).unwrap();
-    let sym = p.pattern().symbolic();
-    let mut h = DMatrix::zeros(n, n);
-    for j in 0..n {
-        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
-            let i = sym.row_idx()[k];
-            h[(i, j)] = values[k];
-            h[(j, i)] = values[k];
-        }
-    }
-    h
+    let n = system.potential.n_dofs();
+    dense_hessian(&mut system.potential, &vec![0.0; n])
 }
 
 #[test]
@@ -63,10 +51,12 @@ fn curved_shells_rest_at_zero_energy_with_assumed_strains() {
             let u = vec![0.0; sys.potential.n_dofs()];
             let mut g = vec![0.0; u.len()];
             let e = sys.potential.gradient(&u, &mut g).unwrap();
+            // Scales: a unit strain costs E h A ≈ 1e6 · 1e-2 · 12 J, and its gradient is about
+            // E h L ≈ 1e4 per unit velocity; the rest state is zero to round-off relative to those.
             let g_max = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
             assert!(e.abs() < 1e-15, "{label} on_surface={on_surface}: energy at rest {e:e}");
             assert!(
-                g_max < 1e-12,
+                g_max < 1e-14 * 1e4,
                 "{label} on_surface={on_surface}: gradient at rest {g_max:e}"
             );
         }

@@ -1,7 +1,7 @@
 //! The assembled incremental potential: derivatives against finite differences, rest state,
 //! determinism across thread counts.
 
-use super::common::{strip, strip_with};
+use super::common::{dense_hessian, strip, strip_with};
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionPenalty, RotationPenalty};
 use cosserat_assembly::{ElementPair, IncrementalPotential, Parallelism};
 use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
@@ -58,23 +58,6 @@ fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
         .map(|_| Matrix3::from_fn(|_, _| rng.random_range(-5.0..5.0)))
         .collect();
     p.parts.shells[0].set_rest_fields_dyn(&mut |i| (Some(1.05), Some(g[i])));
-}
-
-fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
-    let n = p.n_dofs();
-    let mut g = vec![0.0; n];
-    let mut values = vec![0.0; p.pattern().nnz()];
-    p.hessian(u, &mut g, &mut values).unwrap();
-    let sym = p.pattern().symbolic();
-    let mut h = DMatrix::zeros(n, n);
-    for j in 0..n {
-        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
-            let i = sym.row_idx()[k];
-            h[(i, j)] = values[k];
-            h[(j, i)] = values[k];
-        }
-    }
-    h
 }
 
 fn check_derivatives(pair: ElementPair, model: ShellModel, seed: u64) {
