@@ -3,10 +3,10 @@
 //! xtask only orchestrates: every physical computation goes through the `cosserat` crate, so anything
 //! here is also reachable by users through the `cosserat` binary and library.
 
-mod bench_table;
 mod run;
 
-use xtask::{experiments, runner, scene_reference, stability, study, tidy, validate};
+use cosserat_lab::{bench_table, experiments, runner, stability, study, validate};
+use xtask::{scene_reference, tidy};
 
 use anyhow::Result;
 use clap::{Parser, Subcommand};
@@ -66,12 +66,16 @@ struct ExperimentsArgs {
     /// A few steps of each run on the coarsest meshes (writes out/experiments_quick.md instead).
     #[arg(long)]
     quick: bool,
-    /// Include the largest meshes and the paper's armadillo mesh.
+    /// Every row of the paper's Table 1 at its mesh, time step and duration (the largest meshes, the
+    /// paper's armadillo mesh, the thin bunnies for 5 s): hours on two cores.
     #[arg(long)]
     large: bool,
     /// Only experiments whose name contains this.
     #[arg(long)]
     only: Option<String>,
+    /// Only rows whose variant contains this (Table 1's "Variant", e.g. "h = 1.5 mm" or "320x32").
+    #[arg(long)]
+    row: Option<String>,
     /// Directory of the experiments' OBJ meshes.
     #[arg(long, default_value = "assets/meshes")]
     meshes: PathBuf,
@@ -104,16 +108,17 @@ fn main() -> Result<()> {
                 quick: a.quick,
                 large: a.large,
                 only: a.only.clone(),
+                row: a.row.clone(),
                 meshes: a.meshes.clone(),
                 out: PathBuf::from(if a.quick {
                     "out/experiments_quick"
                 } else {
                     "out/experiments"
                 }),
-                render_dir: (!a.quick && a.only.is_none()).then(|| PathBuf::from("docs/img")),
+                render_dir: (!a.quick && a.only.is_none() && a.row.is_none()).then(|| PathBuf::from("docs/img")),
             };
             let report = experiments::run_all(&options)?;
-            let path = if a.quick || a.only.is_some() {
+            let path = if a.quick || a.only.is_some() || a.row.is_some() {
                 PathBuf::from("out").join(if a.quick {
                     "experiments_quick.md"
                 } else {

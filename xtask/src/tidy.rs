@@ -20,7 +20,7 @@ use std::path::{Path, PathBuf};
 const SKIPPED_DIRS: [&str; 3] = ["target", "out", ".git"];
 
 /// Every crate of the workspace with the workspace crates it may depend on (normal dependencies).
-pub const LAYERS: [(&str, &[&str]); 14] = [
+pub const LAYERS: [(&str, &[&str]); 15] = [
     ("cosserat-geometry", &[]),
     ("cosserat-sparse", &[]),
     ("cosserat-fem", &["cosserat-geometry"]),
@@ -76,7 +76,8 @@ pub const LAYERS: [(&str, &[&str]); 14] = [
             "cosserat-scene",
         ],
     ),
-    ("xtask", &["cosserat"]),
+    ("cosserat-lab", &["cosserat"]),
+    ("xtask", &["cosserat", "cosserat-lab"]),
     ("cosserat-py", &["cosserat"]),
 ];
 

@@ -6,6 +6,7 @@
 use crate::error::AssemblyError;
 use crate::inertia::{add_diagonal, add3};
 use crate::pattern::SparsityPattern;
+use crate::scatter::add_diagonal_block;
 use crate::term::{Evaluation, PotentialTerm, finite};
 use nalgebra::{Matrix3, Vector3};
 
@@ -130,7 +131,7 @@ impl PotentialTerm for RotationPenalty {
             total += finite(e, &|| self.name(), "rotation node", k)?;
             let b = eval.layout.rot_block(k);
             add3(grad, b, &g);
-            add_block(pattern, values, b, &h);
+            add_diagonal_block(pattern, values, b, &h);
         }
         Ok(total)
     }
@@ -248,17 +249,4 @@ pub struct PositionConstraint {
     pub targets: Vec<Vector3<f64>>,
     /// Which world axes are prescribed.
     pub active: [bool; 3],
-}
-
-/// Adds a full 3×3 block (symmetric) onto a diagonal block of the upper-triangular values.
-pub(crate) fn add_block(pattern: &SparsityPattern, values: &mut [f64], block: usize, h: &Matrix3<f64>) {
-    let k = pattern
-        .block_position(block, block)
-        .expect("diagonal block is always in the pattern");
-    for c in 0..3 {
-        let start = pattern.col_start(3 * block + c) + 3 * k;
-        for r in 0..=c {
-            values[start + r] += h[(r, c)];
-        }
-    }
 }

@@ -184,7 +184,7 @@ impl PotentialTerm for LoadTerm {
         let v = self.evaluate(eval, |b, g, h| {
             add3(grad, b, &g);
             if let Some(h) = h {
-                crate::boundary::add_block(pattern, values, b, &h);
+                crate::scatter::add_diagonal_block(pattern, values, b, &h);
             }
         });
         finite(v, &|| self.name(), "term", 0)

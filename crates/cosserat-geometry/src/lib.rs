@@ -31,6 +31,7 @@
 //! ```
 
 pub mod error;
+pub mod measure;
 pub mod real;
 pub mod rotation;
 pub mod surface;

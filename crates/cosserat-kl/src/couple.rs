@@ -19,7 +19,7 @@
 //! a [`MomentHandle`] taken before the term is moved in.
 
 use crate::error::{KlError, check_parameter};
-use crate::scatter::LocalScatter;
+use cosserat_assembly::scatter::GroupScatter;
 use cosserat_assembly::term::{Evaluation, PotentialTerm};
 use cosserat_assembly::{AssemblyError, SparsityPattern};
 use cosserat_geometry::Real;
@@ -55,7 +55,7 @@ pub struct ForceCouple {
     shares: Vec<f64>,
     axis: Vector3<f64>,
     moment: MomentHandle,
-    scatter: Option<LocalScatter<2>>,
+    scatter: Option<GroupScatter<2>>,
 }
 
 /// The work potential `−M Δθ` of one pair as a function of its end-of-step positions `(x_a, x_b)`, with
@@ -209,7 +209,7 @@ impl PotentialTerm for ForceCouple {
     fn bind(&mut self, pattern: &SparsityPattern) {
         // Displacement node i is block i (`DofLayout::disp_block`).
         let blocks = self.pairs.iter().map(|&[a, b]| [Some(a), Some(b)]).collect();
-        self.scatter = Some(LocalScatter::new(pattern, blocks));
+        self.scatter = Some(GroupScatter::new(pattern, blocks));
     }
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {

@@ -52,7 +52,6 @@ pub mod fundamental_form;
 pub mod material;
 mod mid_edge;
 pub mod rest;
-pub mod scatter;
 pub mod stencil;
 pub mod system;
 pub mod term;

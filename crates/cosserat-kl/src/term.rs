@@ -9,11 +9,11 @@ use crate::energy::{N_STENCIL, StencilDerivatives, stencil_energy, stencil_gradi
 use crate::error::KlError;
 use crate::material::{KlMaterial, MaterialConstants};
 use crate::rest::StencilRest;
-use crate::scatter::LocalScatter;
 use crate::stencil::{Stencil, build_stencils};
 use crate::thickness::ThicknessRule;
 use cosserat_assembly::finite::all_finite;
 use cosserat_assembly::parallel::{ChunkBuffers, ordered_map};
+use cosserat_assembly::scatter::GroupScatter;
 use cosserat_assembly::term::{Evaluation, PotentialTerm};
 use cosserat_assembly::{AssemblyError, DofLayout, SparsityPattern};
 use cosserat_fem::Tri3Mesh;
@@ -28,7 +28,7 @@ pub struct KirchhoffLoveTerm {
     rest: Vec<StencilRest>,
     material: MaterialConstants,
     layout: DofLayout,
-    scatter: Option<LocalScatter<6>>,
+    scatter: Option<GroupScatter<6>>,
     values: Mutex<ChunkBuffers<f64>>,
     derivatives: Mutex<ChunkBuffers<StencilDerivatives>>,
 }
@@ -216,7 +216,7 @@ impl PotentialTerm for KirchhoffLoveTerm {
 
     fn bind(&mut self, pattern: &SparsityPattern) {
         let blocks = (0..self.n_faces()).map(|f| self.blocks(f)).collect();
-        self.scatter = Some(LocalScatter::new(pattern, blocks));
+        self.scatter = Some(GroupScatter::new(pattern, blocks));
     }
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {

@@ -77,13 +77,15 @@ pub fn point_omega<const NU: usize, const NR: usize>(
     w
 }
 
+/// The 3×3 block of `m` starting at row `r` and column `c`.
 #[inline]
-fn block<const N: usize>(m: &SMatrix<f64, N, N>, r: usize, c: usize) -> Matrix3<f64> {
+pub fn block<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>, r: usize, c: usize) -> Matrix3<f64> {
     m.fixed_view::<3, 3>(r, c).into_owned()
 }
 
+/// Adds `b` to the 3×3 block of `m` starting at row `r` and column `c`.
 #[inline]
-fn add_block<const N: usize>(m: &mut SMatrix<f64, N, N>, r: usize, c: usize, b: &Matrix3<f64>) {
+pub fn add_block<const N: usize>(m: &mut SMatrix<f64, N, N>, r: usize, c: usize, b: &Matrix3<f64>) {
     let mut v = m.fixed_view_mut::<3, 3>(r, c);
     v += b;
 }

@@ -80,6 +80,8 @@ struct Inner {
     mode: Mode,
     /// Steps taken with `step`.
     steps: usize,
+    /// The pool of the last `step(threads = n)`, kept for the next call with the same `n`.
+    pool: Option<(usize, rayon::ThreadPool)>,
 }
 
 /// A scene ready to run: load it with `Simulation.load(path)` or `Simulation.from_dict(scene)`.
@@ -114,6 +116,7 @@ impl PySimulation {
                 stepper: None,
                 mode: Mode::Fresh,
                 steps: 0,
+                pool: None,
             }),
             pending: Mutex::new(Vec::new()),
             name,
@@ -154,8 +157,8 @@ impl PySimulation {
         check_name(name, &self.boundary_names, "boundary")
     }
 
-    /// One step with the GIL released.
-    fn step_once(&self, py: Python<'_>, inner: &mut Inner) -> PyResult<PyStepInfo> {
+    /// One step with the GIL released, on a pool of `threads` threads (the global pool if `None`).
+    fn step_once(&self, py: Python<'_>, inner: &mut Inner, threads: Option<usize>) -> PyResult<PyStepInfo> {
         if inner.mode == Mode::Ran {
             return Err(PyRuntimeError::new_err(
                 "this simulation has run; load the scene again to step it",
@@ -167,12 +170,29 @@ impl PySimulation {
         }
         self.apply_pending(inner.sim.scripts_mut())
             .map_err(|e| crate::error::SimulationError::new_err(e.to_string()))?;
+        if let Some(n) = threads
+            && inner.pool.as_ref().is_none_or(|(m, _)| *m != n)
+        {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(format!("creating the thread pool: {e}")))?;
+            inner.pool = Some((n, pool));
+        }
         let Inner {
-            sim, stepper, steps, ..
+            sim,
+            stepper,
+            steps,
+            pool,
+            ..
         } = inner;
         let stepper = stepper.as_mut().expect("set above");
+        let pool = threads.and(pool.as_ref()).map(|(_, p)| p);
         let report = py
-            .detach(|| sim.step(stepper))
+            .detach(|| match pool {
+                Some(pool) => pool.install(|| sim.step(stepper)),
+                None => sim.step(stepper),
+            })
             .map_err(|e| StepFailed::new_err(e.to_string()))?;
         *steps += 1;
         Ok(PyStepInfo {
@@ -270,15 +290,18 @@ impl PySimulation {
     /// Advances one time step (dynamic scenes) with the GIL released; returns its `StepInfo`.
     ///
     /// Raises `StepFailed` when the step failed after every allowed reduction (the state is that of
-    /// the last completed step).
-    fn step(&self, py: Python<'_>) -> PyResult<PyStepInfo> {
+    /// the last completed step). `threads`: the number of threads of this step (default: the process's
+    /// pool, all cores); results are the same for any number.
+    #[pyo3(signature = (threads = None))]
+    fn step(&self, py: Python<'_>, threads: Option<usize>) -> PyResult<PyStepInfo> {
         let mut inner = self.lock()?;
-        self.step_once(py, &mut inner)
+        self.step_once(py, &mut inner, threads)
     }
 
     /// Steps until the time reaches `t` (within half a step); returns the number of steps taken.
-    /// Ctrl-C raises `KeyboardInterrupt` after the current step.
-    fn run_until(&self, py: Python<'_>, t: f64) -> PyResult<usize> {
+    /// Ctrl-C raises `KeyboardInterrupt` after the current step. `threads` as for `step`.
+    #[pyo3(signature = (t, threads = None))]
+    fn run_until(&self, py: Python<'_>, t: f64, threads: Option<usize>) -> PyResult<usize> {
         let mut inner = self.lock()?;
         let mut n = 0;
         loop {
@@ -287,7 +310,7 @@ impl PySimulation {
             {
                 return Ok(n);
             }
-            self.step_once(py, &mut inner)?;
+            self.step_once(py, &mut inner, threads)?;
             n += 1;
             py.check_signals()?;
         }

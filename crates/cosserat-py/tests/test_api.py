@@ -24,6 +24,21 @@ def test_load_with_overrides_as_dict_or_strings(strip_overrides):
     assert np.array_equal(a.positions, b.positions)
 
 
+def test_each_step_may_name_its_thread_count_and_the_result_does_not_depend_on_it(strip_overrides):
+    one = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    two = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    mixed = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    for threads in (1, 2, None, 2):
+        one.step(threads=1)
+        two.step(threads=2)
+        mixed.step(threads=threads)
+    assert np.array_equal(one.positions, two.positions)
+    assert np.array_equal(one.positions, mixed.positions)
+    assert np.array_equal(one.quaternions, mixed.quaternions)
+    assert one.run_until(0.05, threads=1) == 1 and two.run_until(0.05, threads=2) == 1
+    assert np.array_equal(one.positions, two.positions)
+
+
 def test_arrays_are_read_only_views_that_follow_the_steps(strip_overrides):
     sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
     x = sim.positions

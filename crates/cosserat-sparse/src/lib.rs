@@ -36,6 +36,8 @@ pub mod memory;
 mod multifrontal;
 mod ordering;
 mod pattern;
+#[cfg(feature = "testing")]
+pub mod testing;
 mod two_domain;
 mod vector_state;
 

@@ -8,40 +8,9 @@
 
 use crate::kernel::LocalDerivatives;
 use crate::tet4::VolumePoint;
-use nalgebra::{Matrix3, SMatrix, SVector};
-
-/// Energy, gradient and Hessian of an element with respect to its `NE` unknowns.
-#[derive(Debug, Clone, PartialEq)]
-pub struct ElementDerivatives<const NE: usize> {
-    /// Energy \[J\].
-    pub value: f64,
-    /// Gradient.
-    pub gradient: SVector<f64, NE>,
-    /// Hessian (symmetric).
-    pub hessian: SMatrix<f64, NE, NE>,
-}
-
-impl<const NE: usize> ElementDerivatives<NE> {
-    /// All zero.
-    pub fn zeros() -> Self {
-        Self {
-            value: 0.0,
-            gradient: SVector::zeros(),
-            hessian: SMatrix::zeros(),
-        }
-    }
-}
-
-#[inline]
-fn block<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>, r: usize, c: usize) -> Matrix3<f64> {
-    m.fixed_view::<3, 3>(r, c).into_owned()
-}
-
-#[inline]
-fn add_block<const N: usize>(m: &mut SMatrix<f64, N, N>, r: usize, c: usize, b: &Matrix3<f64>) {
-    let mut v = m.fixed_view_mut::<3, 3>(r, c);
-    v += b;
-}
+pub use cosserat_material::element::ElementDerivatives;
+use cosserat_material::element::{add_block, block};
+use nalgebra::{Matrix3, SVector};
 
 /// Adds `weight ×` a point's local gradient to an element gradient.
 pub fn accumulate_gradient<const N: usize, const NL: usize, const NE: usize>(

@@ -71,7 +71,7 @@ pub mod error;
 pub mod grid;
 pub mod kernel;
 pub mod material;
-pub mod measure;
+pub use cosserat_geometry::measure;
 pub mod mesh;
 pub mod oracle;
 pub mod term;

@@ -149,8 +149,13 @@ impl RunStats {
 
 /// The process's peak resident memory (VmHWM) in MB, where the OS reports it.
 pub fn peak_memory_mb() -> Option<f64> {
+    peak_memory_kib().map(|kib| kib as f64 / 1024.0)
+}
+
+/// The process's peak resident set size \[KiB\] (`VmHWM` of `/proc/self/status`), where the OS
+/// reports it.
+pub fn peak_memory_kib() -> Option<u64> {
     let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb / 1024.0)
+    let line = status.lines().find_map(|l| l.strip_prefix("VmHWM:"))?;
+    line.split_whitespace().next()?.parse().ok()
 }

@@ -3,7 +3,7 @@
 
 use super::common::rng;
 use cosserat_assembly::SparsityPattern;
-use cosserat_kl::scatter::LocalScatter;
+use cosserat_assembly::scatter::GroupScatter;
 use nalgebra::{DMatrix, SMatrix, SVector};
 use rand::Rng;
 
@@ -14,7 +14,7 @@ fn absent_slots_are_skipped_and_present_blocks_are_scattered_symmetrically() {
     let groups = vec![[Some(3), None, Some(1)], [Some(0), Some(1), Some(2)]];
     let present: Vec<Vec<usize>> = groups.iter().map(|g| g.iter().flatten().copied().collect()).collect();
     let pattern = SparsityPattern::from_groups(4, present.iter().map(|g| g.as_slice()));
-    let scatter = LocalScatter::<3>::new(&pattern, groups.clone());
+    let scatter = GroupScatter::<3>::new(&pattern, groups.clone());
     assert_eq!(scatter.len(), 2);
     assert!(!scatter.is_empty());
     let mut grad = vec![0.0; 12];
@@ -63,7 +63,7 @@ fn a_block_in_two_slots_gets_both_orders_of_their_coupling() {
     let groups = vec![[Some(2), Some(0), Some(2)], [Some(1), Some(1), None]];
     let present: Vec<Vec<usize>> = groups.iter().map(|g| g.iter().flatten().copied().collect()).collect();
     let pattern = SparsityPattern::from_groups(3, present.iter().map(|g| g.as_slice()));
-    let scatter = LocalScatter::<3>::new(&pattern, groups.clone());
+    let scatter = GroupScatter::<3>::new(&pattern, groups.clone());
     let mut grad = vec![0.0; 9];
     let mut values = vec![0.0; pattern.nnz()];
     let mut expected_g = SVector::<f64, 9>::zeros();

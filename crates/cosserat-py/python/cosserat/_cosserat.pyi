@@ -127,9 +127,10 @@ class Simulation:
     def boundary_names(self) -> list[str]: ...
     @property
     def load_names(self) -> list[str]: ...
-    def step(self) -> StepInfo:
-        """One time step (dynamic scenes), with the GIL released. Raises ``StepFailed``."""
-    def run_until(self, t: float) -> int:
+    def step(self, threads: Optional[int] = None) -> StepInfo:
+        """One time step (dynamic scenes), with the GIL released, on ``threads`` threads (default: all
+        cores; results do not depend on it). Raises ``StepFailed``."""
+    def run_until(self, t: float, threads: Optional[int] = None) -> int:
         """Steps until the time reaches ``t``; returns the number of steps."""
     def run(
         self,

@@ -1,11 +1,11 @@
-//! Test modules mirroring `src/`, plus shared fixtures (sparse matrices and toy problems).
+//! Test modules mirroring `src/`, plus toy problems; the sparse test matrices come from
+//! `cosserat_sparse::testing`.
 
-mod cg;
+use cosserat_sparse::testing as fixtures;
+
 mod continuation;
 mod convergence;
 mod error;
-mod fixtures;
-mod linear;
 mod newton;
+mod newton_cg;
 mod toy;
-mod two_domain;

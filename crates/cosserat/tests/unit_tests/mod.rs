@@ -3,6 +3,7 @@ mod contact;
 mod kl_model;
 mod memory;
 mod run;
+mod run_description;
 mod script_targets;
 mod surface_loads;
 mod volume_model;

@@ -1,6 +1,7 @@
 //! Loads per unit area and pressure through the facade, against closed forms: a closed sphere inflated
 //! by a follower pressure (membrane closed form, small and large stretch) and the Scordelis–Lo roof
-//! under its weight given per unit area and as gravity.
+//! under its weight given per unit area and as gravity; a long cylinder buckling under external
+//! pressure (follower and dead) at the classical critical pressures.
 
 use cosserat::Simulation;
 use cosserat::scene::spec::SceneSpec;
@@ -246,4 +247,65 @@ fn a_follower_pressure_on_free_edges_is_warned_about() {
     );
     let rim = advice("abs(x) >= 0.5 - 1e-9 || abs(y) >= 0.1 - 1e-9");
     assert!(!rim.iter().any(|w| w.contains("free edges")), "{rim:?}");
+}
+
+/// The critical pressure of the oval mode that the runs of `scenes/validation/cylinder_external_pressure.toml`
+/// show: `pressure` is the scene's final pressure (reached at `t = 1`), and the levels' ovalisation
+/// `δ = (b.uy − a.ux) / 2` is fitted to `δ = δ_Q + (p δ) / p_cr` by least squares.
+fn cylinder_critical_pressure(overrides: &[&str], pressure: f64, name: &str) -> f64 {
+    let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/validation/cylinder_external_pressure.toml");
+    let overrides: Vec<String> = overrides.iter().map(ToString::to_string).collect();
+    let spec = cosserat::scene::load_scene(&scene, &overrides).unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = Simulation::new(spec).unwrap_or_else(|e| panic!("{e}"));
+    let dir: PathBuf = Path::new(env!("CARGO_TARGET_TMPDIR")).join("surface_loads").join(name);
+    let _ = std::fs::remove_dir_all(&dir);
+    let summary = sim
+        .run(&dir, &mut |_| {}, &cosserat::StopRequest::new())
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(summary.status, cosserat::io::RunStatus::Ok, "{name}: {summary:?}");
+    let text = std::fs::read_to_string(dir.join("probes.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (t, a_ux, b_uy) = (column("t"), column("a.ux"), column("b.uy"));
+    let points: Vec<(f64, f64)> = lines
+        .map(|l| l.split(',').map(|v| v.parse::<f64>().unwrap()).collect::<Vec<_>>())
+        .filter(|row| row[t] > 0.0)
+        .map(|row| {
+            let delta = 0.5 * (row[b_uy] - row[a_ux]);
+            (pressure * row[t] * delta, delta)
+        })
+        .collect();
+    assert!(points.len() >= 4, "{name}: {} levels", points.len());
+    let n = points.len() as f64;
+    let (mx, my) = (
+        points.iter().map(|p| p.0).sum::<f64>() / n,
+        points.iter().map(|p| p.1).sum::<f64>() / n,
+    );
+    let sxx: f64 = points.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    let sxy: f64 = points.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    sxx / sxy
+}
+
+#[test]
+fn a_long_cylinder_buckles_at_the_classical_critical_pressure() {
+    // ν = 0: D = E h³ / 12 with E = 1e6, h = 0.01, R = 1.
+    let d = 1e6 * 0.01_f64.powi(3) / 12.0;
+    // Follower (hydrostatic) pressure: p_cr = 3 D / R³; the scene goes to 0.92 p_cr.
+    let follower = cylinder_critical_pressure(&[], 0.23, "cylinder_follower");
+    assert!(
+        (follower / (3.0 * d) - 1.0).abs() < 0.01,
+        "follower: p_cr = {follower}, 3 D / R³ = {}",
+        3.0 * d
+    );
+    // A dead pressure keeps its rest direction: p_cr = 4 D / R³.
+    let dead = cylinder_critical_pressure(&["load.0.follower=false", "load.0.pressure=-0.3"], 0.3, "cylinder_dead");
+    assert!(
+        (dead / (4.0 * d) - 1.0).abs() < 0.01,
+        "dead: p_cr = {dead}, 4 D / R³ = {}",
+        4.0 * d
+    );
+    // The coarser mesh is stiffer (the element pair's locking) and converges from above.
+    let coarse = cylinder_critical_pressure(&["mesh.n_around=64"], 0.23, "cylinder_follower_64");
+    assert!(coarse > follower, "64 around: {coarse}, 128 around: {follower}");
 }

@@ -7,8 +7,9 @@
 //! `docs/stability.md`.
 
 use crate::locking;
-use crate::runner::{RunOutcome, RunPoint, Runner, run_point};
+use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
+use cosserat::RunDescription;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -381,13 +382,9 @@ pub fn assess(settings: &Settings, outcome: RunOutcome) -> CellResult {
 /// # Errors
 /// I/O failures of the output directory.
 pub fn run_cell(runner: &Runner, settings: &Settings, dir: &Path) -> Result<CellResult> {
-    // The workspace root is the parent of this crate's directory; an absolute path lets tests run
-    // from any working directory.
-    let scene = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap_or(Path::new("."))
-        .join(BASE_SCENE);
-    let outcome = run_point(runner, &RunPoint::new(scene, &settings.overrides()), dir)?;
+    // An absolute path lets tests run from any working directory.
+    let scene = crate::workspace_root().join(BASE_SCENE);
+    let outcome = run_described(runner, &RunDescription::new(scene, dir, &settings.overrides()))?;
     Ok(assess(settings, outcome))
 }
 

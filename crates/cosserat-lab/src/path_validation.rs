@@ -13,9 +13,10 @@
 
 use crate::plot::{Mark, Plot, Series};
 use crate::reference::{SZE_HINGED_ROOF, SZE_HINGED_ROOF_THIN};
-use crate::runner::{RunOutcome, RunPoint, run_point};
+use crate::runner::{RunOutcome, run_described};
 use crate::validate::Options;
 use anyhow::Result;
+use cosserat::RunDescription;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -151,7 +152,7 @@ fn run_problem(problem: &PathProblem, o: &Options) -> Result<Vec<PathRun>> {
         ];
         let dir = o.out.join(problem.name).join(format!("{n}x{n}"));
         eprintln!("{}: {n}×{n} ...", problem.name);
-        let outcome = run_point(&o.runner, &RunPoint::new(problem.scene, &overrides), &dir)?;
+        let outcome = run_described(&o.runner, &RunDescription::new(problem.scene, dir, &overrides))?;
         if !outcome.is_ok() {
             eprintln!("  failed: {}", outcome.reason());
         }

@@ -4,8 +4,9 @@
 //! reference over unknowns and wall time.
 
 use crate::postprocess::ProbeTable;
-use crate::runner::{RunOutcome, RunPoint, Runner, run_point};
+use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
+use cosserat::RunDescription;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -124,7 +125,7 @@ pub fn run_benchmark(b: &Benchmark, runner: &Runner, out: &Path, quick: bool) ->
             ov.push("output.frames=false".into());
             let dir = out.join(b.name).join(format!("{interpolation}_{i}"));
             eprintln!("{}: {interpolation} {mesh} ...", b.name);
-            let outcome = run_point(runner, &RunPoint::new(b.scene, &ov), &dir)?;
+            let outcome = run_described(runner, &RunDescription::new(b.scene, dir, &ov))?;
             let value = outcome
                 .probes
                 .as_ref()

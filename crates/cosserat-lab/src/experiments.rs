@@ -28,6 +28,9 @@ pub struct Options {
     pub large: bool,
     /// Only experiments whose name contains this.
     pub only: Option<String>,
+    /// Only runs whose variant (Table 1's "Variant" column, e.g. `h = 1.5 mm` or `320x32`) contains
+    /// this.
+    pub row: Option<String>,
     /// Directory with the experiments' OBJ meshes (`assets/meshes` of the workspace).
     pub meshes: PathBuf,
     /// Root of the run outputs.
@@ -844,10 +847,11 @@ fn moebius_check(r: &[RunResult]) -> Check {
     for res in r {
         let Some(f) = &res.frame else { continue };
         let zmin = f.points.iter().map(|p| p[2]).fold(f64::MAX, f64::min);
-        let n = boundary_loops(&f.triangles);
+        let n = boundary_loops(&f.points, &f.triangles).ok();
         c.say(format!(
-            "- {}: boundary loops {n}; lowest point z = {:.2} mm.",
+            "- {}: boundary loops {}; lowest point z = {:.2} mm.",
             res.spec.variant,
+            n.map_or_else(|| "not measured (non-manifold frame)".into(), |n| n.to_string()),
             1e3 * zmin
         ));
         loops.push(n);
@@ -868,7 +872,19 @@ fn moebius_check(r: &[RunResult]) -> Check {
     c.say("");
     c.expect(
         "both bands stay one-sided: one boundary loop each",
-        (loops.len() == 2).then(|| (loops.iter().all(|&n| n == 1), format!("{loops:?} loops"))),
+        (loops.len() == 2).then(|| {
+            (
+                loops.iter().all(|&n| n == Some(1)),
+                format!(
+                    "{} loops",
+                    loops
+                        .iter()
+                        .map(|n| n.map_or_else(|| "?".into(), |n| n.to_string()))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            )
+        }),
     );
     c.expect(
         "the plate and the shell model hang alike: their shapes within 1 mm (the curved terms are of relative \
@@ -916,12 +932,30 @@ fn last_frame(dir: &Path) -> Option<VtuFrame> {
     read_pvd_frame(&pvd, entries.len().checked_sub(1)?).ok()
 }
 
-/// Runs one scene to completion, quietly.
+/// Runs one scene to completion, printing a progress line at most every [`PROGRESS_EVERY`].
 pub fn execute(spec: &RunSpec, dir: &Path) -> Result<RunResult> {
     let scene = cosserat::scene::load_scene(&spec.scene, &spec.overrides)
         .with_context(|| format!("loading {}", spec.scene.display()))?;
     let mut sim = Simulation::new(scene).with_context(|| format!("setting up {}", spec.scene.display()))?;
-    let summary = sim.run(dir, &mut |_| {}, &cosserat::StopRequest::new())?;
+    let started = std::time::Instant::now();
+    let mut last_line = started;
+    let mut progress = |info: &cosserat::StepInfo| {
+        if last_line.elapsed() >= PROGRESS_EVERY && info.end > 0.0 {
+            last_line = std::time::Instant::now();
+            let elapsed = started.elapsed().as_secs_f64();
+            let fraction = (info.t / info.end).clamp(1e-9, 1.0);
+            eprintln!(
+                "    t = {:.4} of {} ({:.1} %), {} steps, {:.2} s per step, about {} left",
+                info.t,
+                info.end,
+                100.0 * fraction,
+                info.step,
+                elapsed / info.step.max(1) as f64,
+                duration(elapsed * (1.0 - fraction) / fraction)
+            );
+        }
+    };
+    let summary = sim.run(dir, &mut progress, &cosserat::StopRequest::new())?;
     let probes = ProbeTable::read(&dir.join("probes.csv")).ok();
     Ok(RunResult {
         spec: spec.clone(),
@@ -930,6 +964,101 @@ pub fn execute(spec: &RunSpec, dir: &Path) -> Result<RunResult> {
         frame: last_frame(dir),
         dir: dir.to_path_buf(),
     })
+}
+
+/// How often a long run reports its progress.
+pub const PROGRESS_EVERY: std::time::Duration = std::time::Duration::from_secs(30);
+
+/// A duration in seconds as `1 h 05 min`, `12 min` or `40 s`.
+pub fn duration(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    if s >= 3600 {
+        format!("{} h {:02} min", s / 3600, (s % 3600) / 60)
+    } else if s >= 120 {
+        format!("{} min", s / 60)
+    } else {
+        format!("{s} s")
+    }
+}
+
+/// A planned run: where it writes and what it is expected to take.
+struct Planned {
+    experiment: usize,
+    spec: RunSpec,
+    dir: PathBuf,
+    /// Estimated wall time \[s\] and where the estimate comes from.
+    estimate: Option<(f64, Estimate)>,
+}
+
+/// Where a run's time estimate comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Estimate {
+    /// The wall time of an earlier run of the same row in the output folder.
+    EarlierRun,
+    /// The paper's total time for the row (a 32-core workstation).
+    Paper,
+}
+
+/// The runs of the chosen experiments and rows, each with its estimated time: the wall time of an
+/// earlier complete run of the same row in the output folder, else the paper's total for the row.
+fn plan(o: &Options, experiments: &[Experiment]) -> Vec<Planned> {
+    let mut planned = Vec::new();
+    for (k, exp) in experiments.iter().enumerate() {
+        if o.only.as_ref().is_some_and(|f| !exp.name.contains(f.as_str())) {
+            continue;
+        }
+        for spec in (exp.runs)(o) {
+            if o.row.as_ref().is_some_and(|r| !spec.variant.contains(r.as_str())) {
+                continue;
+            }
+            let dir = o
+                .out
+                .join(exp.name)
+                .join(format!("{}_{}", spec.element, spec.variant.replace(' ', "_")));
+            let earlier = cosserat::io::read_summary(&dir.join("summary.json"))
+                .ok()
+                .filter(|s| s.status == RunStatus::Ok)
+                .map(|s| (s.wall_seconds, Estimate::EarlierRun));
+            let variant = spec.variant.split(" (").next().unwrap_or("");
+            let paper = paper::row(exp.name, variant, &spec.element).map(|p| (p.total_s, Estimate::Paper));
+            planned.push(Planned {
+                experiment: k,
+                estimate: earlier.or(if o.quick { None } else { paper }),
+                spec,
+                dir,
+            });
+        }
+    }
+    planned
+}
+
+/// Prints the plan and its estimated total before anything runs.
+fn announce(planned: &[Planned], experiments: &[Experiment]) {
+    let known: f64 = planned.iter().filter_map(|p| p.estimate.map(|e| e.0)).sum();
+    let from = |kind| planned.iter().filter(|p| p.estimate.is_some_and(|e| e.1 == kind)).count();
+    let unknown = planned.iter().filter(|p| p.estimate.is_none()).count();
+    eprintln!(
+        "{} runs of {} experiments; estimated total {} ({} from earlier runs in the output folder, {} from the paper's Table 1{})",
+        planned.len(),
+        experiments.len(),
+        duration(known),
+        from(Estimate::EarlierRun),
+        from(Estimate::Paper),
+        if unknown > 0 {
+            format!(", {unknown} without an estimate")
+        } else {
+            String::new()
+        }
+    );
+    for p in planned {
+        eprintln!(
+            "  {} {} {}: {}",
+            experiments[p.experiment].name,
+            p.spec.variant,
+            p.spec.element,
+            p.estimate.map_or_else(|| "–".into(), |(t, _)| duration(t))
+        );
+    }
 }
 
 fn machine() -> String {
@@ -1027,28 +1156,40 @@ pub struct Report {
 /// Runs the experiments and makes the report.
 pub fn run_all(o: &Options) -> Result<Report> {
     let started = std::time::Instant::now();
+    let experiments = registry();
+    let planned = plan(o, &experiments);
+    announce(&planned, &experiments);
+    let total_estimate: f64 = planned.iter().filter_map(|p| p.estimate.map(|e| e.0)).sum();
     let mut table = String::new();
     let mut checks = String::new();
     let mut failures = Vec::new();
     let mut all_results = Vec::new();
-    for exp in registry() {
-        if o.only.as_ref().is_some_and(|f| !exp.name.contains(f.as_str())) {
+    let mut estimated_done = 0.0;
+    for (k, exp) in experiments.iter().enumerate() {
+        let runs: Vec<&Planned> = planned.iter().filter(|p| p.experiment == k).collect();
+        if runs.is_empty() {
             continue;
         }
         let mut results = Vec::new();
-        for spec in (exp.runs)(o) {
-            let dir = o
-                .out
-                .join(exp.name)
-                .join(format!("{}_{}", spec.element, spec.variant.replace(' ', "_")));
-            eprintln!("{}: {} {} ...", exp.name, spec.variant, spec.element);
-            match execute(&spec, &dir) {
+        for p in runs {
+            let position = planned.iter().position(|q| std::ptr::eq(q, p)).unwrap_or(0) + 1;
+            eprintln!(
+                "[{position}/{}] {}: {} {} ({} elapsed, about {} left) ...",
+                planned.len(),
+                exp.name,
+                p.spec.variant,
+                p.spec.element,
+                duration(started.elapsed().as_secs_f64()),
+                duration(total_estimate - estimated_done)
+            );
+            estimated_done += p.estimate.map_or(0.0, |e| e.0);
+            match execute(&p.spec, &p.dir) {
                 Ok(res) => {
                     if res.summary.status != RunStatus::Ok {
                         failures.push(format!(
                             "{} {}: {:?} {}",
                             exp.name,
-                            spec.variant,
+                            p.spec.variant,
                             res.summary.status,
                             res.summary.reason.clone().unwrap_or_default()
                         ));
@@ -1064,21 +1205,22 @@ pub fn run_all(o: &Options) -> Result<Report> {
                     results.push(res);
                 }
                 Err(e) => {
-                    failures.push(format!("{} {}: {e:#}", exp.name, spec.variant));
-                    writeln!(table, "| {} | {} **failed: {e}** |", spec.variant, exp.name)?;
+                    failures.push(format!("{} {}: {e:#}", exp.name, p.spec.variant));
+                    writeln!(table, "| {} | {} **failed: {e}** |", p.spec.variant, exp.name)?;
                 }
             }
         }
         if o.render_dir.is_some() {
-            render(o, &exp, &results)?;
+            render(o, exp, &results)?;
         }
         writeln!(checks, "\n### {}\n", exp.title)?;
         let check = (exp.check)(&results);
         for line in check.lines() {
             writeln!(checks, "{line}")?;
         }
-        // A quick run stops early: its expectations are shown but cannot hold yet.
-        if !o.quick {
+        // A quick run stops early, and a single row lacks the rows its checks compare: their
+        // expectations are shown but not enforced.
+        if !o.quick && o.row.is_none() {
             failures.extend(check.failures().iter().map(|f| format!("{}: {f}", exp.name)));
         }
         all_results.push((exp.name, results));

@@ -1,5 +1,6 @@
 //! Sparse symmetric test matrices (seeded), kept as an upper triangle in CSC form with a dense
-//! nalgebra twin for independent reference solutions.
+//! nalgebra twin for independent reference solutions: the fixtures of this crate's tests and of the
+//! solvers built on it (feature `testing`).
 
 use std::collections::BTreeMap;
 
@@ -22,6 +23,7 @@ pub struct PatternBuilder {
 }
 
 impl PatternBuilder {
+    /// An empty `n × n` matrix.
     pub fn new(n: usize) -> Self {
         Self {
             n,
@@ -35,6 +37,7 @@ impl PatternBuilder {
         *self.entries.entry((c, r)).or_insert(0.0) += v;
     }
 
+    /// The matrix with a compact CSC pattern of the added entries (rows sorted).
     pub fn build(self) -> UpperMatrix {
         let mut col_ptr = vec![0usize; self.n + 1];
         let mut row_idx = Vec::with_capacity(self.entries.len());
@@ -55,11 +58,14 @@ impl PatternBuilder {
 /// A symmetric matrix given by its upper triangle.
 #[derive(Debug, Clone)]
 pub struct UpperMatrix {
+    /// The upper triangle's pattern (CSC, sorted rows).
     pub pattern: SymbolicSparseColMat<usize>,
+    /// Its values in pattern order.
     pub values: Vec<f64>,
 }
 
 impl UpperMatrix {
+    /// The dimension.
     pub fn n(&self) -> usize {
         self.pattern.ncols()
     }
@@ -103,6 +109,7 @@ pub fn relative_residual(a: &UpperMatrix, x: &[f64], b: &[f64]) -> f64 {
     r.norm() / DVector::from_column_slice(b).norm()
 }
 
+/// `n` entries uniform in `[-1, 1)`.
 pub fn random_vector(n: usize, rng: &mut ChaCha8Rng) -> Vec<f64> {
     (0..n).map(|_| rng.random_range(-1.0..1.0)).collect()
 }

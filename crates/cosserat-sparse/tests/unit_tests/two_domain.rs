@@ -2,12 +2,12 @@
 //! connected and disconnected block patterns, fixed unknowns, failed pivots named in the caller's
 //! numbering, the fall-back to `L B Lᵀ`, and when `Auto` splits.
 
-use cosserat_solver::{
+use cosserat_sparse::{
     DomainSplit, Factorisation, FillOrdering, LinearSolveError, LinearSolverKind, LinearSolverSettings, SparseSolver,
 };
 use nalgebra::{DMatrix, DVector};
 
-use super::fixtures::{PatternBuilder, UpperMatrix, block_grid, random_vector, relative_residual, rng};
+use cosserat_sparse::testing::{PatternBuilder, UpperMatrix, block_grid, random_vector, relative_residual, rng};
 
 fn settings(kind: LinearSolverKind, domains: DomainSplit) -> LinearSolverSettings {
     LinearSolverSettings {

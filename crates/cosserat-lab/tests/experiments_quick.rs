@@ -5,17 +5,18 @@ use std::path::PathBuf;
 
 #[test]
 fn every_experiment_runs_a_few_steps() {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf();
+    let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
-    let options = xtask::experiments::Options {
+    let options = cosserat_lab::experiments::Options {
         quick: true,
         large: false,
         only: None,
+        row: None,
         meshes: root.join("assets/meshes"),
         out: PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("experiments_quick"),
         render_dir: None,
     };
-    let report = xtask::experiments::run_all(&options).unwrap();
+    let report = cosserat_lab::experiments::run_all(&options).unwrap();
     assert!(report.failures.is_empty(), "{:?}", report.failures);
     for name in [
         "twisting_strip",

@@ -11,8 +11,9 @@
 use crate::plot::{Mark, Plot, Series};
 use crate::problem::Pair;
 use crate::reference::elastica_tip;
-use crate::runner::{RunPoint, Runner, run_point};
+use crate::runner::{Runner, run_described};
 use anyhow::Result;
+use cosserat::RunDescription;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -86,7 +87,7 @@ pub fn run_all(runner: &Runner, out: &Path, images: &Path) -> Result<String> {
         for &r in &H_OVER_L {
             eprintln!("locking: {} {nx}×{ny} h/L = {r:.0e} ...", pair.label());
             let dir = out.join(format!("{}_{nx}x{ny}_{r:.0e}", pair.label().replace('/', "_")));
-            let outcome = run_point(runner, &RunPoint::new(SCENE, &overrides(pair, nx, ny, r)), &dir)?;
+            let outcome = run_described(runner, &RunDescription::new(SCENE, dir, &overrides(pair, nx, ny, r)))?;
             match deflection_ratio(&outcome) {
                 Some(ratio) => {
                     cells.push(format!("{ratio:.4}"));

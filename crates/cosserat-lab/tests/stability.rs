@@ -5,8 +5,8 @@
 //! growth while it is held (backward Euler only dissipates), and with its twisted end where the
 //! boundary condition puts it.
 
-use xtask::runner::Runner;
-use xtask::stability::{CellResult, Settings, corners, run_cell};
+use cosserat_lab::runner::Runner;
+use cosserat_lab::stability::{CellResult, Settings, corners, run_cell};
 
 fn run(name: &str, settings: &Settings) -> CellResult {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("stability").join(name);
@@ -60,7 +60,7 @@ fn ten_full_turns_on_a_coarse_strip() {
     // The matrix's ten-turn row: 10 × 2 quads, one full turn of twist per element length, default
     // settings (no rotational inertia), dt = 0.01 s with step halving. The coarser 4 × 1 corner does
     // not get through the coiling snap (docs/stability.md).
-    let cell = xtask::stability::matrix()
+    let cell = cosserat_lab::stability::matrix()
         .into_iter()
         .find(|c| c.group.starts_with("twist") && c.settings.turns == 10.0)
         .expect("the ten-turn row of the matrix");
@@ -71,10 +71,8 @@ fn ten_full_turns_on_a_coarse_strip() {
 
 #[test]
 fn every_cell_of_the_matrix_and_its_remedy_settings_are_valid_scenes() {
-    let scene = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("..")
-        .join(xtask::stability::BASE_SCENE);
-    for cell in xtask::stability::matrix() {
+    let scene = cosserat_lab::workspace_root().join(cosserat_lab::stability::BASE_SCENE);
+    for cell in cosserat_lab::stability::matrix() {
         let loaded = cosserat::scene::load_scene(&scene, &cell.settings.overrides());
         assert!(loaded.is_ok(), "{} = {}: {:?}", cell.group, cell.label, loaded.err());
     }

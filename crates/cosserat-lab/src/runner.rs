@@ -9,7 +9,9 @@
 
 use crate::postprocess::ProbeTable;
 use anyhow::{Context, Result};
+use cosserat::RunDescription;
 use cosserat::io::{RunStatus, RunSummary, read_summary};
+use cosserat::record::peak_memory_kib;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -34,25 +36,6 @@ impl Runner {
         Ok(Self::Child(
             std::env::current_exe().context("locating the xtask executable")?,
         ))
-    }
-}
-
-/// One scene with its overrides.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunPoint {
-    /// The scene file.
-    pub scene: PathBuf,
-    /// `--set key=value` overrides.
-    pub overrides: Vec<String>,
-}
-
-impl RunPoint {
-    /// A run of `scene` with `overrides`.
-    pub fn new(scene: impl Into<PathBuf>, overrides: &[String]) -> Self {
-        Self {
-            scene: scene.into(),
-            overrides: overrides.to_vec(),
-        }
     }
 }
 
@@ -95,20 +78,22 @@ impl RunOutcome {
     }
 }
 
-/// Runs `point`, writing its outputs into `dir` (cleared first), and reads them back.
+/// Runs `run`, writing its outputs into its `out_dir` (cleared first), and reads them back. A child
+/// runs on the description's threads (one if unset); a run in this process on the caller's pool.
 ///
 /// # Errors
-/// Only if `dir` cannot be prepared or the child cannot be started; failures of the run itself are
-/// reported in the outcome.
-pub fn run_point(runner: &Runner, point: &RunPoint, dir: &Path) -> Result<RunOutcome> {
+/// Only if the output folder cannot be prepared or the child cannot be started; failures of the run
+/// itself are reported in the outcome.
+pub fn run_described(runner: &Runner, run: &RunDescription) -> Result<RunOutcome> {
+    let dir = run.out_dir.as_path();
     if dir.exists() {
         std::fs::remove_dir_all(dir).with_context(|| format!("clearing {}", dir.display()))?;
     }
     std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     let start = Instant::now();
     let (failure, peak_rss_kib) = match runner {
-        Runner::InProcess => (run_in_process(point, dir), None),
-        Runner::Child(exe) => run_child(exe, point, dir)?,
+        Runner::InProcess => (run_in_process(run), None),
+        Runner::Child(exe) => run_child(exe, run)?,
     };
     let outer_seconds = start.elapsed().as_secs_f64();
     let summary = read_summary(&dir.join("summary.json")).ok();
@@ -122,12 +107,12 @@ pub fn run_point(runner: &Runner, point: &RunPoint, dir: &Path) -> Result<RunOut
     })
 }
 
-fn run_in_process(point: &RunPoint, dir: &Path) -> Option<String> {
+fn run_in_process(run: &RunDescription) -> Option<String> {
     let result = catch_unwind(AssertUnwindSafe(|| -> Result<()> {
-        let scene = cosserat::scene::load_scene(&point.scene, &point.overrides)
-            .with_context(|| format!("loading {}", point.scene.display()))?;
+        let scene = cosserat::scene::load_scene(&run.scene, &run.overrides)
+            .with_context(|| format!("loading {}", run.scene.display()))?;
         let mut sim = cosserat::Simulation::new(scene).context("setting up the simulation")?;
-        sim.run(dir, &mut |_| {}, &cosserat::StopRequest::new())?;
+        sim.run(&run.out_dir, &mut |_| {}, &cosserat::StopRequest::new())?;
         Ok(())
     }));
     match result {
@@ -145,16 +130,16 @@ fn panic_message(panic: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic payload".into())
 }
 
-fn run_child(exe: &Path, point: &RunPoint, dir: &Path) -> Result<(Option<String>, Option<u64>)> {
-    let mut cmd = Command::new(exe);
-    cmd.arg("measure-run")
-        .arg(&point.scene)
-        .arg("--out")
-        .arg(dir)
-        .args(["--threads", "1", "--quiet"]);
-    for ov in &point.overrides {
-        cmd.arg("--set").arg(ov);
+fn run_child(exe: &Path, run: &RunDescription) -> Result<(Option<String>, Option<u64>)> {
+    let dir = run.out_dir.as_path();
+    let mut args = run.cli_args();
+    // The hidden `measure-run` takes the arguments of `run`.
+    args[0] = "measure-run".into();
+    if run.threads.is_none() {
+        args.extend(["--threads".into(), "1".into()]);
     }
+    let mut cmd = Command::new(exe);
+    cmd.args(&args).arg("--quiet");
     let output = cmd.output().with_context(|| format!("starting {}", exe.display()))?;
     let stdout = String::from_utf8_lossy(&output.stdout);
     let peak = stdout
@@ -171,15 +156,6 @@ fn run_child(exe: &Path, point: &RunPoint, dir: &Path) -> Result<(Option<String>
     Ok((failure, peak))
 }
 
-/// Peak resident set size of this process \[KiB\] (`VmHWM` of `/proc/self/status`), if available.
-pub fn peak_rss_kib() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    status
-        .lines()
-        .find_map(|l| l.strip_prefix("VmHWM:"))
-        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
-}
-
 /// The hidden `measure-run` command: runs a scene like `cargo xtask run` and returns its exit code
 /// with the peak memory of this process \[KiB\], which the binary prints as `peak_rss_kib=N`.
 ///
@@ -187,7 +163,7 @@ pub fn peak_rss_kib() -> Option<u64> {
 /// As [`cosserat::cli::run_scene`].
 pub fn measure_run(args: &cosserat::cli::RunArgs) -> Result<(i32, Option<u64>)> {
     let code = cosserat::cli::run_scene(args)?;
-    Ok((code, peak_rss_kib()))
+    Ok((code, peak_memory_kib()))
 }
 
 #[cfg(test)]
@@ -197,7 +173,7 @@ mod tests {
     #[test]
     fn this_process_reports_a_positive_peak_memory() {
         // Linux-only field; the workspace runs on Linux.
-        let kib = peak_rss_kib().expect("VmHWM in /proc/self/status");
+        let kib = peak_memory_kib().expect("VmHWM in /proc/self/status");
         assert!(kib > 100, "implausible peak memory {kib} KiB");
     }
 }

@@ -7,8 +7,9 @@
 
 use crate::plot::{Mark, Plot, Series};
 use crate::problem::{Errors, LevelTable, Pair, Problem, compare, registry};
-use crate::runner::{RunOutcome, RunPoint, Runner, run_point};
+use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
+use cosserat::RunDescription;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -66,7 +67,7 @@ pub fn run_problem(problem: &Problem, o: &Options, extra: &[String]) -> Result<V
                 .join(problem.name)
                 .join(format!("{}_{}", pair.label().replace('/', "_"), mesh.label));
             eprintln!("{}: {} {} ...", problem.name, pair.label(), mesh.label);
-            let outcome = run_point(&o.runner, &RunPoint::new(problem.scene, &ov), &dir)?;
+            let outcome = run_described(&o.runner, &RunDescription::new(problem.scene, dir, &ov))?;
             let compared = outcome
                 .probes
                 .as_ref()

@@ -332,10 +332,9 @@ pub fn compare(problem: &Problem, probes: &ProbeTable, against_second: bool) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::path::Path;
 
-    fn root() -> &'static Path {
-        Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("workspace root")
+    fn root() -> std::path::PathBuf {
+        crate::workspace_root()
     }
 
     #[test]

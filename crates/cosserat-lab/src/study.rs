@@ -11,8 +11,9 @@
 
 use crate::plot::{Mark, Plot, Series};
 use crate::problem::{Pair, Problem, compare, registry};
-use crate::runner::{RunOutcome, RunPoint, Runner, run_point};
+use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::{Result, bail};
+use cosserat::RunDescription;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -34,6 +35,10 @@ pub struct StudyArgs {
     /// Only reassemble docs/speed-accuracy.md from the saved sections of earlier runs.
     #[arg(long)]
     pub assemble: bool,
+    /// Write the chosen targets' runs as a JSON list of run descriptions to this file and stop (the
+    /// Python package's `cosserat.sweep.load_descriptions` reads it, e.g. to run the study on a Dask cluster).
+    #[arg(long, value_name = "FILE")]
+    pub emit_runs: Option<PathBuf>,
 }
 
 /// A ladder of meshes: `(label, overrides, element length h)` per mesh.
@@ -176,12 +181,29 @@ pub fn pareto_front(points: &[(f64, f64)]) -> Vec<usize> {
     front
 }
 
-fn run_target(target: &Target, runner: &Runner, out: &Path, quick: bool) -> Result<TargetRuns> {
+/// One planned run of a study target: its description and where it sits in the ladders.
+#[derive(Debug, Clone)]
+pub struct PlannedRun {
+    /// The run (scene, overrides, output folder; labelled `target model pair mesh`).
+    pub run: RunDescription,
+    /// The element pair.
+    pub pair: Pair,
+    /// `shell` or `plate`.
+    pub model: &'static str,
+    /// The mesh's label in its ladder.
+    pub mesh: String,
+    /// The element length.
+    pub h: f64,
+}
+
+/// The runs of a target's ladders (every pair, both models where the problem is curved), with their
+/// outputs under `out`.
+pub fn planned_runs(target: &Target, out: &Path, quick: bool) -> Vec<PlannedRun> {
     let models: &[&'static str] = match target {
         Target::Validation(p) if p.curved => &["shell", "plate"],
         _ => &["plate"],
     };
-    let mut runs = Vec::new();
+    let mut planned = Vec::new();
     for &model in models {
         for pair in Pair::ALL {
             let (scene, ladder): (&str, Ladder) = match target {
@@ -200,34 +222,48 @@ fn run_target(target: &Target, runner: &Runner, out: &Path, quick: bool) -> Resu
                 let dir = out
                     .join(target.name())
                     .join(format!("{model}_{}_{label}", pair.label().replace('/', "_")));
-                eprintln!("{}: {model} {} {label} ...", target.name(), pair.label());
-                let outcome = run_point(runner, &RunPoint::new(scene, &ov), &dir)?;
-                let (quantity, error) = match target {
-                    Target::Validation(p) => match outcome.probes.as_ref().filter(|_| outcome.is_ok()) {
-                        Some(probes) => match compare(p, probes, p.study_against_second) {
-                            Ok((e, t)) => (t.last().map(|l| l.1[0].0), Some(e.max())),
-                            Err(_) => (None, None),
-                        },
-                        None => (None, None),
-                    },
-                    Target::Experiment { quantity, .. } => {
-                        (if outcome.is_ok() { quantity(&outcome) } else { None }, None)
-                    }
-                };
-                if !outcome.is_ok() {
-                    eprintln!("  failed: {}", outcome.reason());
-                }
-                runs.push(StudyRun {
+                let mut run = RunDescription::new(scene, dir, &ov);
+                run.label = format!("{} {model} {} {label}", target.name(), pair.label());
+                planned.push(PlannedRun {
+                    run,
                     pair,
                     model,
                     mesh: label,
                     h,
-                    outcome,
-                    quantity,
-                    error,
                 });
             }
         }
+    }
+    planned
+}
+
+fn run_target(target: &Target, runner: &Runner, out: &Path, quick: bool) -> Result<TargetRuns> {
+    let mut runs = Vec::new();
+    for planned in planned_runs(target, out, quick) {
+        eprintln!("{} ...", planned.run.label);
+        let outcome = run_described(runner, &planned.run)?;
+        let (quantity, error) = match target {
+            Target::Validation(p) => match outcome.probes.as_ref().filter(|_| outcome.is_ok()) {
+                Some(probes) => match compare(p, probes, p.study_against_second) {
+                    Ok((e, t)) => (t.last().map(|l| l.1[0].0), Some(e.max())),
+                    Err(_) => (None, None),
+                },
+                None => (None, None),
+            },
+            Target::Experiment { quantity, .. } => (if outcome.is_ok() { quantity(&outcome) } else { None }, None),
+        };
+        if !outcome.is_ok() {
+            eprintln!("  failed: {}", outcome.reason());
+        }
+        runs.push(StudyRun {
+            pair: planned.pair,
+            model: planned.model,
+            mesh: planned.mesh,
+            h: planned.h,
+            outcome,
+            quantity,
+            error,
+        });
     }
     let mut extrapolated = None;
     if let Target::Experiment { .. } = target {
@@ -512,6 +548,17 @@ pub fn run(args: &StudyArgs) -> Result<i32> {
     };
     if chosen.is_empty() && !args.assemble {
         bail!("name a study target or pass --all (see `cargo xtask study --list`)");
+    }
+    if let Some(path) = &args.emit_runs {
+        let out = PathBuf::from(if args.quick { "out/study_quick" } else { "out/study" });
+        let runs: Vec<RunDescription> = chosen
+            .iter()
+            .flat_map(|t| planned_runs(t, &out, args.quick))
+            .map(|p| p.run)
+            .collect();
+        cosserat::run_description::write_runs(path, &runs)?;
+        eprintln!("wrote {} run descriptions to {}", runs.len(), path.display());
+        return Ok(0);
     }
     let runner = Runner::current_exe()?;
     let (out, sections, images) = if args.quick {

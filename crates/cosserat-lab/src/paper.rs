@@ -741,7 +741,7 @@ pub const TABLE1: &[PaperRow] = &[
         22.3,
         71.1
     ),
-    // The paper reports an average time step of 9.9 ms for this adaptive run.
+    // The paper's dt for this adaptive run is its reported average time step.
     row!(
         "papyrus_scroll",
         "-",

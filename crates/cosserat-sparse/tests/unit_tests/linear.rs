@@ -1,13 +1,13 @@
 //! Sparse symmetric solvers: accuracy on SPD and indefinite matrices against dense references,
 //! symbolic reuse, elimination of fixed unknowns, error reporting and factor statistics.
 
-use cosserat_solver::{
+use cosserat_sparse::{
     Factorisation, FillOrdering, LinearSolveError, LinearSolverKind, LinearSolverSettings, SparseSolver,
 };
 use faer::sparse::SymbolicSparseColMat;
 use nalgebra::{DMatrix, DVector};
 
-use super::fixtures::{
+use cosserat_sparse::testing::{
     PatternBuilder, UpperMatrix, block_grid, laplacian_2d, random_vector, relative_residual, rng, saddle_point,
 };
 

@@ -2,8 +2,10 @@
 //! boundary loops, the rim of a buckled disk). Pure geometry on written results: no physics.
 
 use anyhow::{Context, Result, bail};
+use cosserat::fem::mesh::{Topology, Tri3Mesh};
+use cosserat::geometry::measure;
 use cosserat::io::VtuFrame;
-use std::collections::HashMap;
+use nalgebra::{Vector2, Vector3};
 use std::path::Path;
 
 /// The contents of a `probes.csv`.
@@ -75,57 +77,28 @@ impl ProbeTable {
 /// Least-squares circle (Kåsa fit) through points projected on the plane of two coordinates `(a, b)`:
 /// returns `(centre_a, centre_b, radius, rms residual)`.
 pub fn fit_circle(points: &[[f64; 3]], a: usize, b: usize) -> Result<(f64, f64, f64, f64)> {
-    if points.len() < 3 {
-        bail!("a circle fit needs at least 3 points");
-    }
-    // Solve [x y 1] [D E F]ᵀ = −(x² + y²) in the least-squares sense.
-    let mut ata = nalgebra::Matrix3::<f64>::zeros();
-    let mut atb = nalgebra::Vector3::<f64>::zeros();
-    for p in points {
-        let row = nalgebra::Vector3::new(p[a], p[b], 1.0);
-        ata += row * row.transpose();
-        atb += row * -(p[a] * p[a] + p[b] * p[b]);
-    }
-    let sol = ata.lu().solve(&atb).context("degenerate circle fit")?;
-    let (ca, cb) = (-0.5 * sol[0], -0.5 * sol[1]);
-    let r = (ca * ca + cb * cb - sol[2]).sqrt();
-    let rms =
-        (points.iter().map(|p| ((p[a] - ca).hypot(p[b] - cb) - r).powi(2)).sum::<f64>() / points.len() as f64).sqrt();
-    Ok((ca, cb, r, rms))
+    let plane: Vec<Vector2<f64>> = points.iter().map(|p| Vector2::new(p[a], p[b])).collect();
+    let (centre, r) = measure::fit_circle(&plane).context("a circle fit needs three points off a line")?;
+    let rms = (plane.iter().map(|p| ((p - centre).norm() - r).powi(2)).sum::<f64>() / plane.len() as f64).sqrt();
+    Ok((centre.x, centre.y, r, rms))
 }
 
-/// Number of boundary loops of a triangle surface (edges used by exactly one triangle, chained).
-pub fn boundary_loops(triangles: &[[usize; 3]]) -> usize {
-    let mut count: HashMap<(usize, usize), usize> = HashMap::new();
-    for t in triangles {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            *count.entry((a.min(b), a.max(b))).or_default() += 1;
-        }
-    }
-    let boundary: Vec<(usize, usize)> = count.into_iter().filter(|&(_, n)| n == 1).map(|(e, _)| e).collect();
-    let mut adjacency: HashMap<usize, Vec<usize>> = HashMap::new();
-    for &(a, b) in &boundary {
-        adjacency.entry(a).or_default().push(b);
-        adjacency.entry(b).or_default().push(a);
-    }
-    // Connected components of the boundary graph.
-    let mut seen: HashMap<usize, bool> = HashMap::new();
-    let mut loops = 0;
-    for &start in adjacency.keys() {
-        if seen.contains_key(&start) {
-            continue;
-        }
-        loops += 1;
-        let mut stack = vec![start];
-        while let Some(v) = stack.pop() {
-            if seen.insert(v, true).is_some() {
-                continue;
-            }
-            stack.extend(adjacency[&v].iter().filter(|w| !seen.contains_key(w)));
-        }
-    }
-    loops
+/// Number of boundary loops of a triangle surface (a written frame's triangles).
+pub fn boundary_loops(points: &[[f64; 3]], triangles: &[[usize; 3]]) -> Result<usize> {
+    let mesh = Tri3Mesh {
+        nodes: vectors(points),
+        elements: triangles.to_vec(),
+    };
+    Ok(Topology::new(&mesh).boundary_loops()?.len())
+}
+
+/// Symmetric Hausdorff distance between the point sets of two frames (brute force; small meshes).
+pub fn hausdorff(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    measure::hausdorff_distance(&vectors(a), &vectors(b))
+}
+
+fn vectors(points: &[[f64; 3]]) -> Vec<Vector3<f64>> {
+    points.iter().map(|p| Vector3::from(*p)).collect()
 }
 
 /// Rest positions of a frame's points (`x − displacement`).
@@ -193,20 +166,6 @@ pub fn rim_shape(frame: &VtuFrame, r: f64) -> Result<RimShape> {
     })
 }
 
-/// Symmetric Hausdorff distance between the point sets of two frames (brute force; small meshes).
-pub fn hausdorff(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
-    let one_way = |p: &[[f64; 3]], q: &[[f64; 3]]| {
-        p.iter()
-            .map(|x| {
-                q.iter()
-                    .map(|y| ((x[0] - y[0]).powi(2) + (x[1] - y[1]).powi(2) + (x[2] - y[2]).powi(2)).sqrt())
-                    .fold(f64::INFINITY, f64::min)
-            })
-            .fold(0.0, f64::max)
-    };
-    one_way(a, b).max(one_way(b, a))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -265,7 +224,8 @@ mod tests {
     #[test]
     fn boundary_loops_of_a_strip_and_an_annulus() {
         // Two triangles forming a square: one loop.
-        assert_eq!(boundary_loops(&[[0, 1, 2], [0, 2, 3]]), 1);
+        let square = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]];
+        assert_eq!(boundary_loops(&square, &[[0, 1, 2], [0, 2, 3]]).unwrap(), 1);
         // A ring of 8 triangles around a square hole: two loops.
         let ring = [
             [0, 1, 5],
@@ -277,6 +237,9 @@ mod tests {
             [3, 0, 4],
             [3, 4, 7],
         ];
-        assert_eq!(boundary_loops(&ring), 2);
+        let outer = [[0.0, 0.0], [3.0, 0.0], [3.0, 3.0], [0.0, 3.0]];
+        let inner = [[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0]];
+        let points: Vec<[f64; 3]> = outer.iter().chain(&inner).map(|p| [p[0], p[1], 0.0]).collect();
+        assert_eq!(boundary_loops(&points, &ring).unwrap(), 2);
     }
 }

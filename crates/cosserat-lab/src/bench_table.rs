@@ -8,13 +8,13 @@
 //! several rounds, one case after the other in each, and each case reports the run with its median
 //! time per step (all columns of a row come from that one run).
 
+use crate::plot::{Mark, Plot, Series};
 use anyhow::{Context, Result, bail};
 use cosserat::io::{RunStatus, read_summary};
 use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
-use xtask::plot::{Mark, Plot, Series};
 
 /// One benchmark case.
 struct Case {
@@ -28,6 +28,9 @@ struct Case {
     note: &'static str,
     /// Threads of the child process (`RAYON_NUM_THREADS`); `None` uses all cores.
     threads: Option<usize>,
+    /// The paper's Table 1 row (scene, variant) of a contact scene: its Newton iterations and ms per
+    /// step stand beside ours in the contact table.
+    contact_row: Option<(&'static str, &'static str)>,
 }
 
 fn plate(
@@ -56,6 +59,22 @@ fn plate(
         paper_ms,
         note,
         threads: None,
+        contact_row: None,
+    }
+}
+
+/// A contact scene of the paper, run in full from its scene file (frames off; meshes from the scene).
+fn contact_case(name: &'static str, scene: &'static str, row: (&'static str, &'static str)) -> Case {
+    let paper = crate::paper::row(row.0, row.1, "tri6");
+    Case {
+        name,
+        scene,
+        overrides: vec!["output.frames=false".into()],
+        reference: None,
+        paper_ms: paper.map(|p| p.step_ms),
+        note: "",
+        threads: None,
+        contact_row: Some(row),
     }
 }
 
@@ -104,6 +123,7 @@ fn cases(large: bool) -> Vec<Case> {
             paper_ms: Some(78.0),
             note: "",
             threads: None,
+            contact_row: None,
         },
         Case {
             name: "cylinder_coiling tri3 16x4",
@@ -113,6 +133,7 @@ fn cases(large: bool) -> Vec<Case> {
             paper_ms: Some(10.0),
             note: "",
             threads: None,
+            contact_row: None,
         },
         Case {
             name: "cylinder_coiling tri6 16x4",
@@ -122,11 +143,24 @@ fn cases(large: bool) -> Vec<Case> {
             paper_ms: Some(25.0),
             note: "",
             threads: None,
+            contact_row: None,
         },
     ];
     c.extend([
         single_threaded(plate("tri6", 8, None, None, None, "")),
         single_threaded(plate("tri6", 16, None, None, None, "")),
+        contact_case(
+            "dumpling plate model",
+            "scenes/dumpling_plate.toml",
+            ("dumpling", "plate model"),
+        ),
+        contact_case(
+            "dumpling shell model",
+            "scenes/dumpling_shell.toml",
+            ("dumpling", "shell model"),
+        ),
+        contact_case("papyrus_scroll", "scenes/papyrus_scroll.toml", ("papyrus_scroll", "-")),
+        contact_case("bunny h = 10 mm", "scenes/bunny.toml", ("bunny", "h = 10 mm")),
     ]);
     if large {
         c.push(plate(
@@ -159,6 +193,21 @@ struct Row {
     factor_gflops_per_s: Option<f64>,
     peak_memory_mb: Option<f64>,
     note: String,
+    /// Contact scenes: the paper's Newton iterations per step and where the contact time goes.
+    contact: Option<ContactRow>,
+}
+
+/// The contact columns of a row.
+#[derive(Debug, Serialize)]
+struct ContactRow {
+    paper_newton_iterations: Option<f64>,
+    /// Shares of the steps' time: all of contact, broad phases, CCD, pair energies and derivatives.
+    share: f64,
+    broad_phase_share: f64,
+    ccd_share: f64,
+    pair_share: f64,
+    mean_active_pairs: f64,
+    min_gap_mm: Option<f64>,
 }
 
 fn cosserat_binary() -> Result<PathBuf> {
@@ -203,7 +252,58 @@ fn run_case(bin: &Path, case: &Case, out: &Path) -> Result<Row> {
         factor_gflops_per_s: s.linear_solver.factor.as_ref().and_then(|f| f.gflops_per_s),
         peak_memory_mb: s.peak_memory_mb,
         note: case.note.into(),
+        contact: case
+            .contact_row
+            .zip(s.contact.as_ref())
+            .map(|((scene, variant), c)| ContactRow {
+                paper_newton_iterations: crate::paper::row(scene, variant, "tri6").map(|p| p.iterations),
+                share: c.share_of_step,
+                broad_phase_share: c.broad_phase_share,
+                ccd_share: c.ccd_share,
+                pair_share: c.energy_share,
+                mean_active_pairs: c.mean_active_pairs,
+                min_gap_mm: c.min_gap.map(|g| 1e3 * g),
+            }),
     })
+}
+
+/// The contact scenes: time per step and Newton iterations beside the paper's, and where the contact
+/// time goes.
+fn contact_section(md: &mut String, rows: &[Row]) -> Result<()> {
+    let contact: Vec<(&Row, &ContactRow)> = rows.iter().filter_map(|r| r.contact.as_ref().map(|c| (r, c))).collect();
+    if contact.is_empty() {
+        return Ok(());
+    }
+    writeln!(md, "\n## Contact scenes\n")?;
+    writeln!(
+        md,
+        "Whole runs of the paper's contact scenes (frames off). *Contact* is the share of the steps' time spent in contact, split into broad phases (bounding-volume hierarchies and candidate pairs), continuous collision detection (the step bound of every line search) and the pair terms (barrier and friction energies with their derivatives).\n"
+    )?;
+    writeln!(
+        md,
+        "| case | DOFs | ms/step | paper ms/step | Newton it. | paper it. | contact | broad phase | CCD | pair terms | active pairs (mean) | smallest gap |"
+    )?;
+    writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    let pct = |v: f64| format!("{:.0} %", 100.0 * v);
+    for (r, c) in contact {
+        writeln!(
+            md,
+            "| {} | {} | {:.1} | {} | {:.2} | {} | {} | {} | {} | {} | {:.0} | {} |",
+            r.case,
+            r.dofs,
+            r.ms_per_step,
+            r.paper_ms_per_step.map_or("–".into(), |x| format!("{x:.0}")),
+            r.newton_iterations,
+            c.paper_newton_iterations.map_or("–".into(), |x| format!("{x:.1}")),
+            pct(c.share),
+            pct(c.broad_phase_share),
+            pct(c.ccd_share),
+            pct(c.pair_share),
+            c.mean_active_pairs,
+            c.min_gap_mm.map_or("–".into(), |g| format!("{g:.3} mm")),
+        )?;
+    }
+    Ok(())
 }
 
 /// Dense matrix product rate of faer on this machine (GFLOP/s, all threads), the reference for the
@@ -287,7 +387,7 @@ pub fn run(large: bool, rounds: usize) -> Result<()> {
     )?;
     writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
     let opt = |v: Option<f64>, p: usize| v.map_or("–".to_string(), |x| format!("{x:.p$}"));
-    for r in rows.iter().filter(|r| r.threads == cores) {
+    for r in rows.iter().filter(|r| r.threads == cores && r.contact.is_none()) {
         writeln!(
             md,
             "| {}{} | {} | {:.1} | {} | {} | {:.2} | {} | {} | {:.0} % | {:.0} % | {} | {} |",
@@ -310,6 +410,7 @@ pub fn run(large: bool, rounds: usize) -> Result<()> {
             r.peak_memory_mb.map_or("–".into(), |m| format!("{m:.0} MB")),
         )?;
     }
+    contact_section(&mut md, &rows)?;
     scaling_section(&mut md, &rows, cores)?;
     threads_section(&mut md, &rows, cores)?;
     std::fs::write("docs/performance.json", serde_json::to_string_pretty(&rows)?)?;
@@ -471,6 +572,7 @@ mod tests {
             factor_gflops_per_s: None,
             peak_memory_mb: None,
             note: String::new(),
+            contact: None,
         }
     }
 
