@@ -1,10 +1,10 @@
 //! Small systems for the tests.
 
+use cosserat_assembly::IncrementalPotential;
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
-use cosserat_assembly::IncrementalPotential;
 use nalgebra::{DMatrix, Vector3};
 
 pub fn strip(pair: ElementPair, nx: usize, ny: usize, model: ShellModel, dynamic: bool) -> System {
