@@ -329,6 +329,12 @@ impl IncrementalPotential {
     }
 
     /// Rebuilds the dynamic terms' pattern and its merge map (only if dynamic terms exist).
+    /// Rebuilds the dynamic terms' pattern from their couplings now (a run resumed from a checkpoint
+    /// restores the contact couplings of the run so far, which no step has announced).
+    pub fn rebuild_dynamic_pattern(&mut self) {
+        self.rebuild_dynamic();
+    }
+
     fn rebuild_dynamic(&mut self) {
         if !self.has_dynamic_terms() {
             self.dynamic = None;

@@ -80,6 +80,45 @@ fn map_collect<T: Send>(
     parts.into_iter().flatten().collect()
 }
 
+/// Swept, inflated boxes of every point, triangle and edge of a [`ContactMesh`] over one motion.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct PrimitiveBoxes {
+    pub points: Vec<Aabb>,
+    pub triangles: Vec<Aabb>,
+    pub edges: Vec<Aabb>,
+}
+
+impl PrimitiveBoxes {
+    /// The boxes of every primitive moving linearly from `start` to `end`, each inflated by
+    /// `inflation(thickness)` of its body.
+    pub fn new(
+        mesh: &ContactMesh,
+        start: &[Vector3<f64>],
+        end: &[Vector3<f64>],
+        inflation: impl Fn(f64) -> f64,
+    ) -> Self {
+        let bodies = mesh.bodies();
+        let r = |body: usize| inflation(bodies[body].thickness);
+        Self {
+            points: (0..mesh.n_vertices())
+                .map(|v| swept_box(&[v as u32], start, end, r(mesh.vertex_body(v))))
+                .collect(),
+            triangles: mesh
+                .triangles()
+                .iter()
+                .enumerate()
+                .map(|(t, tri)| swept_box(tri, start, end, r(mesh.triangle_body(t))))
+                .collect(),
+            edges: mesh
+                .edges()
+                .iter()
+                .enumerate()
+                .map(|(e, edge)| swept_box(edge, start, end, r(mesh.edge_body(e))))
+                .collect(),
+        }
+    }
+}
+
 /// All pairs of `mesh` that can get within their thickness sum plus `reach` \[m\] while each contact
 /// vertex moves linearly from `start` to `end`.
 ///
@@ -95,29 +134,31 @@ pub fn candidate_pairs(
 ) -> CandidatePairs {
     assert_eq!(start.len(), mesh.n_vertices(), "one start position per contact vertex");
     assert_eq!(end.len(), mesh.n_vertices(), "one end position per contact vertex");
-    let bodies = mesh.bodies();
-    let inflation = |body: usize| bodies[body].thickness + 0.5 * reach;
-    let tri_boxes: Vec<Aabb> = mesh
-        .triangles()
-        .iter()
-        .enumerate()
-        .map(|(t, tri)| swept_box(tri, start, end, inflation(mesh.triangle_body(t))))
-        .collect();
-    let edge_boxes: Vec<Aabb> = mesh
-        .edges()
-        .iter()
-        .enumerate()
-        .map(|(e, edge)| swept_box(edge, start, end, inflation(mesh.edge_body(e))))
-        .collect();
+    let boxes = PrimitiveBoxes::new(mesh, start, end, |thickness| thickness + 0.5 * reach);
     let (tri_bvh, edge_bvh) = match par {
-        Parallelism::Sequential => (Bvh::build(tri_boxes), Bvh::build(edge_boxes.clone())),
-        Parallelism::Rayon => rayon::join(|| Bvh::build(tri_boxes), || Bvh::build(edge_boxes.clone())),
+        Parallelism::Sequential => (Bvh::build(boxes.triangles.clone()), Bvh::build(boxes.edges.clone())),
+        Parallelism::Rayon => rayon::join(
+            || Bvh::build(boxes.triangles.clone()),
+            || Bvh::build(boxes.edges.clone()),
+        ),
     };
+    overlapping_pairs(mesh, &tri_bvh, &edge_bvh, &boxes, par)
+}
+
+/// The pairs whose boxes overlap: every point's box queried in `triangles` (a hierarchy over
+/// `boxes.triangles`) and every edge's box in `edges` (over `boxes.edges`), without the excluded pairs.
+pub(crate) fn overlapping_pairs(
+    mesh: &ContactMesh,
+    triangles: &Bvh,
+    edges: &Bvh,
+    boxes: &PrimitiveBoxes,
+    par: Parallelism,
+) -> CandidatePairs {
+    let bodies = mesh.bodies();
     let point_triangle = map_collect(mesh.n_vertices(), par, |v, buffers, out| {
         let body = mesh.vertex_body(v);
-        let b = swept_box(&[v as u32], start, end, inflation(body));
         buffers.hits.clear();
-        tri_bvh.query_with(&b, &mut buffers.hits, &mut buffers.stack);
+        triangles.query_with(&boxes.points[v], &mut buffers.hits, &mut buffers.stack);
         let obstacle = bodies[body].is_obstacle;
         out.extend(
             buffers
@@ -135,7 +176,7 @@ pub fn candidate_pairs(
         let ea = mesh.edges()[e];
         let obstacle = bodies[mesh.edge_body(e)].is_obstacle;
         buffers.hits.clear();
-        edge_bvh.query_with(&edge_boxes[e], &mut buffers.hits, &mut buffers.stack);
+        edges.query_with(&boxes.edges[e], &mut buffers.hits, &mut buffers.stack);
         out.extend(
             buffers
                 .hits

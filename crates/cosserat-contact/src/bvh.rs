@@ -61,6 +61,12 @@ impl Aabb {
         (0..3).all(|k| self.min[k] <= other.max[k] && other.min[k] <= self.max[k])
     }
 
+    /// The surface area (0 for the empty box).
+    pub fn surface_area(&self) -> f64 {
+        let e = (self.max - self.min).map(|c| c.max(0.0));
+        2.0 * (e.x * e.y + e.y * e.z + e.z * e.x)
+    }
+
     fn centroid(&self) -> Vector3<f64> {
         (self.min + self.max) * 0.5
     }
@@ -95,6 +101,47 @@ impl Bvh {
             build_node(&boxes, &centroids, &mut items, 0, &mut nodes);
         }
         Self { nodes, items, boxes }
+    }
+
+    /// Replaces the boxes by `boxes` (one per box of the build, same indices) and recomputes every
+    /// node's bounds bottom-up, keeping the tree's topology. Queries stay exact (every node bounds its
+    /// subtree); only their cost grows if the boxes moved far from where the tree was built, which
+    /// [`Bvh::surface_area`] measures.
+    ///
+    /// # Panics
+    /// If `boxes` does not have one box per box of the build (programmer error).
+    #[track_caller]
+    pub fn refit(&mut self, boxes: Vec<Aabb>) {
+        assert_eq!(
+            boxes.len(),
+            self.boxes.len(),
+            "refit needs one box per box of the build"
+        );
+        self.boxes = boxes;
+        // Nodes are stored in pre-order, so every child comes after its parent.
+        for n in (0..self.nodes.len()).rev() {
+            let node = self.nodes[n];
+            let aabb = if node.leaf {
+                self.items[node.start as usize..node.end as usize]
+                    .iter()
+                    .fold(Aabb::empty(), |acc, &i| acc.union(&self.boxes[i as usize]))
+            } else {
+                self.nodes[node.start as usize].aabb.union(&self.nodes[node.end as usize].aabb)
+            };
+            self.nodes[n].aabb = aabb;
+        }
+    }
+
+    /// The bounds of all boxes (the empty box if there are none).
+    pub fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or(Aabb::empty(), |n| n.aabb)
+    }
+
+    /// The sum of the surface areas of the nodes' boxes: proportional to the expected cost of a query
+    /// (the surface-area heuristic), so a refitted tree whose sum grew far beyond that of a fresh build
+    /// is worth rebuilding.
+    pub fn surface_area(&self) -> f64 {
+        self.nodes.iter().map(|n| n.aabb.surface_area()).sum()
     }
 
     /// Number of boxes.
@@ -213,5 +260,64 @@ mod tests {
             let expected: Vec<u32> = (0..boxes.len() as u32).filter(|&i| boxes[i as usize].overlaps(&q)).collect();
             assert_eq!(found, expected);
         }
+    }
+
+    fn random_boxes(rng: &mut ChaCha8Rng, n: usize) -> Vec<Aabb> {
+        (0..n)
+            .map(|_| {
+                let c = Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0));
+                let h = Vector3::from_fn(|_, _| rng.random_range(0.0..0.1));
+                Aabb { min: c - h, max: c + h }
+            })
+            .collect()
+    }
+
+    /// Every node's box after a refit is the union of the boxes below it, as a build over the same
+    /// topology computes it: checked against the union of the leaf boxes, and queries against a scan.
+    #[test]
+    fn refit_bounds_equal_rebuilt_bounds() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        let before = random_boxes(&mut rng, 257);
+        // Move every box far (the tree was built for other places) and change its size.
+        let after: Vec<Aabb> = before
+            .iter()
+            .map(|b| {
+                let shift = Vector3::from_fn(|_, _| rng.random_range(-0.5..0.5));
+                Aabb {
+                    min: b.min + shift,
+                    max: b.max + shift + Vector3::repeat(rng.random_range(0.0..0.05)),
+                }
+            })
+            .collect();
+        let mut refitted = Bvh::build(before);
+        refitted.refit(after.clone());
+        let rebuilt = Bvh::build(after.clone());
+        assert_eq!(refitted.bounds(), rebuilt.bounds());
+        let all = after.iter().fold(Aabb::empty(), |acc, b| acc.union(b));
+        assert_eq!(refitted.bounds(), all);
+        for node in &refitted.nodes {
+            let below = subtree_items(&refitted, node)
+                .iter()
+                .fold(Aabb::empty(), |acc, &i| acc.union(&after[i as usize]));
+            assert_eq!(node.aabb, below);
+        }
+        for q in after.iter().take(60) {
+            let q = q.inflated(0.05);
+            let (mut a, mut b) = (Vec::new(), Vec::new());
+            refitted.query(&q, &mut a);
+            rebuilt.query(&q, &mut b);
+            let expected: Vec<u32> = (0..after.len() as u32).filter(|&i| after[i as usize].overlaps(&q)).collect();
+            assert_eq!(a, expected);
+            assert_eq!(b, expected);
+        }
+    }
+
+    fn subtree_items(bvh: &Bvh, node: &Node) -> Vec<u32> {
+        if node.leaf {
+            return bvh.items[node.start as usize..node.end as usize].to_vec();
+        }
+        let mut out = subtree_items(bvh, &bvh.nodes[node.start as usize]);
+        out.extend(subtree_items(bvh, &bvh.nodes[node.end as usize]));
+        out
     }
 }

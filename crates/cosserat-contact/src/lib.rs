@@ -15,7 +15,8 @@
 //! - [`distance`]: point–triangle and edge–edge squared distances with closest-feature classification
 //!   and exact derivatives; [`barrier`], [`mollifier`], [`friction`]: the scalar functions;
 //! - [`ccd`]: additive continuous collision detection with a minimum gap;
-//! - [`broad_phase`]: swept-box candidate pairs (BVH, parallel, deterministic);
+//! - [`broad_phase`]: swept-box candidate pairs (BVH, parallel, deterministic), and
+//!   [`candidate_cache`]: the same pairs kept between queries while the motion stays within a margin;
 //! - [`intersection`]: exact-sign triangle–triangle intersection and [`intersecting_pairs`] of a mesh.
 //!
 //! Units: SI. Distances, thicknesses and `d̂` in m; `κ` in J/m² (energy per pair, no area weighting);
@@ -55,6 +56,7 @@
 pub mod barrier;
 pub mod broad_phase;
 pub mod bvh;
+pub mod candidate_cache;
 pub mod ccd;
 pub mod closed_form;
 pub mod distance;

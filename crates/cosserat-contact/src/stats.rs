@@ -1,5 +1,6 @@
 //! Counters and coverage reports of the contact term, for run summaries and step control.
 
+use crate::candidate_cache::CacheCounters;
 use std::time::Duration;
 
 /// Counters of the contact term, for summaries.
@@ -18,6 +19,14 @@ pub struct ContactStats {
     pub n_evaluations: usize,
     /// CCD queries (`max_step_fraction`, `obstacle_motion_fractions`) since construction.
     pub n_ccd_queries: usize,
+    /// Step fractions returned by `max_step_fraction` since construction.
+    pub n_step_limits: usize,
+    /// Their sum (their mean is the mean CCD step fraction).
+    pub step_fraction_sum: f64,
+    /// Of those, the fractions below 1 (a step cut short by CCD).
+    pub n_step_cuts: usize,
+    /// Counters of the candidate cache that answers the broad phases.
+    pub cache: CacheCounters,
     /// Time spent in broad phases since construction.
     pub broad_phase_time: Duration,
     /// Time spent in narrow-phase CCD since construction.
@@ -35,6 +44,10 @@ impl Default for ContactStats {
             min_gap: f64::INFINITY,
             n_evaluations: 0,
             n_ccd_queries: 0,
+            n_step_limits: 0,
+            step_fraction_sum: 0.0,
+            n_step_cuts: 0,
+            cache: CacheCounters::default(),
             broad_phase_time: Duration::ZERO,
             ccd_time: Duration::ZERO,
             energy_time: Duration::ZERO,

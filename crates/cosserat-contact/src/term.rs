@@ -12,7 +12,8 @@
 //! threads.
 
 use crate::barrier::{Barrier, positive};
-use crate::broad_phase::{CandidatePairs, candidate_pairs};
+use crate::broad_phase::CandidatePairs;
+use crate::candidate_cache::CandidateCache;
 use crate::ccd::{distance_change_bound, edge_edge_ccd, point_triangle_ccd};
 use crate::error::ContactError;
 use crate::friction::FrictionSmoothing;
@@ -48,6 +49,7 @@ pub struct ContactTerm {
     pattern_stale: bool,
     parallelism: Parallelism,
     stats: Mutex<ContactStats>,
+    cache: Mutex<CandidateCache>,
     values: Mutex<ChunkBuffers<(f64, f64)>>,
     jets: Mutex<ChunkBuffers<Option<PairJet>>>,
 }
@@ -83,11 +85,15 @@ impl ContactTerm {
         let mesh = ContactMesh::try_new(&surfaces, &obstacles, rest_positions.len())?;
         let obstacle_start: Vec<Vec<Vector3<f64>>> = obstacles.iter().map(|o| o.positions.clone()).collect();
         let rest = mesh.positions(|i| rest_positions[i], |o, v| obstacle_start[o][v]);
-        let edge_rest_length2 = mesh
+        let edge_rest_length2: Vec<f64> = mesh
             .edges()
             .iter()
             .map(|e| (rest[e[1] as usize] - rest[e[0] as usize]).norm_squared())
             .collect();
+        let cache = CandidateCache::new(
+            params.barrier_width + params.candidate_margin,
+            median(&edge_rest_length2).sqrt(),
+        );
         Ok(Self {
             mesh,
             barrier,
@@ -103,6 +109,7 @@ impl ContactTerm {
             pattern_stale: false,
             parallelism: Parallelism::Rayon,
             stats: Mutex::new(ContactStats::default()),
+            cache: Mutex::new(cache),
             values: Mutex::new(ChunkBuffers::new()),
             jets: Mutex::new(ChunkBuffers::new()),
         })
@@ -303,7 +310,7 @@ impl ContactTerm {
         let start = self.vertex_positions(state, layout, None, 0.0, false);
         let end = self.vertex_positions(state, layout, Some(u), self.params.sweep_factor * dt, true);
         let reach = self.params.barrier_width + self.params.candidate_margin;
-        let candidates = candidate_pairs(&self.mesh, &start, &end, reach, self.parallelism);
+        let candidates = self.candidate_pairs(&start, &end, reach);
         let broad = clock.elapsed();
         // Keep the box overlaps that can really come within reach: the distance can drop by at most
         // the rate bound of the swept motion.
@@ -376,6 +383,38 @@ impl ContactTerm {
             .collect()
     }
 
+    /// The pairs of blocks the candidates of the run so far have coupled (the term's share of the
+    /// Hessian's pattern, which only grows).
+    pub fn block_pairs(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
+        self.known_block_pairs.iter().copied()
+    }
+
+    /// Restores the coupled block pairs and the obstacles' positions of a committed state (to resume a
+    /// run from a checkpoint); the potential's dynamic pattern must be rebuilt afterwards.
+    ///
+    /// # Errors
+    /// [`ContactError::WrongLength`] when the obstacles or their vertices do not match.
+    pub fn restore(
+        &mut self,
+        block_pairs: impl IntoIterator<Item = (usize, usize)>,
+        obstacles: Vec<Vec<Vector3<f64>>>,
+    ) -> Result<(), ContactError> {
+        let fits = obstacles.len() == self.obstacle_start.len()
+            && obstacles.iter().zip(&self.obstacle_start).all(|(a, b)| a.len() == b.len());
+        if !fits {
+            return Err(ContactError::WrongLength {
+                what: "obstacle positions",
+                expected: self.obstacle_start.iter().map(Vec::len).sum(),
+                got: obstacles.iter().map(Vec::len).sum(),
+            });
+        }
+        self.known_block_pairs = block_pairs.into_iter().collect();
+        self.pattern_stale = true;
+        self.obstacle_end.clone_from(&obstacles);
+        self.obstacle_start = obstacles;
+        Ok(())
+    }
+
     /// Whether `pattern` couples every pair of blocks the candidates couple.
     pub fn fits_pattern(&self, pattern: &SparsityPattern) -> bool {
         self.known_block_pairs
@@ -390,7 +429,7 @@ impl ContactTerm {
             return 0.0;
         }
         let clock = Instant::now();
-        let found = candidate_pairs(&self.mesh, x0, x1, self.params.barrier_width, self.parallelism);
+        let found = self.candidate_pairs(x0, x1, self.params.barrier_width);
         let broad = clock.elapsed();
         let clock = Instant::now();
         let settings = &self.params.ccd;
@@ -436,7 +475,12 @@ impl ContactTerm {
         let x0 = self.vertex_positions(state, layout, Some(u), dt, true);
         let u1: Vec<f64> = u.iter().zip(du).map(|(a, b)| a + b).collect();
         let x1 = self.vertex_positions(state, layout, Some(&u1), dt, true);
-        self.ccd_fraction(&x0, &x1)
+        let alpha = self.ccd_fraction(&x0, &x1);
+        let mut stats = self.stats.lock().unwrap_or_else(|e| e.into_inner());
+        stats.n_step_limits += 1;
+        stats.step_fraction_sum += alpha;
+        stats.n_step_cuts += usize::from(alpha < 1.0);
+        alpha
     }
 
     /// The safe fraction of each obstacle's motion from its start to its end positions, with the nodes
@@ -484,7 +528,7 @@ impl ContactTerm {
             return out;
         }
         let x = self.vertex_positions(state, layout, Some(u), dt, true);
-        let found = candidate_pairs(&self.mesh, &x, &x, self.params.barrier_width, self.parallelism);
+        let found = self.candidate_pairs(&x, &x, self.params.barrier_width);
         let lists = [
             (
                 PairKind::PointTriangle,
@@ -507,6 +551,14 @@ impl ContactTerm {
             }
         }
         out
+    }
+
+    /// The candidate pairs of the motion `start → end` within `reach` (see [`CandidateCache`]).
+    fn candidate_pairs(&self, start: &[Vector3<f64>], end: &[Vector3<f64>], reach: f64) -> CandidatePairs {
+        let mut cache = self.cache.lock().unwrap_or_else(|e| e.into_inner());
+        let found = cache.candidate_pairs(&self.mesh, start, end, reach, self.parallelism);
+        self.stats.lock().unwrap_or_else(|e| e.into_inner()).cache = cache.counters();
+        found
     }
 
     fn frame<'a>(&self, eval: &Evaluation<'a>) -> Frame<'a> {
@@ -765,4 +817,14 @@ impl PotentialTerm for ContactTerm {
         }
         names
     }
+}
+
+/// The median of a non-empty list (0 for an empty one).
+fn median(values: &[f64]) -> f64 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    let mut v = values.to_vec();
+    let mid = v.len() / 2;
+    *v.select_nth_unstable_by(mid, f64::total_cmp).1
 }

@@ -31,6 +31,7 @@
 //! ```
 
 pub mod atomic;
+pub mod checkpoint;
 pub mod error;
 pub mod mesh_frames;
 mod number;
@@ -49,7 +50,7 @@ pub use probes::ProbeWriter;
 pub use pvd::{PvdEntry, read_pvd, read_pvd_frame, write_pvd};
 pub use run::{RunWriter, clear_run_outputs, write_failure_summary};
 pub use summary::{
-    Attempt, BoundingBox, ContactRecord, ConvergenceRecord, EnergyHistory, FactorRecord, FailedStep,
+    Attempt, BoundingBox, BroadPhaseRecord, ContactRecord, ConvergenceRecord, EnergyHistory, FactorRecord, FailedStep,
     LinearSolverRecord, ModelRecord, RunStatus, RunSummary, ToleranceMode, read_summary, write_summary,
 };
 pub use vtu::{DataArray, VtuFrame, write_vtu};

@@ -95,6 +95,54 @@ impl ProbeWriter {
         })
     }
 
+    /// Reopens the file of an earlier run at `path` for appending after its first `n_rows` rows (a run
+    /// resumed from a checkpoint): the rows after them, written by the earlier run after its last
+    /// checkpoint, are removed (the resumed run writes them again).
+    ///
+    /// # Errors
+    /// The column errors of [`ProbeWriter::create`]; [`OutputError::Format`] when the header does not
+    /// name these columns or the file has fewer rows; I/O errors naming the file.
+    pub fn reopen<S: AsRef<str>>(path: &Path, columns: &[S], n_rows: usize) -> Result<Self, OutputError> {
+        check_columns(columns)?;
+        let text = std::fs::read_to_string(path).map_err(|source| OutputError::Io {
+            operation: "read",
+            path: path.to_path_buf(),
+            source,
+        })?;
+        let columns: Vec<String> = columns.iter().map(|c| c.as_ref().to_owned()).collect();
+        let header = std::iter::once(TIME_COLUMN.to_owned())
+            .chain(columns.iter().cloned())
+            .collect::<Vec<_>>()
+            .join(",");
+        let mut lines = text.split_inclusive('\n');
+        if lines.next().map(|l| l.trim_end_matches('\n')) != Some(header.as_str()) {
+            return Err(OutputError::Format {
+                path: path.to_path_buf(),
+                reason: format!("the header is not `{header}`: the file belongs to another run"),
+            });
+        }
+        let kept: Vec<&str> = lines.take(n_rows).filter(|l| l.ends_with('\n')).collect();
+        if kept.len() < n_rows {
+            return Err(OutputError::Format {
+                path: path.to_path_buf(),
+                reason: format!("holds {} complete rows, the checkpoint expects {n_rows}", kept.len()),
+            });
+        }
+        let contents = format!("{header}\n{}", kept.concat());
+        write_atomic(path, contents.as_bytes())?;
+        let file = OpenOptions::new().append(true).open(path).map_err(|source| OutputError::Io {
+            operation: "open for appending",
+            path: path.to_path_buf(),
+            source,
+        })?;
+        Ok(Self {
+            path: path.to_path_buf(),
+            file,
+            columns,
+            n_rows,
+        })
+    }
+
     /// The probe columns, without `t`.
     pub fn columns(&self) -> &[String] {
         &self.columns

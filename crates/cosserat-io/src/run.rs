@@ -98,6 +98,33 @@ fn remove_run_files(dir: &Path, in_frames: bool) -> Result<(), OutputError> {
     Ok(())
 }
 
+/// Removes the frame files numbered `first` and up from `frames_dir`.
+fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError> {
+    let entries = match fs::read_dir(frames_dir) {
+        Ok(entries) => entries,
+        Err(source) if source.kind() == std::io::ErrorKind::NotFound => return create_dir_all(frames_dir),
+        Err(source) => {
+            return Err(OutputError::Io {
+                operation: "list",
+                path: frames_dir.to_path_buf(),
+                source,
+            });
+        }
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(name) = name.to_str() else { continue };
+        let index = name
+            .strip_prefix("frame_")
+            .and_then(|rest| rest.split_once('.'))
+            .and_then(|(digits, _)| digits.parse::<usize>().ok());
+        if is_frame_file_name(name) && index.is_some_and(|k| k >= first) {
+            remove_if_exists(&entry.path())?;
+        }
+    }
+    Ok(())
+}
+
 /// Removes everything a run writes into `dir` (frames, collection, probes, summary, temporary files),
 /// and the frames directory itself if that leaves it empty. Other files are kept.
 ///
@@ -161,6 +188,63 @@ impl RunWriter {
             formats: FrameFormats::default(),
             usd: None,
         })
+    }
+
+    /// Takes over `dir` of an earlier run to continue it from a checkpoint: keeps the first
+    /// `probe_rows` rows of `probes.csv` and the frames of `frame_times` (the collection is rewritten to
+    /// list exactly them), and removes the frames the earlier run wrote after them. The resumed run
+    /// then writes the later rows and frames again.
+    ///
+    /// # Errors
+    /// The errors of [`ProbeWriter::reopen`]; [`OutputError::Format`] for a frame of the checkpoint
+    /// that is missing; I/O errors naming the path.
+    pub fn resume<S: AsRef<str>>(
+        dir: impl Into<PathBuf>,
+        probe_columns: &[S],
+        probe_rows: usize,
+        frame_times: &[f64],
+        formats: FrameFormats,
+    ) -> Result<Self, OutputError> {
+        let dir = dir.into();
+        let probes = ProbeWriter::reopen(&dir.join(PROBES_FILE), probe_columns, probe_rows)?;
+        let frames_dir = dir.join(FRAMES_DIR);
+        let frames: Vec<PvdEntry> = frame_times
+            .iter()
+            .enumerate()
+            .map(|(k, &time)| PvdEntry {
+                time,
+                file: frame_file_name(k),
+            })
+            .collect();
+        if formats.vtu
+            && let Some(missing) = frames.iter().find(|f| !frames_dir.join(&f.file).is_file())
+        {
+            return Err(OutputError::Format {
+                path: frames_dir.join(&missing.file),
+                reason: "the frame is missing, but the checkpoint counts it".into(),
+            });
+        }
+        remove_frames_from(&frames_dir, frames.len())?;
+        if formats.vtu {
+            write_pvd(&frames_dir.join(PVD_FILE), &frames)?;
+        }
+        Ok(Self {
+            dir,
+            frames,
+            probes,
+            formats,
+            usd: None,
+        })
+    }
+
+    /// Rows written to `probes.csv` so far (a resumed run counts those it kept).
+    pub fn probe_rows(&self) -> usize {
+        self.probes.n_rows()
+    }
+
+    /// Times of the frames written so far (a resumed run counts those it kept).
+    pub fn frame_times(&self) -> Vec<f64> {
+        self.frames.iter().map(|f| f.time).collect()
     }
 
     /// Chooses the formats of the frames written from now on (VTU only by default).

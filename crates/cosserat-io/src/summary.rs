@@ -153,6 +153,20 @@ pub struct FactorRecord {
     pub gflops_per_s: Option<f64>,
 }
 
+/// How the broad-phase queries of a run were answered: from pairs kept within a margin, by a new
+/// query of refitted or rebuilt hierarchies, or by an uncached broad phase.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub struct BroadPhaseRecord {
+    /// All queries.
+    pub queries: usize,
+    /// Queries whose motion left the margin, answered by a new query of the hierarchies.
+    pub requeries: usize,
+    /// Of those, hierarchies built from scratch (the others refitted).
+    pub builds: usize,
+    /// Queries answered by an uncached broad phase.
+    pub uncached: usize,
+}
+
 /// Contact over a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct ContactRecord {
@@ -180,6 +194,15 @@ pub struct ContactRecord {
     pub n_evaluations: usize,
     /// CCD queries.
     pub n_ccd_queries: usize,
+    /// Mean fraction of a Newton step that CCD allows (1 = no step cut short; `null` without any).
+    #[serde(default)]
+    pub mean_step_fraction: Option<f64>,
+    /// Newton steps that CCD cut short (fraction below 1).
+    #[serde(default)]
+    pub n_step_cuts: usize,
+    /// Broad-phase queries (candidate pairs of a motion), and how they were answered.
+    #[serde(default)]
+    pub broad_phase: BroadPhaseRecord,
     /// Mean number of pairs within the barrier in a committed state.
     pub mean_active_pairs: f64,
     /// Largest number of pairs within the barrier in a committed state.
@@ -227,6 +250,10 @@ pub struct RunSummary {
     pub stopped_at: Option<f64>,
     /// The step that failed, with every attempt (`null` unless a step failed).
     pub failed_step: Option<FailedStep>,
+    /// The step of the checkpoint this run was resumed from (absent for a run that started from the
+    /// beginning); the counts and times of the summary cover the whole run either way.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resumed_from: Option<usize>,
     /// The mechanical model.
     pub model: ModelRecord,
     /// Displacement element type, e.g. `"tri6"`.

@@ -506,6 +506,8 @@ pub struct OutputSpec {
     pub subdivision: usize,
     /// The formats frames are written in (when `frames`).
     pub formats: FrameFormats,
+    /// Steps (load levels) between two checkpoints; `None`: no checkpoints.
+    pub checkpoint_every: Option<usize>,
 }
 
 /// The formats of output frames.

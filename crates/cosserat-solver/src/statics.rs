@@ -116,6 +116,37 @@ impl QuasiStaticStepper {
         &self.solver
     }
 
+    /// The Newton solver, mutably (to resume a run from a checkpoint).
+    pub fn solver_mut(&mut self) -> &mut NewtonSolver {
+        &mut self.solver
+    }
+
+    /// The predictor's memory: the last converged increment and its load step (`None` after a
+    /// bisection or before the first level).
+    pub fn predictor(&self) -> Option<(&[f64], f64)> {
+        self.previous.as_ref().map(|(du, step)| (du.as_slice(), *step))
+    }
+
+    /// Continues from the equilibrium at `load_factor` with the predictor's memory `predictor` (to
+    /// resume a run from a checkpoint; the potential must hold that equilibrium).
+    ///
+    /// # Errors
+    /// A predictor increment whose length is not the number of unknowns (as a message).
+    pub fn resume(&mut self, load_factor: f64, predictor: Option<(Vec<f64>, f64)>) -> Result<(), String> {
+        if let Some((du, _)) = &predictor
+            && du.len() != self.u.len()
+        {
+            return Err(format!(
+                "the predictor increment has {} entries, the system {} unknowns",
+                du.len(),
+                self.u.len()
+            ));
+        }
+        self.current = load_factor;
+        self.previous = predictor;
+        Ok(())
+    }
+
     /// Solves for equilibrium at load factor `target`, calling `apply(potential, λ)` to set loads and
     /// targets for every level tried (intermediate ones included).
     ///

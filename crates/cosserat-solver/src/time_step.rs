@@ -174,6 +174,26 @@ impl TimeStepper {
         self.dt
     }
 
+    /// Sets the time step the next step will try (to resume a run from a checkpoint).
+    pub fn set_dt(&mut self, dt: f64) {
+        self.dt = dt;
+    }
+
+    /// The Newton solver, mutably (to resume a run from a checkpoint).
+    pub fn solver_mut(&mut self) -> &mut NewtonSolver {
+        &mut self.solver
+    }
+
+    /// Takes over a pattern that the dynamic terms grew outside this stepper (a run resumed from a
+    /// checkpoint restores the contact couplings of the run so far): a new symbolic analysis, with the
+    /// ordering choice kept as when the pattern grows during a step.
+    ///
+    /// # Errors
+    /// A symbolic analysis failure.
+    pub fn adopt_pattern(&mut self, potential: &IncrementalPotential) -> Result<(), NewtonError> {
+        self.rebuild_solver(potential)
+    }
+
     /// The settings.
     pub fn settings(&self) -> &TimeStepSettings {
         &self.settings
@@ -312,22 +332,28 @@ impl TimeStepper {
             residuals: Vec::new(),
         })?;
         if changed {
-            let mut settings = *self.solver.settings();
-            // Contact only adds couplings to the same mesh, so `Auto`'s choice for the first pattern
-            // holds for the grown ones: it is kept, which spares the grown patterns the split's cost
-            // prediction (two orderings of each half and one of the whole matrix).
-            if settings.linear_solver.domains == DomainSplit::Auto
-                && settings.linear_solver.kind != LinearSolverKind::Cg
-                && let Some(stats) = self.solver.linear_solver().symmetric_stats()
-            {
-                settings.linear_solver.domains = if stats.domains == 2 {
-                    DomainSplit::Always
-                } else {
-                    DomainSplit::Off
-                };
-            }
-            self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), settings)?;
+            self.rebuild_solver(potential)?;
         }
+        Ok(())
+    }
+
+    /// A new Newton solver for the potential's current pattern.
+    fn rebuild_solver(&mut self, potential: &IncrementalPotential) -> Result<(), NewtonError> {
+        let mut settings = *self.solver.settings();
+        // Contact only adds couplings to the same mesh, so `Auto`'s choice for the first pattern
+        // holds for the grown ones: it is kept, which spares the grown patterns the split's cost
+        // prediction (two orderings of each half and one of the whole matrix).
+        if settings.linear_solver.domains == DomainSplit::Auto
+            && settings.linear_solver.kind != LinearSolverKind::Cg
+            && let Some(stats) = self.solver.linear_solver().symmetric_stats()
+        {
+            settings.linear_solver.domains = if stats.domains == 2 {
+                DomainSplit::Always
+            } else {
+                DomainSplit::Off
+            };
+        }
+        self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), settings)?;
         Ok(())
     }
 

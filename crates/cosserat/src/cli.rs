@@ -1,10 +1,12 @@
-//! The command-line interface: `cosserat run <scene.toml>` and `cosserat render <out dir>`.
+//! The command-line interface: `cosserat run <scene.toml>`, `cosserat resume <out dir>` and
+//! `cosserat render <out dir>`.
 //!
 //! Output on a terminal is a progress bar (step, time, Newton iterations, residual); otherwise plain
 //! lines about once a second. Ctrl-C (SIGINT) or SIGTERM stops the run after the current step; the
 //! frames written so far stay and the summary says where the run stopped. A second signal of the same
 //! kind ends the process at once.
 
+use crate::checkpoint::{Checkpoint, SceneOrigin};
 use crate::memory::MemoryLimit;
 use crate::simulation::{Simulation, StepInfo, write_setup_failure};
 use crate::stop::{StopReason, StopRequest};
@@ -33,8 +35,26 @@ pub struct Cli {
 pub enum Command {
     /// Run a scene and write summary.json, probes.csv and frames/ into the output directory.
     Run(RunArgs),
+    /// Continue a run from the checkpoint in its output directory (`output.checkpoint_every`).
+    Resume(ResumeArgs),
     /// Render frames of a finished run to PNG.
     Render(RenderArgs),
+}
+
+/// Arguments of `resume`.
+#[derive(Debug, clap::Args)]
+pub struct ResumeArgs {
+    /// The output directory of the run (it holds `checkpoint/state.bin`).
+    pub dir: PathBuf,
+    /// Number of threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// No progress output.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Refuse scenes that need more memory than this (e.g. `3G`, `512M`).
+    #[arg(long, value_name = "SIZE", value_parser = crate::memory::parse_size)]
+    pub max_memory: Option<u64>,
 }
 
 /// Arguments of `run`.
@@ -105,6 +125,7 @@ where
 pub fn run(cli: Cli) -> anyhow::Result<i32> {
     match cli.command {
         Command::Run(args) => run_scene(&args),
+        Command::Resume(args) => resume_run(&args),
         Command::Render(args) => render(&args).map(|_| 0),
     }
 }
@@ -136,6 +157,51 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
         Ok(sim) => sim,
         Err(e) => return setup_failed(&dir, &name, &e.to_string()),
     };
+    sim.set_scene_origin(SceneOrigin {
+        path: std::path::absolute(&args.scene).unwrap_or_else(|_| args.scene.clone()),
+        overrides: args.overrides.clone(),
+    });
+    execute(&mut sim, &dir, (args.threads, args.quiet), &stop)
+}
+
+/// Continues the run in `args.dir` from its checkpoint; returns the exit code as [`run_scene`].
+///
+/// # Errors
+/// A missing, damaged or foreign checkpoint, a scene file that changed since the checkpoint was
+/// written (each named with the reason), I/O failures of the outputs.
+pub fn resume_run(args: &ResumeArgs) -> anyhow::Result<i32> {
+    let stop = StopRequest::new();
+    install_signal_handlers(&stop).context("installing the signal handlers")?;
+    let checkpoint = Checkpoint::read(&args.dir)?;
+    let origin = checkpoint.origin.clone().with_context(|| {
+        format!(
+            "{}: the checkpoint names no scene file (the scene was built by a program, which resumes it with \
+             `Simulation::resume_from`)",
+            crate::checkpoint::state_path(&args.dir).display()
+        )
+    })?;
+    let limit = MemoryLimit::of_machine(args.max_memory);
+    let budget = limit.as_ref().map(MemoryLimit::element_budget).unwrap_or_default();
+    let spec = cosserat_scene::load_scene_within(&origin.path, &origin.overrides, &budget)
+        .with_context(|| format!("the scene of the checkpoint, {}", origin.path.display()))?;
+    let mut sim = Simulation::with_memory_limit(spec, limit)?;
+    sim.set_scene_origin(origin);
+    let step = checkpoint.step();
+    sim.resume_from(&args.dir, checkpoint)?;
+    if !args.quiet {
+        eprintln!("resuming {} from step {step}", args.dir.display());
+    }
+    execute(&mut sim, &args.dir, (args.threads, args.quiet), &stop)
+}
+
+/// Runs a simulation that is set up into `dir` with `(threads, quiet)`, and reports how it ended;
+/// returns the exit code.
+fn execute(
+    sim: &mut Simulation,
+    dir: &Path,
+    (threads, quiet): (Option<usize>, bool),
+    stop: &StopRequest,
+) -> anyhow::Result<i32> {
     for warning in sim.advice() {
         eprintln!("warning: {warning}");
     }
@@ -148,12 +214,12 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
         return Ok(reason.exit_code());
     }
     let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(args.threads.unwrap_or(0))
+        .num_threads(threads.unwrap_or(0))
         .build()
         .context("creating the thread pool")?;
     let summary = pool.install(|| {
-        let mut reporter = Reporter::new(args.quiet);
-        sim.run(&dir, &mut |info| reporter.step(info), &stop)
+        let mut reporter = Reporter::new(quiet);
+        sim.run(dir, &mut |info| reporter.step(info), stop)
     })?;
     // Warnings found during the run (those about the scene were printed before it).
     for warning in &summary.warnings[sim.advice().len()..] {
@@ -162,7 +228,7 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
     let stopped_at = summary.stopped_at.unwrap_or(0.0);
     match summary.status {
         RunStatus::Ok => {
-            if !args.quiet {
+            if !quiet {
                 eprintln!(
                     "{}: {} steps, {:.2} Newton iterations per step, {:.1} ms per step, {:.2} s; outputs in {}",
                     summary.scene,

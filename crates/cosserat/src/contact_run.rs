@@ -14,7 +14,7 @@ use crate::model::Model;
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHandle};
 use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm, Coverage, Obstacle};
-use cosserat_io::{ContactRecord, DataArray, VtuFrame};
+use cosserat_io::{BroadPhaseRecord, ContactRecord, DataArray, VtuFrame};
 use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
 use nalgebra::Vector3;
 
@@ -96,6 +96,23 @@ impl ContactMonitor {
     pub fn max_active_pairs(&self) -> usize {
         self.active_max
     }
+}
+
+/// An obstacle's vertex positions in the contact term and in the output frames \[m\] (they differ when
+/// setting a scripted position failed).
+pub type ObstaclePositions = (Vec<Vector3<f64>>, Vec<Vector3<f64>>);
+
+/// The state of a run's contact between two steps ([`ContactRun::snapshot`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ContactState {
+    /// Block pairs coupled in the Hessian's pattern.
+    pub block_pairs: Vec<(usize, usize)>,
+    /// Per obstacle: its positions in the contact term and in the output frames \[m\].
+    pub obstacles: Vec<ObstaclePositions>,
+    /// The monitor: steps, sum and most of the active pairs, smallest gap \[m\].
+    pub monitor: (usize, usize, usize, f64),
+    /// The largest and the last obstacle lag \[m\].
+    pub lags: (f64, f64),
 }
 
 /// The contact of a run: its term in the potential, the kinematic obstacles and the statistics.
@@ -237,6 +254,60 @@ impl ContactRun {
         self.monitor.record(potential.term(self.term));
     }
 
+    /// What the next steps depend on, for a checkpoint: the couplings the candidates have added to the
+    /// Hessian's pattern (it only grows, and its ordering decides the round-off of the solves), the
+    /// obstacles' positions, and the statistics. Friction is lagged from the start of each step and
+    /// the barrier stiffness is fixed, so neither carries state between steps.
+    pub fn snapshot(&self, potential: &IncrementalPotential) -> ContactState {
+        let term = self.term(potential);
+        let m = &self.monitor;
+        ContactState {
+            block_pairs: term.block_pairs().collect(),
+            obstacles: (0..self.obstacles.len())
+                .map(|k| (term.obstacle_positions(k).to_vec(), self.obstacles[k].current.clone()))
+                .collect(),
+            monitor: (m.steps, m.active_sum, m.active_max, m.min_gap),
+            lags: (self.max_lag, self.last_lag),
+        }
+    }
+
+    /// Restores a [`ContactRun::snapshot`] and rebuilds the potential's pattern with its couplings.
+    ///
+    /// # Errors
+    /// A reason when the snapshot does not fit this scene's contact.
+    pub fn restore(&mut self, potential: &mut IncrementalPotential, saved: &ContactState) -> Result<(), String> {
+        let n_blocks = potential.parts.layout.n_blocks();
+        if saved.block_pairs.iter().any(|&(a, b)| a >= n_blocks || b >= n_blocks) {
+            return Err("the contact couplings do not fit this scene's unknowns".into());
+        }
+        let fits = saved.obstacles.len() == self.obstacles.len()
+            && saved
+                .obstacles
+                .iter()
+                .zip(&self.obstacles)
+                .all(|((start, current), o)| start.len() == o.rest.len() && current.len() == o.rest.len());
+        if !fits {
+            return Err("the contact obstacles or their vertices do not match the scene's".into());
+        }
+        for (o, (_, current)) in self.obstacles.iter_mut().zip(&saved.obstacles) {
+            o.current.clone_from(current);
+        }
+        let (steps, active_sum, active_max, min_gap) = saved.monitor;
+        self.monitor = ContactMonitor {
+            steps,
+            active_sum,
+            active_max,
+            min_gap,
+        };
+        (self.max_lag, self.last_lag) = saved.lags;
+        let starts = saved.obstacles.iter().map(|(start, _)| start.clone()).collect();
+        self.term_mut(potential)
+            .restore(saved.block_pairs.iter().copied(), starts)
+            .map_err(|e| format!("contact: {e}"))?;
+        potential.rebuild_dynamic_pattern();
+        Ok(())
+    }
+
     /// The contact term.
     pub fn term<'a>(&self, potential: &'a IncrementalPotential) -> &'a ContactTerm {
         potential.term(self.term)
@@ -275,6 +346,14 @@ impl ContactRun {
             broad_phase_share: share(broad),
             n_evaluations: s.n_evaluations,
             n_ccd_queries: s.n_ccd_queries,
+            mean_step_fraction: (s.n_step_limits > 0).then(|| s.step_fraction_sum / s.n_step_limits as f64),
+            n_step_cuts: s.n_step_cuts,
+            broad_phase: BroadPhaseRecord {
+                queries: s.cache.queries,
+                requeries: s.cache.requeries,
+                builds: s.cache.builds,
+                uncached: s.cache.uncached,
+            },
             mean_active_pairs: if m.steps > 0 {
                 m.active_sum as f64 / m.steps as f64
             } else {

@@ -1,6 +1,7 @@
 //! How a run's Newton solves met their tolerance, collected step by step for the summary.
 
-use cosserat_io::{ConvergenceRecord, ToleranceMode};
+use cosserat_io::checkpoint::{Decoder, Encoder};
+use cosserat_io::{ConvergenceRecord, OutputError, ToleranceMode};
 use cosserat_solver::{Convergence, Criterion, NewtonReport, PathPoint, Tolerance};
 
 /// The run's convergence record: the largest tolerance, residual and relative residual of a step, the
@@ -43,6 +44,40 @@ impl ConvergenceStats {
                 self.worst_stagnated = Some((residual, convergence.load_scale));
             }
         }
+    }
+
+    /// Saves the record into a checkpoint.
+    pub(crate) fn save(&self, out: &mut Encoder) {
+        out.usizes(&[self.steps, self.stagnated_steps, self.shifted_iterations]);
+        out.f64s(&[self.max_step_tolerance, self.max_residual, self.max_relative_residual]);
+        out.bool(self.worst_stagnated.is_some());
+        let (residual, load) = self.worst_stagnated.unwrap_or_default();
+        out.f64s(&[residual, load]);
+    }
+
+    /// Reads a record saved by [`ConvergenceStats::save`].
+    pub(crate) fn load(input: &mut Decoder) -> Result<Self, OutputError> {
+        let counts = input.usizes()?;
+        let maxima = input.f64s()?;
+        let stagnated = input.bool()?;
+        let worst = input.f64s()?;
+        let (
+            &[steps, stagnated_steps, shifted_iterations],
+            &[max_step_tolerance, max_residual, max_relative_residual],
+            &[residual, load],
+        ) = (counts.as_slice(), maxima.as_slice(), worst.as_slice())
+        else {
+            return Err(input.error("the convergence record has the wrong length"));
+        };
+        Ok(Self {
+            steps,
+            max_step_tolerance,
+            max_residual,
+            max_relative_residual,
+            stagnated_steps,
+            worst_stagnated: stagnated.then_some((residual, load)),
+            shifted_iterations,
+        })
     }
 
     /// The summary's record, if any step converged.

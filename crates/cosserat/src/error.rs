@@ -28,6 +28,14 @@ pub enum SimulationError {
     /// Writing outputs failed.
     #[error(transparent)]
     Output(#[from] cosserat_io::OutputError),
+    /// A checkpoint does not belong to this scene or run.
+    #[error("cannot resume from `{}`: {reason}", path.display())]
+    Resume {
+        /// The checkpoint file.
+        path: std::path::PathBuf,
+        /// Why.
+        reason: String,
+    },
     /// The scene needs more memory than the machine or `--max-memory` allows.
     #[error(transparent)]
     Memory(#[from] crate::memory::TooLarge),

@@ -31,6 +31,7 @@
 //! ```
 
 pub mod advice;
+pub mod checkpoint;
 pub mod cli;
 pub mod contact_run;
 mod convergence;

@@ -80,6 +80,16 @@ impl OutputSchedule {
         }
     }
 
+    /// The time of the next frame (saved in checkpoints).
+    pub(crate) fn next(&self) -> f64 {
+        self.next
+    }
+
+    /// Continues a schedule whose next frame is due at `next` (a run resumed from a checkpoint).
+    pub(crate) fn resume_at(&mut self, next: f64) {
+        self.next = next;
+    }
+
     /// Whether a frame is due at time `t`; if so, the schedule moves to the next multiple after `t`.
     pub(crate) fn due(&mut self, t: f64) -> bool {
         if t < self.next - self.slack {

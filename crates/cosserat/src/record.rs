@@ -2,7 +2,8 @@
 //! ([`cosserat_io::RunSummary`]) when the run ends.
 
 use crate::convergence::ConvergenceStats;
-use cosserat_io::{EnergyHistory, FactorRecord, LinearSolverRecord};
+use cosserat_io::checkpoint::{Decoder, Encoder};
+use cosserat_io::{EnergyHistory, FactorRecord, LinearSolverRecord, OutputError};
 use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, PathPoint, StepReport};
 
 /// Counters collected over a run.
@@ -106,6 +107,84 @@ impl RunStats {
         self.solve_seconds += p.linear_solve_seconds;
         self.step_seconds += seconds;
         self.convergence.record_point(p);
+    }
+
+    /// Saves the counters into a checkpoint (the factor's structure is measured again by the resumed
+    /// run's first step).
+    pub(crate) fn save(&self, out: &mut Encoder) {
+        out.usizes(&[
+            self.steps,
+            self.newton_iterations,
+            self.max_newton_iterations,
+            self.wasted_iterations,
+            self.reductions,
+            self.frames,
+            self.factorisations,
+            self.cg_iterations,
+        ]);
+        out.f64s(&[
+            self.assembly_seconds,
+            self.solve_seconds,
+            self.factorisation_seconds,
+            self.step_seconds,
+            self.min_area_ratio,
+        ]);
+        out.f64s(&self.energy.t);
+        out.f64s(&self.energy.kinetic);
+        out.f64s(&self.energy.elastic);
+        self.convergence.save(out);
+    }
+
+    /// Reads counters saved by [`RunStats::save`].
+    pub(crate) fn load(input: &mut Decoder) -> Result<Self, OutputError> {
+        let counts = input.usizes()?;
+        let times = input.f64s()?;
+        let energy = EnergyHistory {
+            t: input.f64s()?,
+            kinetic: input.f64s()?,
+            elastic: input.f64s()?,
+        };
+        let convergence = ConvergenceStats::load(input)?;
+        let (
+            &[
+                steps,
+                newton_iterations,
+                max_newton_iterations,
+                wasted_iterations,
+                reductions,
+                frames,
+                factorisations,
+                cg_iterations,
+            ],
+            &[
+                assembly_seconds,
+                solve_seconds,
+                factorisation_seconds,
+                step_seconds,
+                min_area_ratio,
+            ],
+        ) = (counts.as_slice(), times.as_slice())
+        else {
+            return Err(input.error("the run's counters have the wrong length"));
+        };
+        Ok(Self {
+            steps,
+            newton_iterations,
+            max_newton_iterations,
+            wasted_iterations,
+            reductions,
+            assembly_seconds,
+            solve_seconds,
+            factorisation_seconds,
+            step_seconds,
+            min_area_ratio,
+            frames,
+            energy,
+            factorisations,
+            cg_iterations,
+            factor: None,
+            convergence,
+        })
     }
 
     /// Average Newton iterations per completed step.

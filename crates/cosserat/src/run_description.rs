@@ -76,6 +76,11 @@ impl RunDescription {
     pub fn run(&self, stop: &StopRequest) -> Result<RunSummary, RunDescriptionError> {
         let scene = cosserat_scene::load_scene(&self.scene, &self.overrides)?;
         let mut sim = Simulation::new(scene)?;
+        // Checkpoints name the scene with its overrides, so that `cosserat resume` builds it again.
+        sim.set_scene_origin(crate::checkpoint::SceneOrigin {
+            path: std::path::absolute(&self.scene).unwrap_or_else(|_| self.scene.clone()),
+            overrides: self.overrides.clone(),
+        });
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(self.threads.unwrap_or(0))
             .build()

@@ -6,6 +6,7 @@
 //! rest fields and the contact's obstacles are set; after it the contact records its statistics; at
 //! output times the model draws the frame and the contact adds its obstacles.
 
+use crate::checkpoint::{Checkpoint, SceneOrigin, StepperState};
 use crate::contact_run::ContactRun;
 use crate::error::SimulationError;
 use crate::memory::{MemoryEstimate, MemoryLimit};
@@ -26,6 +27,7 @@ use std::path::Path;
 use std::time::Instant;
 
 mod arc_length;
+mod resume;
 
 /// What the run loop reports after every step (for progress displays).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -63,6 +65,26 @@ pub struct Simulation {
     stats: RunStats,
     /// The time (or load factor) of the last committed state.
     t_reached: f64,
+    /// Checkpoints and resuming.
+    restart: Restart,
+}
+
+/// What a simulation needs to write checkpoints and to continue from one.
+struct Restart {
+    /// Steps between checkpoints (`output.checkpoint_every`).
+    every: Option<usize>,
+    /// [`crate::checkpoint::scene_fingerprint`] of the scene.
+    fingerprint: u32,
+    /// Where the scene came from.
+    origin: Option<SceneOrigin>,
+    /// The checkpoint the next run continues from.
+    pending: Option<Checkpoint>,
+    /// The step the run was resumed from.
+    resumed_from: Option<usize>,
+    /// Wall-clock time of the run before it was resumed \[s\].
+    wall_before: f64,
+    /// When the current part of the run started.
+    started: Instant,
 }
 
 impl Simulation {
@@ -119,6 +141,18 @@ impl Simulation {
             advice,
             stats: RunStats::default(),
             t_reached: 0.0,
+            restart: Restart {
+                every: spec.output.checkpoint_every,
+                fingerprint: crate::checkpoint::scene_fingerprint(&spec),
+                origin: spec.source.clone().map(|path| SceneOrigin {
+                    path,
+                    overrides: Vec::new(),
+                }),
+                pending: None,
+                resumed_from: None,
+                wall_before: 0.0,
+                started: Instant::now(),
+            },
         })
     }
 
@@ -272,18 +306,30 @@ impl Simulation {
         progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<RunSummary, SimulationError> {
-        let start = Instant::now();
-        let mut writer = RunWriter::create(dir, &self.probe_columns())?;
-        writer.set_formats(self.frame_formats)?;
-        let outcome = match self.record_output(&mut writer, 0.0) {
+        self.restart.started = Instant::now();
+        let resume = self.restart.pending.take();
+        let mut writer = self.open_outputs(dir, resume.as_ref())?;
+        let first = match resume {
+            Some(_) => Ok(()),
+            None => self.record_output(&mut writer, 0.0),
+        };
+        let outcome = match first {
             Ok(()) => match self.time.clone() {
                 TimeSpec::Dynamic {
                     dt,
                     end,
                     adaptive,
                     output_interval,
-                } => self.run_dynamic(&mut writer, (dt, end, adaptive, output_interval), progress, stop),
-                TimeSpec::QuasiStatic { levels } => self.run_quasi_static(&mut writer, &levels, progress, stop),
+                } => self.run_dynamic(
+                    &mut writer,
+                    (dt, end, adaptive, output_interval),
+                    resume.as_ref(),
+                    progress,
+                    stop,
+                ),
+                TimeSpec::QuasiStatic { levels } => {
+                    self.run_quasi_static(&mut writer, &levels, resume.as_ref(), progress, stop)
+                }
                 TimeSpec::ArcLength {
                     initial_increment,
                     end,
@@ -299,7 +345,7 @@ impl Simulation {
             reason: format!("writing outputs: {e}"),
             step: None,
         });
-        let summary = self.summary(start.elapsed().as_secs_f64(), outcome);
+        let summary = self.summary(self.wall_seconds(), outcome);
         writer.finish(&summary)?;
         Ok(summary)
     }
@@ -309,11 +355,15 @@ impl Simulation {
         &mut self,
         writer: &mut RunWriter,
         (dt, end, adaptive, output_interval): (f64, f64, bool, f64),
+        resume: Option<&Checkpoint>,
         progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
         let mut stepper = TimeStepper::new(&self.potential, self.time_step_settings(dt, adaptive))?;
         let mut schedule = OutputSchedule::new(output_interval, dt);
+        if let Some(checkpoint) = resume {
+            self.resume_dynamic(checkpoint, &mut stepper, &mut schedule)?;
+        }
         // Fixed steps end exactly at `end` up to round-off; half a step of slack avoids an extra step.
         while stepper.time() < end - 0.5 * stepper.dt().min(dt) {
             if let Some(reason) = stop.reason() {
@@ -338,6 +388,15 @@ impl Simulation {
             if schedule.due(report.t) {
                 self.record_output(writer, report.t)?;
             }
+            if self.checkpoint_due() {
+                let state = StepperState::Dynamic {
+                    t: stepper.time(),
+                    dt: stepper.dt(),
+                    next_output: schedule.next(),
+                    starts_with_hessian: stepper.solver().starts_with_hessian(),
+                };
+                self.write_checkpoint(writer, state)?;
+            }
         }
         Ok(Outcome::Completed)
     }
@@ -347,6 +406,7 @@ impl Simulation {
         &mut self,
         writer: &mut RunWriter,
         levels: &[f64],
+        resume: Option<&Checkpoint>,
         progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
@@ -354,10 +414,13 @@ impl Simulation {
             newton: self.time_step_settings(PSEUDO_TIME_STEP, false).newton,
             ..QuasiStaticSettings::default()
         };
-        let mut stepper = QuasiStaticStepper::new(&mut self.potential, &settings)?;
+        let (mut stepper, first) = match resume {
+            Some(checkpoint) => self.resume_quasi_static(checkpoint, &settings, levels.len())?,
+            None => (QuasiStaticStepper::new(&mut self.potential, &settings)?, 0),
+        };
         let end = levels.last().copied().unwrap_or(1.0);
-        let mut previous = 0.0;
-        for &target in levels {
+        let mut previous = stepper.load_factor();
+        for (index, &target) in levels.iter().enumerate().skip(first) {
             if let Some(reason) = stop.reason() {
                 return Ok(Outcome::Interrupted(stepper.load_factor(), reason));
             }
@@ -389,6 +452,15 @@ impl Simulation {
             };
             progress(&info, &mut self.scripts);
             self.record_output(writer, target)?;
+            if self.checkpoint_due() {
+                let state = StepperState::QuasiStatic {
+                    levels_done: index + 1,
+                    load_factor: stepper.load_factor(),
+                    predictor: stepper.predictor().map(|(du, step)| (du.to_vec(), step)),
+                    starts_with_hessian: stepper.solver().starts_with_hessian(),
+                };
+                self.write_checkpoint(writer, state)?;
+            }
             previous = target;
         }
         Ok(Outcome::Completed)
@@ -456,6 +528,7 @@ impl Simulation {
             reason,
             stopped_at,
             failed_step,
+            resumed_from: self.restart.resumed_from,
             model: self.model.record(),
             displacement_element,
             rotation_element,

@@ -4,6 +4,7 @@
 use super::common::{random_vec, rng};
 use cosserat_assembly::Parallelism;
 use cosserat_contact::broad_phase::{CandidatePairs, candidate_pairs};
+use cosserat_contact::candidate_cache::CandidateCache;
 use cosserat_contact::distance::{edge_edge_distance, point_triangle_distance};
 use cosserat_contact::{ContactError, ContactMesh, ContactSurface, Obstacle};
 use nalgebra::Vector3;
@@ -191,6 +192,47 @@ fn output_is_identical_for_any_number_of_threads() {
     assert_eq!(seq, par);
     assert_sorted_and_valid(&s.mesh, &par);
     assert_contains_close_pairs(&s.mesh, &s.positions, 0.01, &par);
+}
+
+/// A drifting sequence of motions (small steps that stay in the margin, and jumps that leave it): each
+/// answer of the cache equals a fresh broad phase, and contains every pair close at any instant of the
+/// motion, whether it came from the kept pairs, a refitted or a rebuilt hierarchy, or an uncached query.
+#[test]
+fn cached_candidates_equal_a_fresh_broad_phase() {
+    let s = random_scene_of_size(8, 8);
+    let mut rng = rng(80);
+    let (reach, max_reach) = (0.01, 0.02);
+    let mut cache = CandidateCache::new(max_reach, 1.0 / 8.0);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(3).build().unwrap();
+    let mut sequential = cache.clone();
+    let mut x = s.positions.clone();
+    for k in 0..40 {
+        // Every tenth motion jumps by more than the largest margin; the others creep.
+        let size = if k % 10 == 9 { 0.1 } else { 0.004 };
+        let end: Vec<Vector3<f64>> = x.iter().map(|p| p + random_vec(&mut rng, size)).collect();
+        let r = if k % 3 == 0 { max_reach } else { reach };
+        let fresh = candidate_pairs(&s.mesh, &x, &end, r, Parallelism::Sequential);
+        let cached = pool.install(|| cache.candidate_pairs(&s.mesh, &x, &end, r, Parallelism::Rayon));
+        assert_eq!(cached, fresh, "motion {k}");
+        assert_eq!(
+            sequential.candidate_pairs(&s.mesh, &x, &end, r, Parallelism::Sequential),
+            fresh
+        );
+        for a in [0.0, 0.5, 1.0] {
+            let y: Vec<Vector3<f64>> = x.iter().zip(&end).map(|(p, q)| p + (q - p) * a).collect();
+            assert_contains_close_pairs(&s.mesh, &y, r, &cached);
+        }
+        x = end;
+    }
+    // A reach beyond the cache's goes uncached and is still exact.
+    let wide = cache.candidate_pairs(&s.mesh, &x, &x, 0.05, Parallelism::Rayon);
+    assert_eq!(wide, candidate_pairs(&s.mesh, &x, &x, 0.05, Parallelism::Rayon));
+    let c = cache.counters();
+    assert_eq!(c.queries, 41);
+    assert!(c.requeries >= 4 && c.requeries < 30, "{c:?}");
+    assert!(c.builds >= 1 && c.builds < c.requeries, "refits happen: {c:?}");
+    assert!(c.uncached >= 1, "{c:?}");
+    assert_eq!(sequential.counters().requeries, c.requeries);
 }
 
 #[test]

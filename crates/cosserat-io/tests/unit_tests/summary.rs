@@ -14,6 +14,7 @@ fn sample_summary() -> RunSummary {
         reason: None,
         stopped_at: Some(1.0),
         failed_step: None,
+        resumed_from: None,
         model: ModelRecord::KirchhoffLove { law: "stvk".into() },
         displacement_element: "tri6".to_owned(),
         rotation_element: "tri3".to_owned(),

@@ -825,6 +825,12 @@ pub struct OutputSection {
     /// Frame formats (default `["vtu"]`): `"vtu"` (ParaView), `"obj"` and `"ply"` (one file per
     /// frame), `"usd"` (one `run.usda` with time samples).
     pub formats: Option<Vec<FrameFormatName>>,
+    /// Write a checkpoint every this many steps (load levels in quasi-static runs) into
+    /// `checkpoint/` of the output folder; `cosserat resume DIR` continues the run from it, with the
+    /// same results as a run that was never stopped (default: no checkpoints). Counted in steps, not
+    /// in time, because a run can only stop and restart between two steps and an adaptive time step
+    /// makes a time interval land between them. Not for arc-length runs or USD frames.
+    pub checkpoint_every: Option<usize>,
 }
 
 /// Frame format names.

@@ -220,7 +220,7 @@ impl Ctx<'_> {
         let loads = self.loads(file.load.as_deref().unwrap_or(&[]), &shells)?;
         let rest_fields = self.rest_fields(file.rest_field.as_deref().unwrap_or(&[]), &shells)?;
         let probes = self.probes(file.probe.as_deref().unwrap_or(&[]), &shells)?;
-        let output = self.output(file.output.as_ref())?;
+        let output = self.output(file.output.as_ref(), &time)?;
         let contact = self.contact(file.contact.as_ref(), &shells)?;
         self.check_models(
             &shells,

@@ -251,7 +251,7 @@ impl Ctx<'_> {
         })
     }
 
-    pub(super) fn output(&self, output: Option<&OutputSection>) -> Result<OutputSpec, SceneError> {
+    pub(super) fn output(&self, output: Option<&OutputSection>, time: &TimeSpec) -> Result<OutputSpec, SceneError> {
         let frames = output.and_then(|o| o.frames).unwrap_or(true);
         let subdivision = output.and_then(|o| o.subdivision).unwrap_or(1);
         if subdivision > MAX_SUBDIVISION {
@@ -276,10 +276,28 @@ impl Ctx<'_> {
             ply: has(FrameFormatName::Ply),
             usd: has(FrameFormatName::Usd),
         };
+        let checkpoint_every = output.and_then(|o| o.checkpoint_every);
+        if checkpoint_every == Some(0) {
+            return Err(self.invalid("output.checkpoint_every", "must be at least 1 step"));
+        }
+        if checkpoint_every.is_some() && matches!(time, TimeSpec::ArcLength { .. }) {
+            return Err(self.invalid(
+                "output.checkpoint_every",
+                "arc-length runs cannot be checkpointed yet (the path tracer's state is not saved)",
+            ));
+        }
+        if checkpoint_every.is_some() && frames && formats.usd {
+            return Err(self.invalid(
+                "output.checkpoint_every",
+                "cannot be combined with USD frames (the stage is assembled at the end of a run); \
+                 drop `usd` from `output.formats`",
+            ));
+        }
         Ok(OutputSpec {
             frames,
             subdivision,
             formats,
+            checkpoint_every,
         })
     }
 }

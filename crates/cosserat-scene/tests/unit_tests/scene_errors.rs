@@ -466,3 +466,29 @@ fn generator_errors_name_the_generator_and_field() {
         "{err}"
     );
 }
+
+#[test]
+fn checkpoints_are_refused_where_a_run_cannot_resume() {
+    let every = |n: &str| format!("output.checkpoint_every={n}");
+    let spec = load(&scene(&[]), &[&every("5")]).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(spec.output.checkpoint_every, Some(5));
+    assert_eq!(load(&scene(&[]), &[]).unwrap().output.checkpoint_every, None);
+    let zero = message(&[], &[&every("0")]);
+    assert!(
+        zero.contains("output.checkpoint_every") && zero.contains("at least 1"),
+        "{zero}"
+    );
+    let usd = message(&[], &[&every("5"), "output.formats=[\"vtu\", \"usd\"]"]);
+    assert!(usd.contains("output.checkpoint_every") && usd.contains("USD"), "{usd}");
+    let arc = message(
+        &[(
+            "dt = 0.01\nend = 1.0",
+            "mode = \"arc_length\"\ninitial_increment = 0.1\nend = 1.0",
+        )],
+        &[&every("5")],
+    );
+    assert!(
+        arc.contains("output.checkpoint_every") && arc.contains("arc-length"),
+        "{arc}"
+    );
+}

@@ -164,6 +164,18 @@ impl NewtonSolver {
         Ok(solver)
     }
 
+    /// Whether the next solve assembles the Hessian with its first gradient: the one piece of state a
+    /// solve leaves for the next (a checkpoint saves it so that a resumed run repeats the same
+    /// evaluations).
+    pub fn starts_with_hessian(&self) -> bool {
+        self.start_with_hessian
+    }
+
+    /// Sets what [`NewtonSolver::starts_with_hessian`] reports (to resume a run from a checkpoint).
+    pub fn set_starts_with_hessian(&mut self, hessian: bool) {
+        self.start_with_hessian = hessian;
+    }
+
     /// The settings.
     pub fn settings(&self) -> &NewtonSettings {
         &self.settings

@@ -1,0 +1,367 @@
+//! Checkpoint and restart: a run stopped after a checkpoint and resumed from it writes the same bytes
+//! (every probe row, every frame) as a run that was never stopped, for a dynamic, a frictional contact
+//! and a quasi-static scene; resuming refuses a changed scene and a missing or damaged checkpoint with
+//! an error naming the file and the reason.
+
+use cosserat::checkpoint::{Checkpoint, state_path};
+use cosserat::cli::{ResumeArgs, RunArgs, resume_run, run_scene};
+use cosserat::io::{RunStatus, RunSummary, read_summary};
+use cosserat::scene::load_scene;
+use cosserat::{Simulation, StopReason, StopRequest};
+use std::path::{Path, PathBuf};
+
+/// A clamped strip (Tri6 displacements, Tri3 rotations) bent by a tip load; `{time}` is the time
+/// section's body and `{scale}` the tip load's scale.
+fn strip(time: &str, force: f64, scale: &str) -> String {
+    format!(
+        r#"
+name = "strip"
+[time]
+{time}
+[output]
+checkpoint_every = 3
+[mesh]
+generator = "rectangle"
+lx = 0.1
+ly = 0.01
+nx = 10
+ny = 2
+element = "tri6"
+rotation_element = "tri3"
+[material]
+model = "plate"
+thickness = 1e-3
+youngs_modulus = 1e6
+poisson_ratio = 0.3
+density = 1000.0
+length_scale = 1e-4
+[[boundary]]
+name = "clamp"
+region = {{ predicate = "x <= -0.05 + 1e-9" }}
+position = {{ stiffness = 1e6 }}
+rotation = {{ stiffness = 1e2, directors = [3] }}
+[[load]]
+name = "tip"
+region = {{ predicate = "x >= 0.05 - 1e-9" }}
+force = [0.0, 0.0, {force}]
+scale = "{scale}"
+[[probe]]
+name = "tip"
+region = {{ predicate = "x >= 0.05 - 1e-9" }}
+quantity = "displacement"
+[[probe]]
+name = "tip_v"
+region = {{ predicate = "x >= 0.05 - 1e-9" }}
+quantity = "velocity"
+"#
+    )
+}
+
+/// A dynamic run of 12 steps with an adaptive time step and a frame every other step.
+fn dynamic_strip() -> String {
+    let time = "mode = \"dynamic\"\ndt = 0.01\nend = 0.12\nadaptive = true\noutput_fps = 50.0";
+    strip(time, -0.01, "ramp(t, 0, 0.05)")
+}
+
+/// Six load levels of a bending strip (tip deflection about 40 % of its length).
+fn quasi_static_strip() -> String {
+    strip("mode = \"quasi_static\"\nn_levels = 6", -1e-4, "t")
+}
+
+/// A plate dropped onto a floor inclined by 20° with friction μ = 0.5: it lands within the first
+/// steps and then sticks and slides with friction active (Tri3, 4 × 4 quads).
+fn contact_plate() -> String {
+    let (degrees, th) = (20.0_f64, 5e-4);
+    let theta = degrees.to_radians();
+    let lift = 2.0 * th + 1e-3;
+    let (x, z) = (
+        -0.3 * theta.cos() + lift * theta.sin(),
+        0.3 * theta.sin() + lift * theta.cos(),
+    );
+    format!(
+        r#"
+name = "plate_on_incline"
+gravity = [0.0, 0.0, -9.81]
+[time]
+dt = 0.01
+end = 0.12
+adaptive = true
+output_fps = 100.0
+[output]
+checkpoint_every = 4
+[solver]
+tolerance = 1e-9
+[mesh]
+generator = "rectangle"
+lx = 0.1
+ly = 0.1
+nx = 4
+ny = 4
+element = "tri3"
+rotation_element = "tri3"
+transform = {{ rotate = [{{ axis = "y", degrees = {degrees} }}], translate = [{x}, -0.5, {z}] }}
+[material]
+model = "plate"
+thickness = 1e-3
+youngs_modulus = 1e7
+poisson_ratio = 0.3
+density = 1000.0
+length_scale = 1e-3
+[contact]
+stiffness = 1.0
+barrier_width = 1e-3
+thickness = {th}
+stick_velocity = 1e-3
+[[contact.obstacle]]
+name = "floor"
+mesh = {{ generator = "rectangle", lx = 2.0, ly = 2.0, nx = 1, ny = 1, transform = {{ rotate = [{{ axis = "y", degrees = {degrees} }}] }} }}
+[[contact.friction]]
+between = ["shell", "floor"]
+mu = 0.5
+[[probe]]
+name = "centre"
+point = [{x}, -0.5, {z}]
+quantity = "position"
+"#
+    )
+}
+
+fn dir(name: &str) -> PathBuf {
+    let d = Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("cosserat_checkpoint_tests")
+        .join(name);
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn write_scene(dir: &Path, text: &str) -> PathBuf {
+    let p = dir.join("scene.toml");
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+fn simulation(scene: &Path) -> Simulation {
+    let spec = load_scene(scene, &[]).unwrap_or_else(|e| panic!("{e}"));
+    Simulation::new(spec).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Runs `scene` into `out`, stopping after `stop_after` steps (with `reason`) if given.
+fn run(scene: &Path, out: &Path, stop_after: Option<(usize, StopReason)>) -> RunSummary {
+    let stop = StopRequest::new();
+    let mut sim = simulation(scene);
+    sim.run(
+        out,
+        &mut |info| {
+            if let Some((k, reason)) = stop_after
+                && info.step == k
+            {
+                match reason {
+                    // As the SIGINT handler does: the signal number into the flag.
+                    StopReason::Interrupt => stop.flag().store(2, std::sync::atomic::Ordering::SeqCst),
+                    _ => stop.request(reason),
+                }
+            }
+        },
+        &stop,
+    )
+    .unwrap()
+}
+
+/// Resumes the run in `out` from its checkpoint through the library.
+fn resume(scene: &Path, out: &Path) -> RunSummary {
+    let checkpoint = Checkpoint::read(out).unwrap_or_else(|e| panic!("{e}"));
+    let mut sim = simulation(scene);
+    sim.resume_from(out, checkpoint).unwrap_or_else(|e| panic!("{e}"));
+    sim.run(out, &mut |_| {}, &StopRequest::new()).unwrap()
+}
+
+/// The run's output files that must match byte for byte: `probes.csv` and everything in `frames/`.
+fn outputs(out: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut files = vec![("probes.csv".to_string(), std::fs::read(out.join("probes.csv")).unwrap())];
+    let mut frames: Vec<_> = std::fs::read_dir(out.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    frames.sort();
+    for f in frames {
+        let name = format!("frames/{}", f.file_name().unwrap().to_string_lossy());
+        files.push((name, std::fs::read(&f).unwrap()));
+    }
+    files
+}
+
+fn assert_same_outputs(expected: &Path, resumed: &Path) {
+    let (a, b) = (outputs(expected), outputs(resumed));
+    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|(n, _)| n.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&a), names(&b), "the resumed run wrote other files");
+    for ((name, x), (_, y)) in a.iter().zip(&b) {
+        assert!(x == y, "{name} differs between the uninterrupted and the resumed run");
+    }
+}
+
+/// The summary's counts that a resumed run must reproduce (times differ).
+fn counts(s: &RunSummary) -> (RunStatus, usize, usize, usize, usize, usize) {
+    (
+        s.status,
+        s.n_steps,
+        s.n_frames,
+        s.max_newton_iterations,
+        s.wasted_newton_iterations,
+        s.n_step_reductions,
+    )
+}
+
+/// Runs `text` uninterrupted and stopped after `stop_after` steps then resumed; the outputs must be
+/// identical. Returns the step the resumed run started from.
+fn check_bit_identity(name: &str, text: &str, stop_after: usize) -> (RunSummary, RunSummary) {
+    let d = dir(name);
+    let scene = write_scene(&d, text);
+    let (whole, parts) = (d.join("whole"), d.join("parts"));
+    let expected = run(&scene, &whole, None);
+    assert_eq!(expected.status, RunStatus::Ok, "{:?}", expected.reason);
+    let stopped = run(&scene, &parts, Some((stop_after, StopReason::Requested)));
+    assert_eq!(stopped.status, RunStatus::Interrupted);
+    assert_eq!(stopped.n_steps, stop_after);
+    let resumed = resume(&scene, &parts);
+    assert_same_outputs(&whole, &parts);
+    assert_eq!(counts(&resumed), counts(&expected));
+    assert_eq!(resumed.energy, expected.energy);
+    (expected, resumed)
+}
+
+#[test]
+fn a_resumed_dynamic_run_is_bit_identical() {
+    // Checkpoints after steps 3, 6, 9: stopped after step 7, the run goes back to step 6 and writes
+    // step 7's row again.
+    let (_, resumed) = check_bit_identity("dynamic", &dynamic_strip(), 7);
+    assert_eq!(resumed.resumed_from, Some(6));
+    assert_eq!(resumed.n_steps, 12);
+}
+
+#[test]
+fn a_resumed_contact_run_with_friction_is_bit_identical() {
+    let (expected, resumed) = check_bit_identity("contact", &contact_plate(), 10);
+    assert_eq!(resumed.resumed_from, Some(8));
+    let (a, b) = (expected.contact.unwrap(), resumed.contact.unwrap());
+    assert!(a.max_active_pairs > 0, "the plate never reached the floor");
+    assert_eq!(
+        (
+            a.max_active_pairs,
+            a.mean_active_pairs.to_bits(),
+            a.min_gap.map(f64::to_bits)
+        ),
+        (
+            b.max_active_pairs,
+            b.mean_active_pairs.to_bits(),
+            b.min_gap.map(f64::to_bits)
+        )
+    );
+}
+
+#[test]
+fn a_resumed_quasi_static_run_is_bit_identical() {
+    let (_, resumed) = check_bit_identity("quasi_static", &quasi_static_strip(), 4);
+    assert_eq!(resumed.resumed_from, Some(3));
+    assert_eq!(resumed.n_steps, 6);
+}
+
+#[test]
+fn an_interrupted_run_resumes_from_its_last_checkpoint_with_the_command() {
+    let d = dir("interrupted");
+    let scene = write_scene(&d, &dynamic_strip());
+    let (whole, parts) = (d.join("whole"), d.join("parts"));
+    run(&scene, &whole, None);
+    let stopped = run(&scene, &parts, Some((5, StopReason::Interrupt)));
+    assert_eq!(stopped.status, RunStatus::Interrupted);
+    assert_eq!(stopped.reason.as_deref(), Some("interrupted by SIGINT (Ctrl-C)"));
+    let code = resume_run(&ResumeArgs {
+        dir: parts.clone(),
+        threads: Some(1),
+        quiet: true,
+        max_memory: None,
+    })
+    .unwrap();
+    assert_eq!(code, 0);
+    assert_same_outputs(&whole, &parts);
+    let summary = read_summary(&parts.join("summary.json")).unwrap();
+    assert_eq!(summary.status, RunStatus::Ok);
+    assert_eq!(summary.resumed_from, Some(3));
+    assert_eq!(summary.n_steps, 12);
+    assert_eq!(
+        std::fs::read_to_string(parts.join("checkpoint").join("scene.toml")).unwrap(),
+        dynamic_strip()
+    );
+}
+
+fn resume_args(dir: &Path) -> ResumeArgs {
+    ResumeArgs {
+        dir: dir.to_path_buf(),
+        threads: Some(1),
+        quiet: true,
+        max_memory: None,
+    }
+}
+
+/// A finished command-line run of the dynamic strip in `d/out`, with its checkpoint.
+fn finished_run(d: &Path) -> (PathBuf, PathBuf) {
+    let scene = write_scene(d, &dynamic_strip());
+    let out = d.join("out");
+    let args = RunArgs {
+        scene: scene.clone(),
+        out: Some(out.clone()),
+        overrides: Vec::new(),
+        threads: Some(1),
+        quiet: true,
+        max_memory: None,
+    };
+    assert_eq!(run_scene(&args).unwrap(), 0);
+    assert!(state_path(&out).is_file());
+    (scene, out)
+}
+
+#[test]
+fn resuming_with_a_changed_scene_is_refused() {
+    let d = dir("changed_scene");
+    let (scene, out) = finished_run(&d);
+    let summary_before = std::fs::read(out.join("summary.json")).unwrap();
+    std::fs::write(
+        &scene,
+        dynamic_strip().replace("force = [0.0, 0.0, -0.01]", "force = [0.0, 0.0, -0.02]"),
+    )
+    .unwrap();
+    let error = format!("{:#}", resume_run(&resume_args(&out)).unwrap_err());
+    assert!(error.contains("state.bin"), "{error}");
+    assert!(error.contains("the scene differs"), "{error}");
+    assert!(error.contains("checkpoint/scene.toml"), "{error}");
+    assert_eq!(std::fs::read(out.join("summary.json")).unwrap(), summary_before);
+}
+
+#[test]
+fn a_missing_or_damaged_checkpoint_is_refused_with_the_reason() {
+    let d = dir("damaged");
+    let (_, out) = finished_run(&d);
+    let path = state_path(&out);
+    let bytes = std::fs::read(&path).unwrap();
+    let error_for = |contents: Option<&[u8]>| {
+        match contents {
+            Some(c) => std::fs::write(&path, c).unwrap(),
+            None => std::fs::remove_file(&path).unwrap(),
+        }
+        format!("{:#}", resume_run(&resume_args(&out)).unwrap_err())
+    };
+    let mut flipped = bytes.clone();
+    let middle = flipped.len() / 2;
+    flipped[middle] ^= 0x10;
+    let cases: [(Option<&[u8]>, &str); 4] = [
+        (Some(&flipped), "checksum"),
+        (Some(&bytes[..bytes.len() - 100]), "checksum"),
+        (Some(b"name = \"strip\"\n"), "not a checkpoint"),
+        (None, "cannot read"),
+    ];
+    for (contents, reason) in cases {
+        let error = error_for(contents);
+        assert!(error.contains(&path.display().to_string()), "{error}");
+        assert!(error.contains(reason), "{error}");
+    }
+}
