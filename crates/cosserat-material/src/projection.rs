@@ -28,6 +28,9 @@ pub enum StrainInterpolation {
     /// Element means plus a fluctuation scaled by `√β` for the membrane, drilling and transverse-shear
     /// strains (module documentation).
     Stabilized,
+    /// Assumed covariant membrane, drilling and transverse-shear strains interpolated from tying points
+    /// (MITC6-style, [`crate::assumed`]).
+    Assumed,
 }
 
 /// The constants `c` of `β = h² / (h² + c h_e²)`, per strain part; `f64::INFINITY` keeps a part's
