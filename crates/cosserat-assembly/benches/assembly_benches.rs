@@ -54,7 +54,7 @@ fn bench(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
     // The paper's discretisation for every pair, and the stabilised strain projection and the assumed
-    // strains for the paper's pair (their cost relative to the paper's is reported in
+    // strains (MITC6-style and Regge) for the paper's pair (their cost relative to the paper's is reported in
     // docs/model-notes.md).
     let paper = StrainInterpolation::Paper;
     for (pair, interpolation, label) in [
@@ -67,6 +67,7 @@ fn bench(c: &mut Criterion) {
             "tri6_tri3_stabilized",
         ),
         (ElementPair::Tri6Tri3, StrainInterpolation::Assumed, "tri6_tri3_assumed"),
+        (ElementPair::Tri6Tri3, StrainInterpolation::Regge, "tri6_tri3_regge"),
     ] {
         for (model, m) in [(ShellModel::Plate, "plate"), (ShellModel::Shell, "shell")] {
             let mut sys = system(pair, model, interpolation, 40, 8);

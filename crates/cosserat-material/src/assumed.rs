@@ -24,12 +24,26 @@
 //! (`assumed_kernel`). The tying points are points of the element with a zero integration weight:
 //! each carries its own rotation, advanced like a quadrature point's.
 //!
+//! [`StrainInterpolation::Regge`] assumes the membrane part only, in the same linear symmetric space,
+//! but ties it to *moments* (Neunteufel and Schöberl, "Avoiding membrane locking with Regge
+//! interpolation", CMAME 2021): the edge-tangential moments against linear functions (the two edge
+//! Gauss points, exact for the quadratic tangential strain of a Tri6 edge) and the mean of the three
+//! covariant components over the element (the three interior tying points at the degree-2 rule's
+//! points, exact for quadratic fields). The edge moments are shared by the two elements of an edge,
+//! and under a bending without stretching the interior moments are combinations of them, which the
+//! centroid values of MITC6 are not: on a thin cantilever bent into an arc (Sze 3.1) the centroid ties
+//! lock the element while the moments leave it free (docs/model-notes.md).
+//!
 //! [`StrainInterpolation::Assumed`]: crate::StrainInterpolation::Assumed
+//! [`StrainInterpolation::Regge`]: crate::StrainInterpolation::Regge
 
 use nalgebra::{DMatrix, Matrix2, SMatrix};
 
-/// Number of tying points per element.
-pub const N_TYING: usize = 7;
+/// Number of tying points per element: two Gauss points per edge, the centroid, and the three points
+/// of the interior degree-2 rule.
+pub const N_TYING: usize = 10;
+/// The first of the interior tying points (the degree-2 rule's points, equal weights).
+const FIRST_INTERIOR: usize = 7;
 /// Number of tied strain entries per tying point: `Ê` entries 0–5 (the tangential and normal rows of
 /// its two variable columns).
 pub const TIED: usize = 6;
@@ -66,6 +80,13 @@ impl AssumedParts {
         shear: true,
     };
 
+    /// The membrane part only.
+    pub const MEMBRANE: Self = Self {
+        membrane: true,
+        drilling: false,
+        shear: false,
+    };
+
     /// The projector onto the `Ê` entries 0–5 of the parts that keep their point values.
     fn kept(&self) -> SMatrix<f64, TIED, TIED> {
         let mut k = SMatrix::<f64, TIED, TIED>::zeros();
@@ -94,11 +115,23 @@ const CORNERS: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
 /// Natural directions of edges `k → k + 1`.
 const EDGE_DIRECTIONS: [[f64; 2]; 3] = [[1.0, 0.0], [-1.0, 1.0], [0.0, -1.0]];
 
-/// Reference coordinates of the tying points: the two Gauss points of edges 0→1, 1→2 and 2→0, then
-/// the centroid.
+/// How the membrane field is tied inside the element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MembraneTying {
+    /// The three covariant components at the centroid (MITC6).
+    Centroid,
+    /// The mean of the three covariant components over the element (Regge interpolation).
+    Moments,
+}
+
+/// Reference coordinates of the tying points: the two Gauss points of edges 0→1, 1→2 and 2→0, the
+/// centroid, then the three points of the interior degree-2 rule.
 pub fn tying_points() -> [[f64; 2]; N_TYING] {
     let d = 0.5 / 3f64.sqrt();
     let mut out = [[1.0 / 3.0; 2]; N_TYING];
+    out[FIRST_INTERIOR] = [1.0 / 6.0, 1.0 / 6.0];
+    out[FIRST_INTERIOR + 1] = [2.0 / 3.0, 1.0 / 6.0];
+    out[FIRST_INTERIOR + 2] = [1.0 / 6.0, 2.0 / 3.0];
     for k in 0..3 {
         for (j, t) in [0.5 - d, 0.5 + d].into_iter().enumerate() {
             let (a, e) = (CORNERS[k], EDGE_DIRECTIONS[k]);
@@ -178,7 +211,7 @@ const fn entry(a: usize, b: usize) -> usize {
     3 * b + a
 }
 
-fn membrane_tying(tying: &[PointBasis; N_TYING]) -> Tying {
+fn membrane_tying(tying: &[PointBasis; N_TYING], interior: MembraneTying) -> Tying {
     let mut from_strains = DMatrix::zeros(9, N_TIED);
     let mut of_basis = DMatrix::zeros(9, 9);
     // Tied value as a quadratic form of the frame directions (u, v): u · sym Ê v.
@@ -194,11 +227,23 @@ fn membrane_tying(tying: &[PointBasis; N_TYING]) -> Tying {
         let u = frame_direction(&tying[t].gt, tau);
         put(t, t, u, u);
     }
+    // Interior ties: the covariant components at the centroid, or their mean over the element (the
+    // degree-2 rule's points with weights 1/3; scaling both directions by 1/√3 gives the weight).
+    let (points, scale) = match interior {
+        MembraneTying::Centroid => (6..7, 1.0),
+        MembraneTying::Moments => (FIRST_INTERIOR..N_TYING, 1.0 / 3f64.sqrt()),
+    };
+    for t in points {
+        let gt = &tying[t].gt;
+        let dir = |d: [f64; 2]| frame_direction(gt, d).map(|x| scale * x);
+        let (gr, gs) = (dir([1.0, 0.0]), dir([0.0, 1.0]));
+        put(6, t, gr, gr);
+        put(7, t, gs, gs);
+        put(8, t, gr, gs);
+    }
+    // The linear basis fields' interior ties are their centroid values in both cases (the mean of a
+    // linear field is its centroid value).
     let c = &tying[6];
-    let (gr, gs) = (frame_direction(&c.gt, [1.0, 0.0]), frame_direction(&c.gt, [0.0, 1.0]));
-    put(6, 6, gr, gr);
-    put(7, 6, gs, gs);
-    put(8, 6, gr, gs);
     for m in 0..9 {
         for t in 0..6 {
             let tau = nalgebra::Vector2::from(EDGE_DIRECTIONS[t / 2]);
@@ -254,10 +299,15 @@ fn drilling_edges(tying: &[PointBasis; N_TYING]) -> DMatrix<f64> {
 
 /// The tying maps of an element's quadrature points, from the bases of its tying points and of its
 /// quadrature points.
-pub fn tying_maps(tying: &[PointBasis; N_TYING], quadrature: &[PointBasis], parts: AssumedParts) -> Vec<TyingMap> {
+pub fn tying_maps(
+    tying: &[PointBasis; N_TYING],
+    quadrature: &[PointBasis],
+    parts: AssumedParts,
+    interior: MembraneTying,
+) -> Vec<TyingMap> {
     let own = parts.kept();
     let assumed = SMatrix::<f64, TIED, TIED>::identity() - own;
-    let membrane = membrane_tying(tying).coefficients();
+    let membrane = membrane_tying(tying, interior).coefficients();
     let shear = shear_tying(tying).coefficients();
     let drilling = drilling_edges(tying);
     quadrature
@@ -326,10 +376,15 @@ mod tests {
         let gt = Matrix2::new(1.1, 0.2, 0.1, 0.8);
         let tp = tying_points();
         let tying: [PointBasis; N_TYING] = std::array::from_fn(|t| basis(tp[t], gt));
-        let maps = tying_maps(&tying, &[basis([0.3, 0.3], gt)], none);
+        let maps = tying_maps(&tying, &[basis([0.3, 0.3], gt)], none, MembraneTying::Centroid);
         assert_eq!(maps[0].own, SMatrix::<f64, TIED, TIED>::identity());
         assert!(maps[0].tied.amax() < 1e-15);
-        let all = tying_maps(&tying, &[basis([0.3, 0.3], gt)], AssumedParts::ALL);
+        let all = tying_maps(
+            &tying,
+            &[basis([0.3, 0.3], gt)],
+            AssumedParts::ALL,
+            MembraneTying::Centroid,
+        );
         assert_eq!(all[0].own, SMatrix::<f64, TIED, TIED>::zeros());
     }
 
@@ -368,13 +423,95 @@ mod tests {
         let tp = tying_points();
         let tying: [PointBasis; N_TYING] = std::array::from_fn(|t| basis(tp[t], gt));
         let quad = [basis([0.2, 0.3], gt), basis([0.7, 0.1], gt), basis([0.1, 0.8], gt)];
-        let maps = tying_maps(&tying, &quad, AssumedParts::ALL);
         let tied = nalgebra::SVector::<f64, N_TIED>::from_fn(|i, _| strains(tp[i / TIED])[i % TIED]);
-        for (q, m) in quad.iter().zip(&maps) {
-            let got = m.tied * tied;
-            let want = strains(q.xi);
-            for i in 0..TIED {
-                assert!((got[i] - want[i]).abs() < 1e-13, "{i}: {} vs {}", got[i], want[i]);
+        for interior in [MembraneTying::Centroid, MembraneTying::Moments] {
+            let maps = tying_maps(&tying, &quad, AssumedParts::ALL, interior);
+            for (q, m) in quad.iter().zip(&maps) {
+                let got = m.tied * tied;
+                let want = strains(q.xi);
+                for i in 0..TIED {
+                    assert!(
+                        (got[i] - want[i]).abs() < 1e-13,
+                        "{interior:?} {i}: {} vs {}",
+                        got[i],
+                        want[i]
+                    );
+                }
+            }
+        }
+    }
+
+    /// The Regge interpolant of a quadratic covariant membrane field keeps its edge-tangential moments
+    /// against `1` and the edge parameter, and its mean over the element (moments computed here from
+    /// closed-form integrals and a 3-point Gauss rule, not the tying points).
+    #[test]
+    fn regge_membrane_keeps_the_edge_and_interior_moments_of_a_quadratic_field() {
+        let gt = Matrix2::new(1.3, 0.4, -0.2, 0.9);
+        let p = gt.try_inverse().unwrap();
+        // A quadratic covariant field: coefficients of 1, r, s, r², rs, s² per component (rr, ss, rs).
+        let k = [
+            [0.1, 0.3, -0.2, 0.7, -0.4, 0.2],
+            [0.05, -0.4, 0.7, 0.3, 0.5, -0.6],
+            [-0.3, 0.2, 0.1, -0.5, 0.8, 0.4],
+        ];
+        let covariant = |xi: [f64; 2]| {
+            let (r, s) = (xi[0], xi[1]);
+            let m = [1.0, r, s, r * r, r * s, s * s];
+            let c: Vec<f64> = k.iter().map(|row| row.iter().zip(&m).map(|(a, b)| a * b).sum()).collect();
+            Matrix2::new(c[0], c[2], c[2], c[1])
+        };
+        let strains = |xi: [f64; 2]| {
+            let e = p.transpose() * covariant(xi) * p;
+            let mut v = [0.0; TIED];
+            for a in 0..2 {
+                for b in 0..2 {
+                    v[entry(a, b)] = e[(a, b)];
+                }
+            }
+            v
+        };
+        let tp = tying_points();
+        let tying: [PointBasis; N_TYING] = std::array::from_fn(|t| basis(tp[t], gt));
+        let tied = nalgebra::SVector::<f64, N_TIED>::from_fn(|i, _| strains(tp[i / TIED])[i % TIED]);
+        let parts = AssumedParts {
+            membrane: true,
+            drilling: false,
+            shear: false,
+        };
+        // The assumed covariant field at a point: C̃ = Gtᵀ Ê Gt.
+        let assumed = |xi: [f64; 2]| {
+            let m = &tying_maps(&tying, &[basis(xi, gt)], parts, MembraneTying::Moments)[0];
+            let v = m.tied * tied;
+            let e = Matrix2::new(v[entry(0, 0)], v[entry(0, 1)], v[entry(1, 0)], v[entry(1, 1)]);
+            gt.transpose() * e * gt
+        };
+        // Mean over the reference triangle (area 1/2): ∫ r = ∫ s = 1/6, ∫ r² = ∫ s² = 1/12, ∫ rs = 1/24.
+        let integrals = [0.5, 1.0 / 6.0, 1.0 / 6.0, 1.0 / 12.0, 1.0 / 24.0, 1.0 / 12.0];
+        let mean: Vec<f64> = k
+            .iter()
+            .map(|row| 2.0 * row.iter().zip(&integrals).map(|(a, b)| a * b).sum::<f64>())
+            .collect();
+        let c = assumed([1.0 / 3.0, 1.0 / 3.0]);
+        for (got, want) in [(c[(0, 0)], mean[0]), (c[(1, 1)], mean[1]), (c[(0, 1)], mean[2])] {
+            assert!((got - want).abs() < 1e-13, "mean: {got} vs {want}");
+        }
+        let gauss3 = [
+            (0.5 - 0.15f64.sqrt(), 5.0 / 18.0),
+            (0.5, 8.0 / 18.0),
+            (0.5 + 0.15f64.sqrt(), 5.0 / 18.0),
+        ];
+        for k in 0..3 {
+            let (a, e) = (CORNERS[k], EDGE_DIRECTIONS[k]);
+            let tau = nalgebra::Vector2::from(e);
+            for weight in [|_: f64| 1.0, |t: f64| t] {
+                let moment = |f: &dyn Fn([f64; 2]) -> Matrix2<f64>| -> f64 {
+                    gauss3
+                        .iter()
+                        .map(|&(t, w)| w * weight(t) * tau.dot(&(f([a[0] + t * e[0], a[1] + t * e[1]]) * tau)))
+                        .sum()
+                };
+                let (got, want) = (moment(&assumed), moment(&covariant));
+                assert!((got - want).abs() < 1e-13, "edge {k}: {got} vs {want}");
             }
         }
     }

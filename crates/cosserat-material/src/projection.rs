@@ -31,6 +31,10 @@ pub enum StrainInterpolation {
     /// Assumed covariant membrane, drilling and transverse-shear strains interpolated from tying points
     /// (MITC6-style, [`crate::assumed`]).
     Assumed,
+    /// The membrane strains interpolated into the linear Regge space by their edge-tangential and
+    /// interior moments; drilling, transverse shear and curvature keep their point values
+    /// ([`crate::assumed`]).
+    Regge,
 }
 
 /// The constants `c` of `β = h² / (h² + c h_e²)`, per strain part; `f64::INFINITY` keeps a part's

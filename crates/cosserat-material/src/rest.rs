@@ -8,7 +8,7 @@
 //! so a faceted (Tri3 or straight-edged Tri6) mesh of a curved surface still carries its curvature.
 //! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
 
-use crate::assumed::{AssumedParts, N_TYING, PointBasis, TyingMap, tying_maps, tying_points};
+use crate::assumed::{AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, tying_maps, tying_points};
 use crate::error::RestStateError;
 use crate::kernel::PointShape;
 use crate::model::{ModelOptions, ShellModel, TermSet};
@@ -139,7 +139,12 @@ where
         });
     }
     let n_qp = rule.n_points();
-    let tying: Vec<[f64; 2]> = if options.interpolation == StrainInterpolation::Assumed {
+    let tying_scheme = match options.interpolation {
+        StrainInterpolation::Assumed => Some((options.assumed_parts, MembraneTying::Centroid)),
+        StrainInterpolation::Regge => Some((AssumedParts::MEMBRANE, MembraneTying::Moments)),
+        StrainInterpolation::Paper | StrainInterpolation::Stabilized => None,
+    };
+    let tying: Vec<[f64; 2]> = if tying_scheme.is_some() {
         tying_points().to_vec()
     } else {
         Vec::new()
@@ -191,9 +196,9 @@ where
             };
             curvature.push(curv);
         }
-        if !tying.is_empty() {
+        if let Some((parts, interior)) = tying_scheme {
             let tied: [PointBasis; N_TYING] = std::array::from_fn(|t| bases[n_qp + t]);
-            tying_map_list.extend(tying_maps(&tied, &bases[..n_qp], options.assumed_parts));
+            tying_map_list.extend(tying_maps(&tied, &bases[..n_qp], parts, interior));
         }
         element_areas.push(area);
         for g in 0..n_points {

@@ -46,18 +46,26 @@ fn curved_shells_rest_at_zero_energy_with_assumed_strains() {
     let sphere = procedural::icosphere(1.0, 1).unwrap();
     let cylinder = procedural::cylinder(0.5, 2.0, 12, 4).unwrap();
     for (label, generated) in [("sphere", &sphere), ("cylinder", &cylinder)] {
-        for (pair, on_surface) in [(ElementPair::Tri6Tri3, false), (ElementPair::Tri6Tri3, true)] {
-            let mut sys = build(generated, pair, on_surface, StrainInterpolation::Assumed);
+        for (interpolation, on_surface) in [
+            (StrainInterpolation::Assumed, false),
+            (StrainInterpolation::Assumed, true),
+            (StrainInterpolation::Regge, false),
+            (StrainInterpolation::Regge, true),
+        ] {
+            let mut sys = build(generated, ElementPair::Tri6Tri3, on_surface, interpolation);
             let u = vec![0.0; sys.potential.n_dofs()];
             let mut g = vec![0.0; u.len()];
             let e = sys.potential.gradient(&u, &mut g).unwrap();
             // Scales: a unit strain costs E h A ≈ 1e6 · 1e-2 · 12 J, and its gradient is about
             // E h L ≈ 1e4 per unit velocity; the rest state is zero to round-off relative to those.
             let g_max = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
-            assert!(e.abs() < 1e-15, "{label} on_surface={on_surface}: energy at rest {e:e}");
+            assert!(
+                e.abs() < 1e-15,
+                "{label} {interpolation:?} on_surface={on_surface}: energy at rest {e:e}"
+            );
             assert!(
                 g_max < 1e-14 * 1e4,
-                "{label} on_surface={on_surface}: gradient at rest {g_max:e}"
+                "{label} {interpolation:?} on_surface={on_surface}: gradient at rest {g_max:e}"
             );
         }
     }
@@ -68,7 +76,11 @@ fn curved_shells_rest_at_zero_energy_with_assumed_strains() {
 #[test]
 fn a_free_curved_patch_has_only_the_rigid_modes() {
     let generated = procedural::cylinder(0.5, 0.4, 8, 2).unwrap();
-    for interpolation in [StrainInterpolation::Paper, StrainInterpolation::Assumed] {
+    for interpolation in [
+        StrainInterpolation::Paper,
+        StrainInterpolation::Assumed,
+        StrainInterpolation::Regge,
+    ] {
         let h = rest_hessian(&mut build(&generated, ElementPair::Tri6Tri3, true, interpolation));
         let eigenvalues = h.symmetric_eigenvalues();
         let largest = eigenvalues.iter().fold(0.0f64, |a, e| a.max(e.abs()));
@@ -94,8 +106,14 @@ fn flat_straight_elements_keep_the_papers_linear_stiffness() {
     // Tri6 rotations make the linearised shear and drilling quadratic: that pair is not covered.
     for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3] {
         let paper = rest_hessian(&mut build(&generated, pair, false, StrainInterpolation::Paper));
-        let assumed = rest_hessian(&mut build(&generated, pair, false, StrainInterpolation::Assumed));
-        let diff = (&assumed - &paper).amax();
-        assert!(diff <= 1e-10 * paper.amax(), "{pair:?}: {diff:e} of {:e}", paper.amax());
+        for interpolation in [StrainInterpolation::Assumed, StrainInterpolation::Regge] {
+            let assumed = rest_hessian(&mut build(&generated, pair, false, interpolation));
+            let diff = (&assumed - &paper).amax();
+            assert!(
+                diff <= 1e-10 * paper.amax(),
+                "{pair:?} {interpolation:?}: {diff:e} of {:e}",
+                paper.amax()
+            );
+        }
     }
 }

@@ -133,6 +133,8 @@ fn assembled_derivatives_match_finite_differences() {
         22,
         StrainInterpolation::Assumed,
     );
+    check_derivatives_with(ElementPair::Tri6Tri3, ShellModel::Plate, 23, StrainInterpolation::Regge);
+    check_derivatives_with(ElementPair::Tri6Tri3, ShellModel::Shell, 24, StrainInterpolation::Regge);
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
@@ -191,6 +193,7 @@ fn assembly_is_bit_identical_for_one_and_two_threads() {
         StrainInterpolation::Paper,
         StrainInterpolation::Stabilized,
         StrainInterpolation::Assumed,
+        StrainInterpolation::Regge,
     ] {
         check_thread_counts(interpolation);
     }
