@@ -43,7 +43,9 @@ pub trait ElementKernel<const NE: usize, const NB: usize>: Sync {
 
     /// The energy and gradient of element `e`, and (`with_hessian`) its Hessian, into `out`.
     ///
-    /// The scatter reads only the Hessian's upper block triangle
+    /// `out` and `scratch` are reused from element to element and still hold an earlier element's
+    /// numbers, so the kernel overwrites (or first clears) everything the loop reads: the value, the
+    /// gradient and, with the Hessian, its upper block triangle. The scatter reads only that triangle
     /// ([`ElementScatter::add_hessian`]); a kernel may leave the rest unwritten.
     fn element_derivatives(
         &self,
