@@ -28,7 +28,7 @@ enum Command {
     Run(cosserat::cli::RunArgs),
     /// Render frames of a finished run to PNG.
     Render(cosserat::cli::RenderArgs),
-    /// Run the paper's experiments without contact and write docs/experiments.md.
+    /// Run the paper's experiments and write docs/experiments.md.
     Experiments(ExperimentsArgs),
     /// Time per step of the reference code's cases; writes docs/performance.md and docs/performance.json.
     BenchTable {

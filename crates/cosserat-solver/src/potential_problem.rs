@@ -15,17 +15,50 @@ const HALF_TURN_PARAMETER: f64 = 1e3;
 pub struct PotentialProblem<'a> {
     potential: &'a mut IncrementalPotential,
     fixed: Option<Vec<bool>>,
+    /// [`Self::characteristic_length`], computed when first needed.
+    length: std::cell::OnceCell<f64>,
 }
 
 impl<'a> PotentialProblem<'a> {
     /// Wraps a potential; `fixed` marks exactly eliminated unknowns.
     pub fn new(potential: &'a mut IncrementalPotential, fixed: Option<Vec<bool>>) -> Self {
-        Self { potential, fixed }
+        Self {
+            potential,
+            fixed,
+            length: std::cell::OnceCell::new(),
+        }
     }
 
     /// The potential.
     pub(crate) fn potential(&self) -> &IncrementalPotential {
         self.potential
+    }
+
+    /// The median distance between two displacement nodes that share an element (two nodes coupled in
+    /// the Hessian's pattern), at the start of the step: the mesh's edge length, which turns torques
+    /// into forces for the residual. 1 for a model without couplings.
+    fn characteristic_length(&self) -> f64 {
+        *self.length.get_or_init(|| {
+            let parts = &self.potential.parts;
+            let n_disp = parts.layout.n_disp_nodes;
+            let pattern = self.potential.pattern().symbolic();
+            let (col_ptr, row_idx) = (pattern.col_ptr(), pattern.row_idx());
+            let mut lengths: Vec<f64> = (0..n_disp)
+                .flat_map(|j| {
+                    let column = &row_idx[col_ptr[3 * j]..col_ptr[3 * j + 1]];
+                    column
+                        .iter()
+                        .filter(move |&&i| i % 3 == 0 && i < 3 * j)
+                        .map(move |&i| (parts.state.x[i / 3] - parts.state.x[j]).norm())
+                })
+                .filter(|d| *d > 0.0)
+                .collect();
+            if lengths.is_empty() {
+                return 1.0;
+            }
+            let middle = lengths.len() / 2;
+            *lengths.select_nth_unstable_by(middle, f64::total_cmp).1
+        })
     }
 
     /// The potential, to change its loads and state.
@@ -94,17 +127,43 @@ impl NewtonProblem for PotentialProblem<'_> {
         }
     }
 
-    /// The largest external force (with gravity) or torque times `Δt`: `∂Π/∂v` of a load `f` is `−Δt f`.
+    /// The largest external force (with gravity) times `Δt`, torque times `Δt / ℓ`, and in a dynamic
+    /// step the largest momentum `m |vⁿ|` (angular momentum `J |ωⁿ|` over `ℓ`), in the weighted units
+    /// of [`residual_weights`](NewtonProblem::residual_weights) (`ℓ` the mesh's characteristic edge
+    /// length). `∂Π/∂v` of a load `f` is `−Δt f`, and the residual of a velocity unknown is an error in
+    /// momentum: measured against the momenta of the step, a relative tolerance bounds each node's
+    /// velocity error by that fraction of the fastest node's velocity, the error control of implicit
+    /// integrators (relative to the state's size), where the step's first residual alone (the net force
+    /// of a freely moving shell, small beside the forces its elements carry) would ask Newton for more
+    /// digits than the time discretisation can use.
     fn load_scale(&self) -> f64 {
-        let loads = &self.potential.parts.loads;
+        let parts = &self.potential.parts;
+        let loads = &parts.loads;
+        let length = self.characteristic_length();
         let forces = loads.forces.iter().enumerate().map(|(i, f)| {
             let weight = loads.masses.get(i).map_or(0.0, |m| *m) * loads.gravity;
             (f + weight).amax()
         });
-        let torques = loads.torques.iter().map(|t| t.amax());
+        let torques = loads.torques.iter().map(|t| t.amax() / length);
         let gravity = loads.masses.iter().map(|m| m * loads.gravity.amax());
         let largest = forces.chain(torques).chain(gravity).fold(0.0_f64, f64::max);
-        largest * self.potential.dt()
+        let momentum = parts.inertia.as_ref().map_or(0.0, |inertia| {
+            let linear = inertia.masses.iter().zip(&parts.state.v).map(|(m, v)| m * v.amax());
+            let angular =
+                (inertia.rotational_inertia.iter().zip(&parts.state.omega)).map(|(j, w)| j * w.amax() / length);
+            linear.chain(angular).fold(0.0_f64, f64::max)
+        });
+        (largest * self.potential.dt()).max(momentum)
+    }
+
+    /// Forces count as they are, torques over the mesh's characteristic edge length `ℓ` (the torque of
+    /// a force pair across one element), so that the test does not depend on the unit of length.
+    fn residual_weights(&self, w: &mut [f64]) {
+        let layout = self.potential.parts.layout;
+        w.fill(1.0);
+        if layout.n_rot_nodes > 0 {
+            w[3 * layout.n_disp_nodes..].fill(1.0 / self.characteristic_length());
+        }
     }
 
     /// A velocity unknown's magnitude is its node's distance from the origin over `Δt` (positions are

@@ -78,6 +78,17 @@ pub trait NewtonProblem {
         0.0
     }
 
+    /// Writes into `w` a weight per unknown that brings every gradient entry to one unit, for the
+    /// [relative tolerance](crate::Tolerance::Relative): the residual, the loads, the reactions and the
+    /// round-off floor are all compared as `w_i |∂Π/∂x_i|`. Without weights, a problem whose gradient
+    /// holds forces and torques would mix newtons with newton-metres in one maximum, and the same
+    /// dimensionless problem would converge differently in other units of length; a weight of one over
+    /// a length turns a torque into a force. [`load_scale`](Self::load_scale) is in the weighted unit.
+    /// The default weighs every entry 1 (a gradient in one unit).
+    fn residual_weights(&self, w: &mut [f64]) {
+        w.fill(1.0);
+    }
+
     /// Writes into `m` the magnitude of the coordinate behind each unknown, in the unknown's units, for
     /// the round-off floor of the residual (`ε Σ_j |H_ij| m_j`, see [`Tolerance`](crate::Tolerance)).
     /// When the unknowns are increments of a state (velocities of positions), the round-off is that of

@@ -47,9 +47,10 @@ pub struct TimeStepSettings {
 }
 
 impl TimeStepSettings {
-    /// Settings for a fixed time step `dt`, with up to 8 halvings on failure, and at least one Newton
+    /// Settings for a fixed time step `dt`, with up to 8 halvings on failure, at least one Newton
     /// iteration per step (a good initial guess alone could satisfy the tolerance and skip the step's
-    /// response to small but growing forces).
+    /// response to small but growing forces) and the time step's relative tolerance
+    /// ([`Tolerance::DEFAULT_RELATIVE_DYNAMIC`](crate::Tolerance::DEFAULT_RELATIVE_DYNAMIC)).
     pub fn fixed(dt: f64) -> Self {
         Self {
             dt,
@@ -59,6 +60,7 @@ impl TimeStepSettings {
             growth: 1.05,
             newton: NewtonSettings {
                 min_iterations: 1,
+                tolerance: crate::Tolerance::Relative(crate::Tolerance::DEFAULT_RELATIVE_DYNAMIC),
                 ..NewtonSettings::default()
             },
             initial_guess: InitialGuess::default(),

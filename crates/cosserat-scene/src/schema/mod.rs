@@ -200,10 +200,15 @@ pub enum InitialGuessName {
 #[serde(deny_unknown_fields)]
 pub struct SolverSection {
     /// An absolute residual tolerance in N and N·m (the paper's scenes use 1e-7). Without it the
-    /// tolerance is relative: `relative_tolerance` times the largest external load, reaction or first
-    /// residual of the step, never below the residual's round-off floor.
+    /// tolerance is relative: `relative_tolerance` times the problem's force scale (the largest
+    /// external load, reaction or first residual of the step; in a dynamic step also the largest
+    /// nodal momentum over the time step), never below the residual's round-off floor. Torques count
+    /// as forces over the mesh's median node spacing, so the test does not depend on the unit of
+    /// length.
     pub tolerance: Option<f64>,
-    /// The relative residual tolerance when no absolute `tolerance` is given (default 1e-6).
+    /// The relative residual tolerance when no absolute `tolerance` is given (default 1e-5 for dynamic
+    /// runs, where it bounds each step's velocity error far below the time discretisation's; 1e-6 for
+    /// quasi-static and arc-length runs).
     pub relative_tolerance: Option<f64>,
     /// Maximum Newton iterations per step (default 100).
     pub max_newton_iterations: Option<usize>,

@@ -210,7 +210,7 @@ impl Ctx<'_> {
             })?;
         }
         let time = self.time(&file.time)?;
-        let solver = self.solver(file.solver.as_ref())?;
+        let solver = self.solver(file.solver.as_ref(), &time)?;
         let gravity = match file.gravity {
             Some(g) => self.vector("gravity", g)?,
             None => Vector3::zeros(),

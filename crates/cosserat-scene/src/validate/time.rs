@@ -203,11 +203,11 @@ impl Ctx<'_> {
         }
     }
 
-    pub(super) fn solver(&self, solver: Option<&SolverSection>) -> Result<SolverSpec, SceneError> {
+    pub(super) fn solver(&self, solver: Option<&SolverSection>, time: &TimeSpec) -> Result<SolverSpec, SceneError> {
+        let d = default_solver(time);
         let Some(s) = solver else {
-            return Ok(default_solver());
+            return Ok(d);
         };
-        let d = default_solver();
         let tolerance = match (s.tolerance, s.relative_tolerance) {
             (Some(_), Some(_)) => {
                 return Err(self.invalid(
@@ -304,9 +304,15 @@ impl Ctx<'_> {
 
 /// The paper's solver settings (experiments.md §1.5) with our defaults where the reference has none,
 /// and a relative tolerance instead of its absolute 1e-7 (which scenes can still give).
-fn default_solver() -> SolverSpec {
+/// The solver's defaults; the relative tolerance depends on the kind of run (see
+/// [`Tolerance::DEFAULT_RELATIVE_DYNAMIC`]).
+fn default_solver(time: &TimeSpec) -> SolverSpec {
+    let relative = match time {
+        TimeSpec::Dynamic { .. } => Tolerance::DEFAULT_RELATIVE_DYNAMIC,
+        _ => Tolerance::DEFAULT_RELATIVE,
+    };
     SolverSpec {
-        tolerance: Tolerance::default(),
+        tolerance: Tolerance::Relative(relative),
         max_newton_iterations: 100,
         max_line_search_iterations: 20,
         linear_solver: LinearSolverKind::Auto,

@@ -15,7 +15,7 @@ use std::time::Instant;
 use super::{ArcLengthSettings, CorrectorError, PathError, PathPoint, PathProblem, tolerance};
 use crate::error::{NewtonError, ProblemError};
 use crate::linear::SparseSolver;
-use crate::newton::{ConvergenceTest, Criterion, round_off_scale};
+use crate::newton::{ConvergenceTest, Criterion, Tolerance, round_off_scale, weighted_max_abs};
 
 /// A step whose residual grows beyond this factor over its first diverges.
 const DIVERGENCE_FACTOR: f64 = 1e3;
@@ -30,6 +30,9 @@ pub(super) struct Tracer {
     linear: SparseSolver,
     fixed: Vec<bool>,
     weights: Vec<f64>,
+    /// The problem's residual weights with a relative tolerance, else 1
+    /// ([`NewtonProblem::residual_weights`](crate::NewtonProblem::residual_weights)).
+    residual_weights: Vec<f64>,
     /// The current step's increment `Δx` from the last equilibrium.
     x: Vec<f64>,
     grad: Vec<f64>,
@@ -86,7 +89,12 @@ impl Tracer {
                 *w = 0.0;
             }
         }
+        let mut residual_weights = vec![1.0; n];
+        if matches!(tolerance(settings), Tolerance::Relative(_)) {
+            problem.residual_weights(&mut residual_weights);
+        }
         Ok(Self {
+            residual_weights,
             settings: *settings,
             hess: vec![0.0; linear.nnz()],
             linear,
@@ -281,9 +289,10 @@ impl Tracer {
     /// where the path crosses `λ = 0`) and the reactions, with the Hessian's round-off floor.
     fn test<P: PathProblem + ?Sized>(&mut self, problem: &P, lambda: f64) -> ConvergenceTest {
         let lambda = lambda.abs().max(self.settings.initial_increment.abs());
-        let q_scale = max_abs(&self.q, &self.fixed, false) * lambda;
+        let w = &self.residual_weights;
+        let q_scale = weighted_max_abs(&self.q, w, &self.fixed, false) * lambda;
         let mut test = ConvergenceTest::new(tolerance(&self.settings), problem.load_scale().max(q_scale), 0.0, 0.0);
-        test.observe_reactions(max_abs(&self.grad, &self.fixed, true));
+        test.observe_reactions(weighted_max_abs(&self.grad, w, &self.fixed, true));
         let (magnitudes, sums) = &mut self.scratch;
         problem.unknown_magnitudes(&self.x, magnitudes);
         test.observe_stiffness(round_off_scale(
@@ -291,6 +300,7 @@ impl Tracer {
             &self.hess,
             magnitudes,
             sums,
+            w,
             &self.fixed,
         ));
         test
@@ -377,9 +387,9 @@ impl Tracer {
             .map_err(|source| CorrectorError::LinearSolve { iteration, source })
     }
 
-    /// `max |∇Π_i|` over free unknowns.
+    /// `max w_i |∇Π_i|` over free unknowns (`w` the residual weights).
     fn residual(&self) -> f64 {
-        max_abs(&self.grad, &self.fixed, false)
+        weighted_max_abs(&self.grad, &self.residual_weights, &self.fixed, false)
     }
 
     /// `‖v‖_W`.
@@ -397,14 +407,6 @@ impl Tracer {
         let factor = (target / iterations.max(1) as f64).sqrt().clamp(0.5, 2.0);
         self.arc = (self.arc * factor).clamp(self.min_arc(), self.settings.max_ratio * self.first_arc);
     }
-}
-
-/// `max |v_i|` over the unknowns with `fixed_i == of_fixed`.
-fn max_abs(v: &[f64], fixed: &[bool], of_fixed: bool) -> f64 {
-    v.iter()
-        .zip(fixed)
-        .filter(|(_, f)| **f == of_fixed)
-        .fold(0.0_f64, |m, (v, _)| m.max(v.abs()))
 }
 
 /// `δλ` of the cylindrical constraint `‖x + dg + δλ dq‖²_W = arc²`: of the two roots the one whose

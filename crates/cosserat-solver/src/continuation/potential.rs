@@ -157,6 +157,9 @@ impl NewtonProblem for PotentialPath<'_, '_, '_> {
     fn unknown_magnitudes(&self, x: &[f64], m: &mut [f64]) {
         self.problem.unknown_magnitudes(x, m);
     }
+    fn residual_weights(&self, w: &mut [f64]) {
+        self.problem.residual_weights(w);
+    }
 }
 
 impl PathProblem for PotentialPath<'_, '_, '_> {

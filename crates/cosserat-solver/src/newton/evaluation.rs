@@ -10,28 +10,17 @@ use cosserat_assembly::finite::first_non_finite;
 use faer::sparse::SymbolicSparseColMatRef;
 
 impl NewtonSolver {
-    /// `max_i |g_i| / scale` over free unknowns.
+    /// `max_i w_i |g_i| / scale` over free unknowns (`w` the residual weights).
     pub(super) fn residual(&self, g: &[f64]) -> f64 {
-        let max = g
-            .iter()
-            .zip(&self.fixed)
-            .filter(|(_, f)| !**f)
-            .fold(0.0_f64, |m, (v, _)| m.max(v.abs()));
-        max / self.settings.residual_scale
+        weighted_max_abs(g, &self.weights, &self.fixed, false) / self.settings.residual_scale
     }
 
-    /// The largest reaction `max_i |∂Π/∂x_i| / scale` over fixed unknowns at the current iterate.
+    /// The largest reaction `max_i w_i |∂Π/∂x_i| / scale` over fixed unknowns at the current iterate.
     pub(super) fn reactions(&self) -> f64 {
         if !self.has_fixed {
             return 0.0;
         }
-        let max = self
-            .grad
-            .iter()
-            .zip(&self.fixed)
-            .filter(|(_, f)| **f)
-            .fold(0.0_f64, |m, (v, _)| m.max(v.abs()));
-        max / self.settings.residual_scale
+        weighted_max_abs(&self.grad, &self.weights, &self.fixed, true) / self.settings.residual_scale
     }
 
     /// `max_i Σ_j |H_ij| m_j / scale` over free rows `i`, with the problem's magnitudes `m` of the
@@ -44,6 +33,7 @@ impl NewtonSolver {
             &self.hess_values,
             magnitudes,
             sums,
+            &self.weights,
             &self.fixed,
         );
         max / self.settings.residual_scale
@@ -146,13 +136,14 @@ impl NewtonSolver {
     }
 }
 
-/// `max_i Σ_j |H_ij| m_j` over free rows `i` of the symmetric matrix whose upper triangle is `values`
-/// on `pattern`, with `sums` as scratch (length `n`).
+/// `max_i w_i Σ_j |H_ij| m_j` over free rows `i` of the symmetric matrix whose upper triangle is
+/// `values` on `pattern` (`w` the residual weights), with `sums` as scratch (length `n`).
 pub(crate) fn round_off_scale(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     magnitudes: &[f64],
     sums: &mut [f64],
+    weights: &[f64],
     fixed: &[bool],
 ) -> f64 {
     sums.fill(0.0);
@@ -166,10 +157,16 @@ pub(crate) fn round_off_scale(
             }
         }
     }
-    sums.iter()
+    weighted_max_abs(sums, weights, fixed, false)
+}
+
+/// `max_i w_i |v_i|` over the unknowns with `fixed_i == of_fixed`.
+pub(crate) fn weighted_max_abs(v: &[f64], weights: &[f64], fixed: &[bool], of_fixed: bool) -> f64 {
+    v.iter()
+        .zip(weights)
         .zip(fixed)
-        .filter(|(_, f)| !**f)
-        .fold(0.0_f64, |m, (s, _)| m.max(*s))
+        .filter(|(_, f)| **f == of_fixed)
+        .fold(0.0_f64, |m, ((v, w), _)| m.max(w * v.abs()))
 }
 
 /// A problem's own error in an iteration (its residual history is attached when the solve ends).

@@ -39,7 +39,7 @@ mod step;
 
 pub(crate) use convergence::ConvergenceTest;
 pub use convergence::{Convergence, Criterion, Tolerance};
-pub(crate) use evaluation::round_off_scale;
+pub(crate) use evaluation::{round_off_scale, weighted_max_abs};
 pub use report::{FactorisationCounts, NewtonReport};
 pub use settings::{IndefiniteHessian, NewtonSettings};
 
@@ -59,6 +59,9 @@ pub struct NewtonSolver {
     x_trial: Vec<f64>,
     fixed: Vec<bool>,
     has_fixed: bool,
+    /// The problem's residual weights (see [`NewtonProblem::residual_weights`]) with a relative
+    /// tolerance; all 1 with an absolute one, whose units are the gradient's own.
+    weights: Vec<f64>,
     /// Per-unknown scratch of the round-off floor: the magnitudes `m` of the unknowns and the row sums
     /// `Σ_j |H_ij| m_j`.
     scratch: (Vec<f64>, Vec<f64>),
@@ -138,6 +141,7 @@ impl NewtonSolver {
             x_trial: vec![0.0; n],
             fixed: vec![false; n],
             has_fixed: false,
+            weights: vec![1.0; n],
             scratch: (vec![0.0; n], vec![0.0; n]),
             start_with_hessian: true,
             diagonal_slots: diagonal_slots(pattern),
@@ -385,6 +389,10 @@ impl NewtonSolver {
                 self.fixed.fill(false);
                 self.has_fixed = false;
             }
+        }
+        match self.settings.tolerance {
+            Tolerance::Relative(_) => problem.residual_weights(&mut self.weights),
+            Tolerance::Absolute(_) => self.weights.fill(1.0),
         }
         Ok(())
     }
