@@ -7,10 +7,10 @@
 
 use crate::density::strain_hessian;
 use crate::error::{BuildError, MeshError};
-use crate::material::MicropolarMaterial;
+use crate::material::{MicropolarMaterial, MicropolarModuli};
 use crate::mesh::TetMesh;
 use crate::term::{RestCurvature, Tet4Volume, VolumeDiscretization};
-use crate::tet4::tet4_point;
+use crate::tet4::{VolumePoint, tet4_point};
 use cosserat_assembly::{
     DofLayout, IncrementalPotential, NodalMasses, PotentialParts, SystemOptions, SystemState, TermHandle,
 };
@@ -67,6 +67,45 @@ impl VolumeSystem {
 ///   element means vanish, or whose gradient is purely skew or purely symmetric, are not penalised).
 pub fn build_volume_system(input: &VolumeInput, options: &SystemOptions) -> Result<VolumeSystem, BuildError> {
     let moduli = input.material.moduli()?;
+    check_input(input, options, &moduli)?;
+    let mesh = &input.mesh;
+    mesh.validate()?;
+    let (points, point_positions) = quadrature_points(mesh)?;
+    let n = mesh.n_nodes();
+    let layout = DofLayout {
+        n_disp_nodes: n,
+        n_rot_nodes: n,
+    };
+    let element_volumes: Vec<f64> = points.iter().map(|p| p.weight).collect();
+    let nodal = lumped_masses(input, &element_volumes);
+    let rest_curvature = RestCurvature::zeros(points.len());
+    let disc = VolumeDiscretization {
+        points,
+        disp_elements: mesh.elements.clone(),
+        rot_elements: mesh.elements.clone(),
+        first_point: 0,
+        moduli,
+        strain_hessian: strain_hessian(&moduli),
+    };
+    let term = Tet4Volume::new(disc, layout, rest_curvature.clone());
+    let state = SystemState::at_rest(mesh.nodes.clone(), n, mesh.n_elements());
+    let parts = PotentialParts::with_inertia_and_loads(layout, state, Vec::new(), nodal, options);
+    let mut potential = IncrementalPotential::new(parts);
+    let volume_term = potential.insert(term);
+    Ok(VolumeSystem {
+        potential,
+        volume_term,
+        rest_positions: mesh.nodes.clone(),
+        point_positions,
+        element_volumes,
+        rest_curvature,
+    })
+}
+
+/// Damping and rotational inertia must be finite and non-negative; without rotational inertia the
+/// energy alone must determine the rotations (`μ_c > 0` for their uniform mode, `L_c, b₁, b₂ > 0` for
+/// their gradients).
+fn check_input(input: &VolumeInput, options: &SystemOptions, moduli: &MicropolarModuli) -> Result<(), BuildError> {
     let nonnegative = |name: &'static str, value: f64| {
         if value.is_finite() && value >= 0.0 {
             Ok(())
@@ -94,8 +133,11 @@ pub fn build_volume_system(input: &VolumeInput, options: &SystemOptions) -> Resu
             });
         }
     }
-    let mesh = &input.mesh;
-    mesh.validate()?;
+    Ok(())
+}
+
+/// One quadrature point per tetrahedron (at its centroid), and the points' rest positions.
+fn quadrature_points(mesh: &TetMesh) -> Result<(Vec<VolumePoint<4>>, Vec<Vector3<f64>>), BuildError> {
     let mut points = Vec::with_capacity(mesh.n_elements());
     let mut point_positions = Vec::with_capacity(mesh.n_elements());
     for e in 0..mesh.n_elements() {
@@ -108,45 +150,23 @@ pub fn build_volume_system(input: &VolumeInput, options: &SystemOptions) -> Resu
         points.push(point);
         point_positions.push((x[0] + x[1] + x[2] + x[3]) * 0.25);
     }
-    let n = mesh.n_nodes();
-    let layout = DofLayout {
-        n_disp_nodes: n,
-        n_rot_nodes: n,
-    };
-    let element_volumes: Vec<f64> = points.iter().map(|p| p.weight).collect();
+    Ok((points, point_positions))
+}
+
+/// Masses and rotational inertias lumped to the nodes, a quarter of each element's per node.
+fn lumped_masses(input: &VolumeInput, element_volumes: &[f64]) -> NodalMasses {
+    let n = input.mesh.n_nodes();
     let mut masses = vec![0.0; n];
     let mut rotational_inertia = vec![0.0; n];
-    for (el, v) in mesh.elements.iter().zip(&element_volumes) {
+    for (el, v) in input.mesh.elements.iter().zip(element_volumes) {
         for &i in el {
             masses[i] += input.material.density * v / 4.0;
             rotational_inertia[i] += input.angular_inertia_density * v / 4.0;
         }
     }
-    let rest_curvature = RestCurvature::zeros(points.len());
-    let disc = VolumeDiscretization {
-        points,
-        disp_elements: mesh.elements.clone(),
-        rot_elements: mesh.elements.clone(),
-        first_point: 0,
-        moduli,
-        strain_hessian: strain_hessian(&moduli),
-    };
-    let term = Tet4Volume::new(disc, layout, rest_curvature.clone());
-    let state = SystemState::at_rest(mesh.nodes.clone(), n, mesh.n_elements());
-    let nodal = NodalMasses {
+    NodalMasses {
         masses,
         rotational_inertia,
         damping: vec![input.damping; n],
-    };
-    let parts = PotentialParts::with_inertia_and_loads(layout, state, Vec::new(), nodal, options);
-    let mut potential = IncrementalPotential::new(parts);
-    let volume_term = potential.insert(term);
-    Ok(VolumeSystem {
-        potential,
-        volume_term,
-        rest_positions: mesh.nodes.clone(),
-        point_positions,
-        element_volumes,
-        rest_curvature,
-    })
+    }
 }

@@ -171,11 +171,26 @@ pub fn point_hessian<const N: usize, const NL: usize>(
     const { assert!(NL == 9 + 3 * N, "NL must be 9 + 3 N") };
     let st = stress(point, state, d);
     let gradient = gradient_from_stress(point, state, &st);
-    let jet = state.point_jet;
-    let r = &jet.r;
-    let rt = r.transpose();
+    let jac = strain_jacobian::<N, NL>(point, state, &st);
+    let mut hessian = jac.transpose() * (d * jac);
+    add_bilinear_terms(point, state, &st, &mut hessian);
+    add_rotation_terms(point, state, &st, &mut hessian);
+    LocalDerivatives {
+        value: st.value,
+        gradient,
+        hessian,
+    }
+}
 
-    // Jacobian of the 18 strains with respect to the locals.
+/// The Jacobian of the 18 strains with respect to the locals (the deformation gradient's columns,
+/// then the nodes' angular velocities).
+fn strain_jacobian<const N: usize, const NL: usize>(
+    point: &VolumePoint<N>,
+    state: &PointState<'_, N>,
+    st: &Stress<N>,
+) -> SMatrix<f64, 18, NL> {
+    let jet = state.point_jet;
+    let rt = jet.r.transpose();
     let mut jac = SMatrix::<f64, 18, NL>::zeros();
     for j in 0..3 {
         jac.fixed_view_mut::<3, 3>(3 * j, 3 * j).copy_from(&rt);
@@ -207,9 +222,18 @@ pub fn point_hessian<const N: usize, const NL: usize>(
             }
         }
     }
-    let mut hessian = jac.transpose() * (d * jac);
+    jac
+}
 
-    // Second-order terms of the bilinear strain maps, weighted by σ.
+/// Second-order terms of the bilinear strain maps (deformation gradient against rotation), weighted
+/// by the stress.
+fn add_bilinear_terms<const N: usize, const NL: usize>(
+    point: &VolumePoint<N>,
+    state: &PointState<'_, N>,
+    st: &Stress<N>,
+    hessian: &mut SMatrix<f64, NL, NL>,
+) {
+    let jet = state.point_jet;
     for k in 0..N {
         let mk = point.values[k];
         for i in 0..3 {
@@ -223,6 +247,17 @@ pub fn point_hessian<const N: usize, const NL: usize>(
             }
         }
     }
+}
+
+/// Second-order terms of the rotations: the point rotation's second derivatives, the node rotations'
+/// own, and their cross terms.
+fn add_rotation_terms<const N: usize, const NL: usize>(
+    point: &VolumePoint<N>,
+    state: &PointState<'_, N>,
+    st: &Stress<N>,
+    hessian: &mut SMatrix<f64, NL, NL>,
+) {
+    let jet = state.point_jet;
     let hpp = jet.second_contraction(&st.yz);
     // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j.
     let mut cross = [[[0.0; 3]; 3]; N];
@@ -238,7 +273,7 @@ pub fn point_hessian<const N: usize, const NL: usize>(
     for k in 0..N {
         let mk = point.values[k];
         // ⟨R U_k, R_k,ij⟩.
-        let node_second = state.node_jets[k].second_contraction(&(r * st.u[k]));
+        let node_second = state.node_jets[k].second_contraction(&(jet.r * st.u[k]));
         for l in 0..N {
             let ml = point.values[l];
             for i in 0..3 {
@@ -251,10 +286,5 @@ pub fn point_hessian<const N: usize, const NL: usize>(
                 }
             }
         }
-    }
-    LocalDerivatives {
-        value: st.value,
-        gradient,
-        hessian,
     }
 }
