@@ -53,8 +53,9 @@ fn bench(c: &mut Criterion) {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
-    // The paper's discretisation for every pair, and the stabilised strain projection for the
-    // paper's pair (its cost relative to the paper's is reported in docs/model-notes.md).
+    // The paper's discretisation for every pair, and the stabilised strain projection and the assumed
+    // strains (MITC6-style and Regge) for the paper's pair (their cost relative to the paper's is reported in
+    // docs/model-notes.md).
     let paper = StrainInterpolation::Paper;
     for (pair, interpolation, label) in [
         (ElementPair::Tri3Tri3, paper, "tri3_tri3"),
@@ -65,6 +66,8 @@ fn bench(c: &mut Criterion) {
             StrainInterpolation::Stabilized,
             "tri6_tri3_stabilized",
         ),
+        (ElementPair::Tri6Tri3, StrainInterpolation::Assumed, "tri6_tri3_assumed"),
+        (ElementPair::Tri6Tri3, StrainInterpolation::Regge, "tri6_tri3_regge"),
     ] {
         for (model, m) in [(ShellModel::Plate, "plate"), (ShellModel::Shell, "shell")] {
             let mut sys = system(pair, model, interpolation, 40, 8);

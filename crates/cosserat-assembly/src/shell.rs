@@ -15,6 +15,8 @@ use crate::pattern::SparsityPattern;
 use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
+use cosserat_material::assumed::TyingMap;
+use cosserat_material::assumed_kernel;
 use cosserat_material::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
 };
@@ -163,8 +165,13 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 })
                 .collect();
             let node_r = std::array::from_fn(|k| &node_r[k]);
-            let projection = self.disc.rest.projections.get(e);
-            let strains = projected::element_strains(&points, node_r, projection, self.disc.axl);
+            let strains = match self.disc.rest.element_tying_maps(e) {
+                Some(maps) => assumed_kernel::element_strains(&points, node_r, maps, self.disc.axl),
+                None => {
+                    let projection = self.disc.rest.projections.get(e);
+                    projected::element_strains(&points, node_r, projection, self.disc.axl)
+                }
+            };
             for (p, s) in points.iter().zip(&strains) {
                 parts.add(s, p.density.matrix(), p.shape.weight);
             }
@@ -221,12 +228,13 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
     }
 
-    /// [`Self::element_derivatives`] under a strain projection: all points of the element at once.
-    fn projected_derivatives(
+    /// [`Self::element_derivatives`] under a strain projection or assumed strains: all points of the
+    /// element at once.
+    fn coupled_derivatives(
         &self,
         e: usize,
         eval: &Evaluation<'_>,
-        projection: &StrainProjection,
+        coupling: Coupling<'_>,
         with_hessian: bool,
         out: &mut ElementDerivatives<NE>,
         local: &mut LocalDerivatives<NL>,
@@ -262,14 +270,25 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             })
             .collect();
         let volume = self.disc.volume.as_ref();
+        let axl = self.disc.axl;
         if !with_hessian {
-            projected::element_gradient::<NU, NR, NL, NE>(&points, projection, self.disc.axl, volume, eval.dt, out);
+            match coupling {
+                Coupling::Projection(p) => {
+                    projected::element_gradient::<NU, NR, NL, NE>(&points, p, axl, volume, eval.dt, out);
+                }
+                Coupling::Tying(maps) => {
+                    assumed_kernel::element_gradient::<NU, NR, NL, NE>(&points, maps, axl, volume, eval.dt, out);
+                }
+            }
             return;
         }
         if n_qp == 0 {
             out.hessian.fill(0.0);
         }
-        let weights = projected::element_hessian(&points, projection, self.disc.axl, volume, eval.dt, local, out);
+        let weights = match coupling {
+            Coupling::Projection(p) => projected::element_hessian(&points, p, axl, volume, eval.dt, local, out),
+            Coupling::Tying(maps) => assumed_kernel::element_hessian(&points, maps, axl, volume, eval.dt, local, out),
+        };
         for (k, w) in weights.iter().enumerate() {
             add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
         }
@@ -312,7 +331,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
         let node_r: [&Matrix3<f64>; NR] = std::array::from_fn(|k| eval.rotations.matrix(r[k]));
-        if let Some(projection) = self.disc.rest.projections.get(e) {
+        let maps = self.disc.rest.element_tying_maps(e);
+        let projection = self.disc.rest.projections.get(e);
+        if maps.is_some() || projection.is_some() {
             let n_qp = self.disc.rest.points_per_element;
             let points: Vec<ValuePoint<'_, NU, NR>> = (0..n_qp)
                 .map(|g| {
@@ -328,7 +349,14 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                     }
                 })
                 .collect();
-            return projected::element_value(&points, node_r, projection, self.disc.axl, self.disc.volume.as_ref());
+            let volume = self.disc.volume.as_ref();
+            return match (maps, projection) {
+                (Some(maps), _) => assumed_kernel::element_value(&points, node_r, maps, self.disc.axl, volume),
+                (None, Some(projection)) => {
+                    projected::element_value(&points, node_r, projection, self.disc.axl, volume)
+                }
+                (None, None) => unreachable!("checked above"),
+            };
         }
         let mut value = 0.0;
         for g in 0..self.disc.rest.points_per_element {
@@ -362,8 +390,12 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         out: &mut ElementDerivatives<NE>,
         local: &mut LocalDerivatives<NL>,
     ) {
+        if let Some(maps) = self.disc.rest.element_tying_maps(e) {
+            self.coupled_derivatives(e, eval, Coupling::Tying(maps), with_hessian, out, local);
+            return;
+        }
         if let Some(projection) = self.disc.rest.projections.get(e) {
-            self.projected_derivatives(e, eval, projection, with_hessian, out, local);
+            self.coupled_derivatives(e, eval, Coupling::Projection(projection), with_hessian, out, local);
             return;
         }
         out.value = 0.0;
@@ -423,6 +455,15 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             out.clear_below_block_diagonal();
         }
     }
+}
+
+/// How the points of an element are coupled by its strain interpolation.
+#[derive(Debug, Clone, Copy)]
+enum Coupling<'a> {
+    /// The stabilised projection.
+    Projection(&'a StrainProjection),
+    /// The tying maps of the quadrature points (assumed strains).
+    Tying(&'a [TyingMap]),
 }
 
 /// The nearest positive semi-definite matrix: negative eigenvalues clamped to zero.

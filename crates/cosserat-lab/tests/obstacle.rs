@@ -1,7 +1,8 @@
 //! Goals of the locking issue that the stabilised strain projection reaches, pinned on their named
 //! meshes (docs/validation.md has the whole ladders, both interpolations): the pinched hemisphere within
 //! 2 % on 8 bands, and the thin Sze 3.1 cantilever (h/L = 1e-3 and 1e-4) within 1 % of the elastica on
-//! 20 × 2 quads. Each run takes a few seconds in release.
+//! 20 × 2 quads; and the thin cantilever with Regge membrane strains. Each run takes a few seconds in
+//! release.
 
 use cosserat::RunDescription;
 use cosserat_lab::obstacle::course;
@@ -41,4 +42,25 @@ fn stabilized_thin_cantilever_is_within_one_percent_of_the_elastica() {
     let outcome = run_described(&Runner::InProcess, &run).unwrap();
     let ratio = cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
     assert!((ratio - 1.0).abs() <= 0.01, "tip deflection / elastica = {ratio}");
+}
+
+#[test]
+fn regge_thin_cantilever_is_within_one_percent_of_the_elastica() {
+    let root = cosserat_lab::workspace_root();
+    std::env::set_current_dir(&root).unwrap();
+    for h_over_l in [1e-3, 1e-4] {
+        let mut ov = cosserat_lab::locking::overrides(cosserat_lab::problem::Pair::Tri6Tri3, 20, 2, h_over_l);
+        ov.push("material.strain_interpolation=regge".into());
+        let run = RunDescription::new(
+            cosserat_lab::locking::SCENE,
+            out(&format!("sze_regge_{h_over_l:e}")),
+            &ov,
+        );
+        let outcome = run_described(&Runner::InProcess, &run).unwrap();
+        let ratio = cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
+        assert!(
+            (ratio - 1.0).abs() <= 0.01,
+            "h/L = {h_over_l:e}: tip deflection / elastica = {ratio}"
+        );
+    }
 }

@@ -13,7 +13,8 @@
 //! - [`kernel`]: the fast exact energy, gradient and Hessian of a quadrature point w.r.t. its compact
 //!   locals; [`element`]: the constant map from locals to element unknowns;
 //! - [`projection`], [`projected`]: the stabilised strain projection against locking and its element
-//!   kernel;
+//!   kernel; [`assumed`], [`assumed_kernel`]: assumed covariant strains at tying points (MITC6-style)
+//!   and their element kernel;
 //! - [`oracle`]: the same energy composed directly, for tests (finite differences, dual oracles);
 //! - [`volume`]: the optional nonlinear membrane volume term.
 //!
@@ -32,6 +33,8 @@
 //! assert!(MaterialParameters::new(2e-3, 70e9, 0.5, 2700.0, 2e-6).moduli().is_err());
 //! ```
 
+pub mod assumed;
+pub mod assumed_kernel;
 pub mod density;
 pub mod element;
 pub mod error;

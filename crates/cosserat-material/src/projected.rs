@@ -200,7 +200,7 @@ pub fn element_hessian<const NU: usize, const NR: usize, const NL: usize, const 
 
 /// The transposed Jacobian of a point's 12 variable strains with respect to the element's unknowns
 /// (row = unknown, column = strain), from its Jacobian with respect to its locals.
-fn element_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
     shape: &PointShape<NU, NR>,
     jac_t: &SMatrix<f64, NL, 12>,
     qrt: &Matrix3<f64>,
@@ -244,24 +244,34 @@ fn add_coupled_first_order<const NU: usize, const NR: usize, const NE: usize>(
     }
     for (p, g) in points.iter().zip(jacobians) {
         let gt = g - projection.removed_columns(&(g - bar));
-        // Column `r` of `dg` is row `r` of `D G̃`.
-        let mut dg = SMatrix::<f64, NE, 12>::zeros();
-        for e in p.density.variable_entries() {
-            let (r, c) = (e.row as usize, e.col as usize);
-            let mut col = dg.column_mut(r);
-            col.axpy(e.value, &gt.column(c), 1.0);
-        }
-        let w = p.shape.weight;
-        for c in 0..NE {
-            let rows = 3 * (c / 3) + 3;
-            for s in 0..12 {
-                let f = w * dg[(c, s)];
-                if f == 0.0 {
-                    continue;
-                }
-                for r in 0..rows {
-                    h[(r, c)] += f * gt[(r, s)];
-                }
+        add_first_order(p.density, &gt, p.shape.weight, h);
+    }
+}
+
+/// Adds `w G̃ᵀ D G̃` to the upper block triangle of `h`, for the transposed Jacobian `G̃` of a point's
+/// 12 variable strains with respect to the element's unknowns.
+pub(crate) fn add_first_order<const NE: usize>(
+    density: &DensityMatrix,
+    gt: &SMatrix<f64, NE, 12>,
+    w: f64,
+    h: &mut SMatrix<f64, NE, NE>,
+) {
+    // Column `r` of `dg` is row `r` of `D G̃`.
+    let mut dg = SMatrix::<f64, NE, 12>::zeros();
+    for e in density.variable_entries() {
+        let (r, c) = (e.row as usize, e.col as usize);
+        let mut col = dg.column_mut(r);
+        col.axpy(e.value, &gt.column(c), 1.0);
+    }
+    for c in 0..NE {
+        let rows = 3 * (c / 3) + 3;
+        for s in 0..12 {
+            let f = w * dg[(c, s)];
+            if f == 0.0 {
+                continue;
+            }
+            for r in 0..rows {
+                h[(r, c)] += f * gt[(r, s)];
             }
         }
     }

@@ -28,6 +28,13 @@ pub enum StrainInterpolation {
     /// Element means plus a fluctuation scaled by `√β` for the membrane, drilling and transverse-shear
     /// strains (module documentation).
     Stabilized,
+    /// Assumed covariant membrane, drilling and transverse-shear strains interpolated from tying points
+    /// (MITC6-style, [`crate::assumed`]).
+    Assumed,
+    /// The membrane strains interpolated into the linear Regge space by their edge-tangential and
+    /// interior moments; drilling, transverse shear and curvature keep their point values
+    /// ([`crate::assumed`]).
+    Regge,
 }
 
 /// The constants `c` of `β = h² / (h² + c h_e²)`, per strain part; `f64::INFINITY` keeps a part's

@@ -8,6 +8,7 @@
 //! so a faceted (Tri3 or straight-edged Tri6) mesh of a curved surface still carries its curvature.
 //! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
 
+use crate::assumed::{AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, tying_maps, tying_points};
 use crate::error::RestStateError;
 use crate::kernel::PointShape;
 use crate::model::{ModelOptions, ShellModel, TermSet};
@@ -34,6 +35,8 @@ pub struct RestOptions {
     pub interpolation: StrainInterpolation,
     /// The constants of [`StrainInterpolation::Stabilized`].
     pub stabilization: StabilizationConstants,
+    /// The parts that take assumed values under [`StrainInterpolation::Assumed`].
+    pub assumed_parts: AssumedParts,
 }
 
 impl RestOptions {
@@ -45,6 +48,7 @@ impl RestOptions {
             flat_tolerance: 1e-8,
             interpolation: StrainInterpolation::Paper,
             stabilization: StabilizationConstants::DEFAULT,
+            assumed_parts: AssumedParts::ALL,
         }
     }
 }
@@ -52,8 +56,11 @@ impl RestOptions {
 /// The rest state of one shell with `NU`-node displacement and `NR`-node rotation elements.
 #[derive(Debug, Clone)]
 pub struct ShellRest<const NU: usize, const NR: usize> {
-    /// Quadrature points per element.
+    /// Points per element: its quadrature points, then (under [`StrainInterpolation::Assumed`]) its
+    /// tying points, whose integration weights are zero.
     pub points_per_element: usize,
+    /// Quadrature points per element.
+    pub quadrature_points_per_element: usize,
     /// Shape data per point (element-major).
     pub shapes: Vec<PointShape<NU, NR>>,
     /// Rest position of each point.
@@ -73,6 +80,17 @@ pub struct ShellRest<const NU: usize, const NR: usize> {
     /// The strain projection of each element under [`StrainInterpolation::Stabilized`] (empty under
     /// [`StrainInterpolation::Paper`]).
     pub projections: Vec<StrainProjection>,
+    /// The tying maps of each quadrature point under [`StrainInterpolation::Assumed`] (element-major,
+    /// [`Self::quadrature_points_per_element`] per element; empty otherwise).
+    pub tying_maps: Vec<TyingMap>,
+}
+
+impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
+    /// The tying maps of element `e`'s quadrature points, under [`StrainInterpolation::Assumed`].
+    pub fn element_tying_maps(&self, e: usize) -> Option<&[TyingMap]> {
+        let n = self.quadrature_points_per_element;
+        self.tying_maps.get(e * n..(e + 1) * n)
+    }
 }
 
 /// Computes the rest state of a shell.
@@ -121,6 +139,18 @@ where
         });
     }
     let n_qp = rule.n_points();
+    let tying_scheme = match options.interpolation {
+        StrainInterpolation::Assumed => Some((options.assumed_parts, MembraneTying::Centroid)),
+        StrainInterpolation::Regge => Some((AssumedParts::MEMBRANE, MembraneTying::Moments)),
+        StrainInterpolation::Paper | StrainInterpolation::Stabilized => None,
+    };
+    let tying: Vec<[f64; 2]> = if tying_scheme.is_some() {
+        tying_points().to_vec()
+    } else {
+        Vec::new()
+    };
+    let n_points = n_qp + tying.len();
+    let mut tying_map_list = Vec::new();
     // The curvature is needed only by the shell model.
     let geometry = match options.model.model {
         ShellModel::Shell => Some(rest_geometry(disp, corner, rule, &options.curvature)?),
@@ -133,12 +163,12 @@ where
         &local_geometry(&Matrix3::identity(), &Matrix3::zeros()),
         moduli,
     );
-    let mut index = Vec::with_capacity(n_el * n_qp);
+    let mut index = Vec::with_capacity(n_el * n_points);
     // The frame and b of each curved point, in point order: their density Hessians are computed below.
     let mut curved_points: Vec<(Matrix3<f64>, Matrix3<f64>)> = Vec::new();
-    let mut shapes = Vec::with_capacity(n_el * n_qp);
-    let mut point_positions = Vec::with_capacity(n_el * n_qp);
-    let mut curvature = Vec::with_capacity(n_el * n_qp);
+    let mut shapes = Vec::with_capacity(n_el * n_points);
+    let mut point_positions = Vec::with_capacity(n_el * n_points);
+    let mut curvature = Vec::with_capacity(n_el * n_points);
     let mut element_areas = Vec::with_capacity(n_el);
     let mut n_curved_points = 0;
     let mut projections = Vec::new();
@@ -149,33 +179,32 @@ where
             projections.push(StrainProjection::new(&options.stabilization, moduli.thickness, size));
         }
         let mut area = 0.0;
-        for (g, (xi, w)) in rule.iter().enumerate() {
-            let grad = E::gradients(xi);
-            let tangent = E::tangent(&nodes, xi);
-            let metric = SurfaceMetric::try_new(&tangent).map_err(|_| MeshError::DegenerateElement {
-                elem_idx: e,
-                area: 0.5 * tangent.column(0).cross(&tangent.column(1)).norm(),
-            })?;
-            let frame = metric.orthonormal_frame();
-            let p: Matrix2<f64> = metric.pinv * frame.fixed_columns::<2>(0);
-            let weight = w * metric.area_element;
-            area += weight;
-            shapes.push(PointShape {
-                disp_grad: p.transpose() * grad,
-                rot_values: F::values(xi),
-                rot_grad: p.transpose() * F::gradients(xi),
-                frame,
-                weight,
-            });
+        let mut bases = Vec::new();
+        for (g, (xi, w)) in rule
+            .iter()
+            .enumerate()
+            .chain(tying.iter().enumerate().map(|(t, xi)| (n_qp + t, (*xi, 0.0))))
+        {
+            let (shape, basis) = point_shape::<E, F, NU, NR>(&nodes, xi, w, e)?;
+            area += shape.weight;
+            bases.push(basis);
+            shapes.push(shape);
             point_positions.push(E::position(&nodes, xi));
-            let curv = geometry.as_ref().map_or_else(Curvature::flat, |geo| geo.at(e, g).curvature);
+            let curv = match &geometry {
+                Some(geo) if g < n_qp => geo.at(e, g).curvature,
+                _ => Curvature::flat(),
+            };
             curvature.push(curv);
         }
+        if let Some((parts, interior)) = tying_scheme {
+            let tied: [PointBasis; N_TYING] = std::array::from_fn(|t| bases[n_qp + t]);
+            tying_map_list.extend(tying_maps(&tied, &bases[..n_qp], parts, interior));
+        }
         element_areas.push(area);
-        for g in 0..n_qp {
-            let p = e * n_qp + g;
+        for g in 0..n_points {
+            let p = e * n_points + g;
             let curv = &curvature[p];
-            let curved = geometry.is_some() && curv.b.norm() * area.sqrt() > options.flat_tolerance;
+            let curved = g < n_qp && geometry.is_some() && curv.b.norm() * area.sqrt() > options.flat_tolerance;
             if curved {
                 n_curved_points += 1;
                 curved_points.push((shapes[p].frame, curv.b));
@@ -208,7 +237,8 @@ where
     }
     let nonlinear_volume = flat_terms.contains(crate::model::EnergyTerm::NonlinearVolume);
     Ok(ShellRest {
-        points_per_element: n_qp,
+        points_per_element: n_points,
+        quadrature_points_per_element: n_qp,
         shapes,
         point_positions,
         curvature,
@@ -218,5 +248,33 @@ where
         n_curved_points,
         element_areas,
         projections,
+        tying_maps: tying_map_list,
     })
+}
+
+/// The shape data of a point of element `e` at reference coordinates `xi` with quadrature weight `w`,
+/// and its covariant basis.
+fn point_shape<E: ShapeFunctions<NU>, F: ShapeFunctions<NR>, const NU: usize, const NR: usize>(
+    nodes: &[Vector3<f64>; NU],
+    xi: [f64; 2],
+    w: f64,
+    e: usize,
+) -> Result<(PointShape<NU, NR>, PointBasis), RestStateError> {
+    let grad = E::gradients(xi);
+    let tangent = E::tangent(nodes, xi);
+    let metric = SurfaceMetric::try_new(&tangent).map_err(|_| MeshError::DegenerateElement {
+        elem_idx: e,
+        area: 0.5 * tangent.column(0).cross(&tangent.column(1)).norm(),
+    })?;
+    let frame = metric.orthonormal_frame();
+    let p: Matrix2<f64> = metric.pinv * frame.fixed_columns::<2>(0);
+    let shape = PointShape {
+        disp_grad: p.transpose() * grad,
+        rot_values: F::values(xi),
+        rot_grad: p.transpose() * F::gradients(xi),
+        frame,
+        weight: w * metric.area_element,
+    };
+    let gt = Matrix2::from_fn(|a, i| frame.column(a).dot(&tangent.column(i)));
+    Ok((shape, PointBasis { xi, gt }))
 }

@@ -1,10 +1,11 @@
 //! Small systems for the tests.
 
+use cosserat_assembly::IncrementalPotential;
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
-use nalgebra::Vector3;
+use nalgebra::{DMatrix, Vector3};
 
 pub fn strip(pair: ElementPair, nx: usize, ny: usize, model: ShellModel, dynamic: bool) -> System {
     strip_with(pair, nx, ny, model, dynamic, StrainInterpolation::Paper)
@@ -40,4 +41,22 @@ pub fn strip_with(
     let mut system = build_system(&[input], &options).unwrap();
     system.potential.set_time_step(0.01);
     system
+}
+
+/// The dense Hessian of a potential at `u` (both triangles).
+pub fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
+    let n = p.n_dofs();
+    let mut g = vec![0.0; n];
+    let mut values = vec![0.0; p.pattern().nnz()];
+    p.hessian(u, &mut g, &mut values).unwrap();
+    let sym = p.pattern().symbolic();
+    let mut h = DMatrix::zeros(n, n);
+    for j in 0..n {
+        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
+            let i = sym.row_idx()[k];
+            h[(i, j)] = values[k];
+            h[(j, i)] = values[k];
+        }
+    }
+    h
 }

@@ -1,3 +1,4 @@
+mod assumed;
 mod common;
 mod curved;
 mod dynamic;

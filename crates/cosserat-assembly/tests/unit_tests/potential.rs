@@ -1,7 +1,7 @@
 //! The assembled incremental potential: derivatives against finite differences, rest state,
 //! determinism across thread counts.
 
-use super::common::{strip, strip_with};
+use super::common::{dense_hessian, strip, strip_with};
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionPenalty, RotationPenalty};
 use cosserat_assembly::{ElementPair, IncrementalPotential, Parallelism};
 use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
@@ -60,23 +60,6 @@ fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
     p.parts.shells[0].set_rest_fields_dyn(&mut |i| (Some(1.05), Some(g[i])));
 }
 
-fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
-    let n = p.n_dofs();
-    let mut g = vec![0.0; n];
-    let mut values = vec![0.0; p.pattern().nnz()];
-    p.hessian(u, &mut g, &mut values).unwrap();
-    let sym = p.pattern().symbolic();
-    let mut h = DMatrix::zeros(n, n);
-    for j in 0..n {
-        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
-            let i = sym.row_idx()[k];
-            h[(i, j)] = values[k];
-            h[(j, i)] = values[k];
-        }
-    }
-    h
-}
-
 fn check_derivatives(pair: ElementPair, model: ShellModel, seed: u64) {
     check_derivatives_with(pair, model, seed, StrainInterpolation::Paper);
 }
@@ -132,6 +115,26 @@ fn assembled_derivatives_match_finite_differences() {
             StrainInterpolation::Stabilized,
         );
     }
+    check_derivatives_with(
+        ElementPair::Tri6Tri3,
+        ShellModel::Plate,
+        20,
+        StrainInterpolation::Assumed,
+    );
+    check_derivatives_with(
+        ElementPair::Tri6Tri6,
+        ShellModel::Shell,
+        21,
+        StrainInterpolation::Assumed,
+    );
+    check_derivatives_with(
+        ElementPair::Tri3Tri3,
+        ShellModel::Plate,
+        22,
+        StrainInterpolation::Assumed,
+    );
+    check_derivatives_with(ElementPair::Tri6Tri3, ShellModel::Plate, 23, StrainInterpolation::Regge);
+    check_derivatives_with(ElementPair::Tri6Tri3, ShellModel::Shell, 24, StrainInterpolation::Regge);
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
@@ -186,7 +189,12 @@ fn a_plate_at_rest_without_loads_has_zero_energy_and_gradient() {
 
 #[test]
 fn assembly_is_bit_identical_for_one_and_two_threads() {
-    for interpolation in [StrainInterpolation::Paper, StrainInterpolation::Stabilized] {
+    for interpolation in [
+        StrainInterpolation::Paper,
+        StrainInterpolation::Stabilized,
+        StrainInterpolation::Assumed,
+        StrainInterpolation::Regge,
+    ] {
         check_thread_counts(interpolation);
     }
 }

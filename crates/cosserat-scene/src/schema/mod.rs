@@ -482,6 +482,12 @@ pub enum StrainInterpolationName {
     Paper,
     /// Element means plus scaled fluctuations of the membrane, drilling and shear strains.
     Stabilized,
+    /// Assumed covariant membrane, drilling and shear strains interpolated from tying points on the
+    /// element edges and at its centroid (MITC6-style).
+    Assumed,
+    /// Membrane strains interpolated into the linear Regge space by their edge-tangential and interior
+    /// moments; drilling, shear and curvature strains at the points.
+    Regge,
 }
 
 /// Rest-curvature source names.
@@ -552,8 +558,8 @@ pub struct MaterialSection {
     pub membrane_volume: Option<MembraneVolumeName>,
     /// Axial vector (default `"skew_part"`).
     pub axl: Option<AxlName>,
-    /// How the quadrature points' strains enter the energy: `"paper"` or `"stabilized"` (default
-    /// `"paper"`).
+    /// How the quadrature points' strains enter the energy: `"paper"`, `"stabilized"`, `"assumed"` or
+    /// `"regge"` (default `"paper"`; docs/model-notes.md compares them on the locking benchmarks).
     pub strain_interpolation: Option<StrainInterpolationName>,
     /// Rest-curvature normal field (default `"auto"`).
     pub curvature_source: Option<CurvatureSourceName>,

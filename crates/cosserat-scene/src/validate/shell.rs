@@ -618,6 +618,8 @@ impl Ctx<'_> {
         rest.interpolation = match m.strain_interpolation {
             None | Some(StrainInterpolationName::Paper) => StrainInterpolation::Paper,
             Some(StrainInterpolationName::Stabilized) => StrainInterpolation::Stabilized,
+            Some(StrainInterpolationName::Assumed) => StrainInterpolation::Assumed,
+            Some(StrainInterpolationName::Regge) => StrainInterpolation::Regge,
         };
         if let Some(source) = m.curvature_source {
             rest.curvature.source = match source {
