@@ -255,3 +255,54 @@ fn large_loads_converge_on_the_thinnest_strip() {
         case.run_in("thinnest");
     }
 }
+
+/// The validation scenes set absolute tolerances to reproduce their published tables; without them
+/// the default (relative, with its round-off floor) converges on every one, the stiff pinched cylinder
+/// and the Scordelis–Lo roof among them, where an absolute 1e-7 lies below the round-off floor.
+#[test]
+fn every_validation_scene_converges_without_a_tolerance() {
+    let root = cosserat_lab::workspace_root().join("scenes/validation");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("convergence_sweep/validation");
+    std::fs::create_dir_all(&dir).expect("sweep directory");
+    let scenes = [
+        "pinched_cylinder",
+        "pinched_hemisphere",
+        "scordelis_lo_roof",
+        "sze_cantilever_end_shear",
+        "end_moment_rollup",
+        "ring_diametral_compression",
+        "cantilever_small_load",
+    ];
+    for name in scenes {
+        let text = std::fs::read_to_string(root.join(format!("{name}.toml"))).expect("validation scene");
+        assert!(
+            text.lines().any(|l| l.starts_with("tolerance")),
+            "{name} sets a tolerance"
+        );
+        let without: String = text
+            .lines()
+            .filter(|l| !l.starts_with("tolerance"))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let scene = dir.join(format!("{name}.toml"));
+        std::fs::write(&scene, without).expect("scene file");
+        let out = dir.join(name);
+        let outcome = run_described(
+            &Runner::InProcess,
+            &RunDescription::new(&scene, &out, &["output.frames=false".to_string()]),
+        )
+        .expect("output directory");
+        assert!(outcome.is_ok(), "{name}: {}", outcome.reason());
+        let c = outcome
+            .summary
+            .as_ref()
+            .and_then(|s| s.convergence)
+            .expect("convergence record");
+        assert_eq!(c.tolerance_mode, cosserat::io::ToleranceMode::Relative, "{name}");
+        assert!(
+            c.max_relative_residual < 1e-3,
+            "{name}: relative residual {:e}",
+            c.max_relative_residual
+        );
+    }
+}
