@@ -80,15 +80,32 @@ impl ContactMesh {
     /// Out-of-range or repeated vertices in a triangle, a node in two surfaces, a negative or
     /// non-finite thickness, a non-finite obstacle position.
     pub fn try_new(surfaces: &[ContactSurface], obstacles: &[Obstacle], n_nodes: usize) -> Result<Self, ContactError> {
-        let mut vertices = Vec::new();
-        let mut vertex_body = Vec::new();
-        let mut triangles = Vec::new();
-        let mut triangle_body = Vec::new();
-        let mut bodies = Vec::with_capacity(surfaces.len() + obstacles.len());
+        let mut mesh = Self {
+            vertices: Vec::new(),
+            vertex_body: Vec::new(),
+            triangles: Vec::new(),
+            triangle_body: Vec::new(),
+            edges: Vec::new(),
+            edge_body: Vec::new(),
+            bodies: Vec::with_capacity(surfaces.len() + obstacles.len()),
+            n_node_vertices: 0,
+        };
+        mesh.add_surfaces(surfaces, n_nodes)?;
+        mesh.n_node_vertices = mesh.vertices.len();
+        for (o, obstacle) in obstacles.iter().enumerate() {
+            mesh.add_obstacle(o, obstacle)?;
+        }
+        mesh.collect_edges();
+        Ok(mesh)
+    }
+
+    /// The shell surfaces' bodies, vertices (one per displacement node, in order of first use) and
+    /// triangles.
+    fn add_surfaces(&mut self, surfaces: &[ContactSurface], n_nodes: usize) -> Result<(), ContactError> {
         let mut node_vertex: BTreeMap<usize, (u32, usize)> = BTreeMap::new();
         for (s, surface) in surfaces.iter().enumerate() {
             non_negative("surface.thickness", surface.thickness)?;
-            bodies.push(Body {
+            self.bodies.push(Body {
                 id: surface.id,
                 thickness: surface.thickness,
                 is_obstacle: false,
@@ -98,9 +115,9 @@ impl ContactMesh {
                 let mut local = [0u32; 3];
                 for (k, &node) in tri.iter().enumerate() {
                     let entry = node_vertex.entry(node).or_insert_with(|| {
-                        vertices.push(VertexSource::Node(node));
-                        vertex_body.push(s as u32);
-                        ((vertices.len() - 1) as u32, s)
+                        self.vertices.push(VertexSource::Node(node));
+                        self.vertex_body.push(s as u32);
+                        ((self.vertices.len() - 1) as u32, s)
                     });
                     if entry.1 != s {
                         return Err(ContactError::NodeInTwoSurfaces {
@@ -111,54 +128,51 @@ impl ContactMesh {
                     }
                     local[k] = entry.0;
                 }
-                triangles.push(local);
-                triangle_body.push(s as u32);
+                self.triangles.push(local);
+                self.triangle_body.push(s as u32);
             }
         }
-        let n_node_vertices = vertices.len();
-        for (o, obstacle) in obstacles.iter().enumerate() {
-            non_negative("obstacle.thickness", obstacle.thickness)?;
-            if let Some(v) = obstacle.positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
-                return Err(ContactError::NonFinite {
-                    what: "obstacle position",
-                    vertex: v,
-                });
-            }
-            let body = bodies.len() as u32;
-            bodies.push(Body {
-                id: obstacle.id,
-                thickness: obstacle.thickness,
-                is_obstacle: true,
+        Ok(())
+    }
+
+    /// Obstacle `o`'s body, vertices and triangles.
+    fn add_obstacle(&mut self, o: usize, obstacle: &Obstacle) -> Result<(), ContactError> {
+        non_negative("obstacle.thickness", obstacle.thickness)?;
+        if let Some(v) = obstacle.positions.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+            return Err(ContactError::NonFinite {
+                what: "obstacle position",
+                vertex: v,
             });
-            let first = vertices.len() as u32;
-            for v in 0..obstacle.positions.len() {
-                vertices.push(VertexSource::Obstacle { obstacle: o, vertex: v });
-                vertex_body.push(body);
-            }
-            for (t, tri) in obstacle.triangles.iter().enumerate() {
-                check_triangle("obstacle", o, t, tri, obstacle.positions.len())?;
-                triangles.push(tri.map(|v| first + v as u32));
-                triangle_body.push(body);
-            }
         }
+        let body = self.bodies.len() as u32;
+        self.bodies.push(Body {
+            id: obstacle.id,
+            thickness: obstacle.thickness,
+            is_obstacle: true,
+        });
+        let first = self.vertices.len() as u32;
+        for v in 0..obstacle.positions.len() {
+            self.vertices.push(VertexSource::Obstacle { obstacle: o, vertex: v });
+            self.vertex_body.push(body);
+        }
+        for (t, tri) in obstacle.triangles.iter().enumerate() {
+            check_triangle("obstacle", o, t, tri, obstacle.positions.len())?;
+            self.triangles.push(tri.map(|v| first + v as u32));
+            self.triangle_body.push(body);
+        }
+        Ok(())
+    }
+
+    /// The triangles' edges, each once (sorted by its vertices), with the body of its first triangle.
+    fn collect_edges(&mut self) {
         let mut edge_set: BTreeMap<[u32; 2], u32> = BTreeMap::new();
-        for (tri, &body) in triangles.iter().zip(&triangle_body) {
+        for (tri, &body) in self.triangles.iter().zip(&self.triangle_body) {
             for k in 0..3 {
                 let (a, b) = (tri[k], tri[(k + 1) % 3]);
                 edge_set.entry([a.min(b), a.max(b)]).or_insert(body);
             }
         }
-        let (edges, edge_body) = edge_set.into_iter().unzip();
-        Ok(Self {
-            vertices,
-            vertex_body,
-            triangles,
-            triangle_body,
-            edges,
-            edge_body,
-            bodies,
-            n_node_vertices,
-        })
+        (self.edges, self.edge_body) = edge_set.into_iter().unzip();
     }
 
     /// Number of contact vertices.
