@@ -10,6 +10,9 @@
 //! - [`SparsityPattern`]: the upper-triangular 3×3-block CSC pattern, built once per topology;
 //! - [`parallel::ordered_map`]: element kernels in parallel, scattered in element order, so results are
 //!   bit-identical for any number of threads.
+//! - [`element_assembly`]: the element loop of the elastic terms (this crate's shell, the comparison
+//!   models' elements): a term says what one element computes ([`element_assembly::ElementKernel`]) and
+//!   [`element_assembly::ElementAssembly`] runs, checks and scatters it.
 //!
 //! Non-goals: solving (`cosserat-solver`), scenes and file formats (`cosserat-scene`).
 //!
@@ -26,6 +29,7 @@
 
 pub mod boundary;
 pub mod dofs;
+pub mod element_assembly;
 pub mod error;
 pub mod finite;
 pub mod inertia;

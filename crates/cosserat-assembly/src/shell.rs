@@ -7,11 +7,11 @@
 //! maps to the element's unknowns, and scatters through precomputed positions.
 
 use crate::dofs::DofLayout;
+use crate::element_assembly::{
+    ElementAssembly, ElementKernel, angular_velocities, displacement_rotation_blocks, end_of_step_positions,
+};
 use crate::error::AssemblyError;
-use crate::finite::all_finite;
-use crate::parallel::{ChunkBuffers, ordered_map};
 use crate::pattern::SparsityPattern;
-use crate::scatter::ElementScatter;
 use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
@@ -28,7 +28,6 @@ use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, 
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli, StrainProjection};
 use nalgebra::{Matrix3, SMatrix, Vector3};
-use std::sync::Mutex;
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
 /// in the global system.
@@ -48,27 +47,6 @@ pub struct ShellDiscretization<const NU: usize, const NR: usize> {
     pub axl: AxlVariant,
 }
 
-/// One element's place in the chunk buffers: its results, and the scratch its points' kernels write
-/// into.
-///
-/// The Hessian's blocks below the block diagonal are zero from the slot's creation on and are never
-/// written (the points write the upper block triangle, the first of them by assignment, and the
-/// scatter reads only that), so a slot needs no clearing per element.
-#[derive(Debug)]
-struct ElementSlot<const NE: usize, const NL: usize> {
-    derivatives: ElementDerivatives<NE>,
-    local: LocalDerivatives<NL>,
-}
-
-impl<const NE: usize, const NL: usize> ElementSlot<NE, NL> {
-    fn zeros() -> Self {
-        Self {
-            derivatives: ElementDerivatives::zeros(),
-            local: LocalDerivatives::zeros(),
-        }
-    }
-}
-
 /// The elastic energy of one shell with `NU`-node displacement and `NR`-node rotation elements.
 /// `NL = 6 + 3 NR` locals per point, `NE = 3 (NU + NR)` unknowns and `NB = NU + NR` blocks per element.
 #[derive(Debug)]
@@ -77,13 +55,11 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
     /// Strain offsets per point when a rest metric or rest curvature is prescribed.
     offsets: Option<Vec<StrainVector>>,
     default_offsets: Vec<StrainVector>,
-    scatter: Option<ElementScatter<NB>>,
     layout: DofLayout,
     /// Project each element Hessian onto the positive semi-definite cone.
     pub project_pd: bool,
-    /// Reusable chunk buffers of element results (values; derivatives).
-    values: Mutex<ChunkBuffers<f64>>,
-    derivatives: Mutex<ChunkBuffers<ElementSlot<NE, NL>>>,
+    /// The element loop; each element's scratch holds a point's local derivatives.
+    elements: ElementAssembly<NE, NB, LocalDerivatives<NL>>,
 }
 
 /// Linear displacement and rotation elements.
@@ -109,11 +85,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             disc,
             offsets: None,
             default_offsets,
-            scatter: None,
             layout,
             project_pd: false,
-            values: Mutex::new(ChunkBuffers::new()),
-            derivatives: Mutex::new(ChunkBuffers::new()),
+            elements: ElementAssembly::new(),
         }
     }
 
@@ -211,34 +185,126 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
     }
 
-    fn blocks(&self, e: usize) -> [usize; NB] {
-        let d = &self.disc.disp_elements[e];
-        let r = &self.disc.rot_elements[e];
-        std::array::from_fn(|i| {
-            if i < NU {
-                self.layout.disp_block(d[i])
-            } else {
-                self.layout.rot_block(r[i - NU])
-            }
-        })
-    }
-
     fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NU] {
-        let d = &self.disc.disp_elements[e];
-        let mut x = [Vector3::zeros(); NU];
-        for (x, &i) in x.iter_mut().zip(d) {
-            *x = eval.state.x[i] + eval.layout.velocity(eval.u, i) * eval.dt;
-        }
-        x
+        end_of_step_positions(eval, &self.disc.disp_elements[e])
     }
 
     fn omegas(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NR] {
+        angular_velocities(eval, &self.disc.rot_elements[e])
+    }
+
+    /// Calls `f(shape, input, density)` at each quadrature point of element `e`.
+    #[inline]
+    fn for_each_point(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        mut f: impl FnMut(&PointShape<NU, NR>, &PointInput<'_, NR>, &DensityMatrix),
+    ) {
+        let x = self.positions(e, eval);
+        let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
-        let mut omega = [Vector3::zeros(); NR];
-        for (o, &k) in omega.iter_mut().zip(r) {
-            *o = eval.layout.omega(eval.u, k);
+        let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
+        for g in 0..self.disc.rest.points_per_element {
+            let p = e * self.disc.rest.points_per_element + g;
+            let shape = &self.disc.rest.shapes[p];
+            let q = &eval.state.q_points[self.disc.first_point + p];
+            let omega_g = point_omega(shape, &omega);
+            let point_jet = RotationJet::of_update(q, &omega_g, eval.dt);
+            let input = PointInput {
+                f_hat: f_hat(shape, &x),
+                point_jet: &point_jet,
+                node_jets,
+                offset: self.offset(p),
+            };
+            f(shape, &input, self.disc.rest.densities.get(p));
         }
-        omega
+    }
+
+    /// [`Self::element_derivatives`] under a strain projection: all points of the element at once.
+    fn projected_derivatives(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        projection: &StrainProjection,
+        with_hessian: bool,
+        out: &mut ElementDerivatives<NE>,
+        local: &mut LocalDerivatives<NL>,
+    ) {
+        let x = self.positions(e, eval);
+        let omega = self.omegas(e, eval);
+        let r = &self.disc.rot_elements[e];
+        let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
+        let n_qp = self.disc.rest.points_per_element;
+        let jets: Vec<RotationJet> = (0..n_qp)
+            .map(|g| {
+                let p = e * n_qp + g;
+                let q = &eval.state.q_points[self.disc.first_point + p];
+                RotationJet::of_update(q, &point_omega(&self.disc.rest.shapes[p], &omega), eval.dt)
+            })
+            .collect();
+        let points: Vec<ElementPoint<'_, NU, NR>> = jets
+            .iter()
+            .enumerate()
+            .map(|(g, jet)| {
+                let p = e * n_qp + g;
+                let shape = &self.disc.rest.shapes[p];
+                ElementPoint {
+                    shape,
+                    input: PointInput {
+                        f_hat: f_hat(shape, &x),
+                        point_jet: jet,
+                        node_jets,
+                        offset: self.offset(p),
+                    },
+                    density: self.disc.rest.densities.get(p),
+                }
+            })
+            .collect();
+        let volume = self.disc.volume.as_ref();
+        if !with_hessian {
+            projected::element_gradient::<NU, NR, NL, NE>(&points, projection, self.disc.axl, volume, eval.dt, out);
+            return;
+        }
+        if n_qp == 0 {
+            out.hessian.fill(0.0);
+        }
+        let weights = projected::element_hessian(&points, projection, self.disc.axl, volume, eval.dt, local, out);
+        for (k, w) in weights.iter().enumerate() {
+            add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
+        }
+        if self.project_pd {
+            out.fill_lower_from_upper();
+            out.hessian = project_positive_semidefinite(&out.hessian);
+            out.clear_below_block_diagonal();
+        }
+    }
+}
+
+/// What one shell element computes; the loop over the elements is [`ElementAssembly`]'s.
+impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ElementKernel<NE, NB>
+    for ShellTerm<NU, NR, NL, NE, NB>
+{
+    /// A point's local derivatives. The element Hessian's blocks below the block diagonal are zero from
+    /// the slot's creation on and are never written (the points write the upper block triangle, the
+    /// first of them by assignment, and the scatter reads only that), so a slot needs no clearing per
+    /// element.
+    type Scratch = LocalDerivatives<NL>;
+
+    fn scratch() -> Self::Scratch {
+        LocalDerivatives::zeros()
+    }
+
+    fn term_name(&self) -> String {
+        self.name()
+    }
+
+    fn n_elements(&self) -> usize {
+        self.disc.disp_elements.len()
+    }
+
+    fn blocks(&self, e: usize) -> [usize; NB] {
+        displacement_rotation_blocks(&self.layout, &self.disc.disp_elements[e], &self.disc.rot_elements[e])
     }
 
     fn element_value(&self, e: usize, eval: &Evaluation<'_>) -> f64 {
@@ -288,107 +354,18 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         value
     }
 
-    /// Calls `f(shape, input, density)` at each quadrature point of element `e`.
-    #[inline]
-    fn for_each_point(
+    fn element_derivatives(
         &self,
         e: usize,
         eval: &Evaluation<'_>,
-        mut f: impl FnMut(&PointShape<NU, NR>, &PointInput<'_, NR>, &DensityMatrix),
-    ) {
-        let x = self.positions(e, eval);
-        let omega = self.omegas(e, eval);
-        let r = &self.disc.rot_elements[e];
-        let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
-        for g in 0..self.disc.rest.points_per_element {
-            let p = e * self.disc.rest.points_per_element + g;
-            let shape = &self.disc.rest.shapes[p];
-            let q = &eval.state.q_points[self.disc.first_point + p];
-            let omega_g = point_omega(shape, &omega);
-            let point_jet = RotationJet::of_update(q, &omega_g, eval.dt);
-            let input = PointInput {
-                f_hat: f_hat(shape, &x),
-                point_jet: &point_jet,
-                node_jets,
-                offset: self.offset(p),
-            };
-            f(shape, &input, self.disc.rest.densities.get(p));
-        }
-    }
-
-    /// [`Self::element_derivatives`] under a strain projection: all points of the element at once.
-    fn projected_derivatives(
-        &self,
-        e: usize,
-        eval: &Evaluation<'_>,
-        projection: &StrainProjection,
         with_hessian: bool,
-        slot: &mut ElementSlot<NE, NL>,
+        out: &mut ElementDerivatives<NE>,
+        local: &mut LocalDerivatives<NL>,
     ) {
-        let ElementSlot {
-            derivatives: out,
-            local,
-        } = slot;
-        let x = self.positions(e, eval);
-        let omega = self.omegas(e, eval);
-        let r = &self.disc.rot_elements[e];
-        let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
-        let n_qp = self.disc.rest.points_per_element;
-        let jets: Vec<RotationJet> = (0..n_qp)
-            .map(|g| {
-                let p = e * n_qp + g;
-                let q = &eval.state.q_points[self.disc.first_point + p];
-                RotationJet::of_update(q, &point_omega(&self.disc.rest.shapes[p], &omega), eval.dt)
-            })
-            .collect();
-        let points: Vec<ElementPoint<'_, NU, NR>> = jets
-            .iter()
-            .enumerate()
-            .map(|(g, jet)| {
-                let p = e * n_qp + g;
-                let shape = &self.disc.rest.shapes[p];
-                ElementPoint {
-                    shape,
-                    input: PointInput {
-                        f_hat: f_hat(shape, &x),
-                        point_jet: jet,
-                        node_jets,
-                        offset: self.offset(p),
-                    },
-                    density: self.disc.rest.densities.get(p),
-                }
-            })
-            .collect();
-        let volume = self.disc.volume.as_ref();
-        if !with_hessian {
-            projected::element_gradient::<NU, NR, NL, NE>(&points, projection, self.disc.axl, volume, eval.dt, out);
-            mark_non_finite(out, false);
-            return;
-        }
-        if n_qp == 0 {
-            out.hessian.fill(0.0);
-        }
-        let weights = projected::element_hessian(&points, projection, self.disc.axl, volume, eval.dt, local, out);
-        for (k, w) in weights.iter().enumerate() {
-            add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
-        }
-        if self.project_pd {
-            out.fill_lower_from_upper();
-            out.hessian = project_positive_semidefinite(&out.hessian);
-            out.clear_below_block_diagonal();
-        }
-        mark_non_finite(out, true);
-    }
-
-    fn element_derivatives(&self, e: usize, eval: &Evaluation<'_>, with_hessian: bool, slot: &mut ElementSlot<NE, NL>) {
         if let Some(projection) = self.disc.rest.projections.get(e) {
-            self.projected_derivatives(e, eval, projection, with_hessian, slot);
+            self.projected_derivatives(e, eval, projection, with_hessian, out, local);
             return;
         }
-        let ElementSlot {
-            derivatives: out,
-            local,
-        } = slot;
         out.value = 0.0;
         out.gradient.fill(0.0);
         if !with_hessian {
@@ -403,10 +380,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 out.value += shape.weight * value;
                 accumulate_gradient(shape, &gradient, eval.dt, shape.weight, &mut out.gradient);
             });
-            mark_non_finite(out, false);
             return;
         }
-        // The first point assigns the upper block triangle (see `ElementSlot`); without points nothing
+        // The first point assigns the upper block triangle (see `Scratch`); without points nothing
         // would.
         if self.disc.rest.points_per_element == 0 {
             out.hessian.fill(0.0);
@@ -446,33 +422,6 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             out.hessian = project_positive_semidefinite(&out.hessian);
             out.clear_below_block_diagonal();
         }
-        mark_non_finite(out, true);
-    }
-
-    /// Whether an element's results are usable. [`Self::element_derivatives`] has already marked
-    /// non-finite gradients and Hessians by a NaN value.
-    fn check(&self, d: &ElementDerivatives<NE>, e: usize) -> Result<(), AssemblyError> {
-        if d.value.is_finite() {
-            Ok(())
-        } else {
-            Err(AssemblyError::NonFinite {
-                term: self.name(),
-                location: "element",
-                index: e,
-            })
-        }
-    }
-}
-
-/// Sets the value of an element's results to NaN if its gradient or (`with_hessian`) its Hessian has a
-/// non-finite entry, so that whoever consumes the results checks one number.
-///
-/// This runs on the thread that computed the element, while its numbers are in that core's cache; a
-/// check by the (serial) consumer would read them once more from a farther cache.
-#[inline]
-fn mark_non_finite<const NE: usize>(d: &mut ElementDerivatives<NE>, with_hessian: bool) {
-    if !(all_finite(d.gradient.as_slice()) && (!with_hessian || all_finite(d.hessian.as_slice()))) {
-        d.value = f64::NAN;
     }
 }
 
@@ -500,56 +449,19 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     }
 
     fn coupling_groups(&self) -> Vec<Vec<usize>> {
-        (0..self.n_elements()).map(|e| self.blocks(e).to_vec()).collect()
+        ElementAssembly::coupling_groups(self)
     }
 
     fn bind(&mut self, pattern: &SparsityPattern) {
-        let blocks = (0..self.n_elements()).map(|e| self.blocks(e)).collect();
-        self.scatter = Some(ElementScatter::new(pattern, blocks));
+        self.elements.bind(ElementAssembly::scatter(pattern, &*self));
     }
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
-        let mut total = 0.0;
-        let mut buffers = self.values.lock().unwrap_or_else(|e| e.into_inner());
-        ordered_map(
-            self.n_elements(),
-            eval.parallelism,
-            &mut buffers,
-            || 0.0,
-            |e, slot| *slot = self.element_value(e, eval),
-            |e, &v: &f64| {
-                if !v.is_finite() {
-                    return Err(AssemblyError::NonFinite {
-                        term: self.name(),
-                        location: "element",
-                        index: e,
-                    });
-                }
-                total += v;
-                Ok(())
-            },
-        )?;
-        Ok(total)
+        self.elements.value(self, eval)
     }
 
     fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
-        let scatter = self.scatter.as_ref().expect("term used before bind()");
-        let mut total = 0.0;
-        let mut buffers = self.derivatives.lock().unwrap_or_else(|e| e.into_inner());
-        ordered_map(
-            self.n_elements(),
-            eval.parallelism,
-            &mut buffers,
-            ElementSlot::zeros,
-            |e, slot| self.element_derivatives(e, eval, false, slot),
-            |e, ElementSlot { derivatives: d, .. }| {
-                self.check(d, e)?;
-                total += d.value;
-                scatter.add_gradient(e, &d.gradient, grad);
-                Ok(())
-            },
-        )?;
-        Ok(total)
+        self.elements.gradient(self, eval, grad)
     }
 
     fn hessian(
@@ -559,24 +471,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         pattern: &SparsityPattern,
         values: &mut [f64],
     ) -> Result<f64, AssemblyError> {
-        let scatter = self.scatter.as_ref().expect("term used before bind()");
-        let mut total = 0.0;
-        let mut buffers = self.derivatives.lock().unwrap_or_else(|e| e.into_inner());
-        ordered_map(
-            self.n_elements(),
-            eval.parallelism,
-            &mut buffers,
-            ElementSlot::zeros,
-            |e, slot| self.element_derivatives(e, eval, true, slot),
-            |e, ElementSlot { derivatives: d, .. }| {
-                self.check(d, e)?;
-                total += d.value;
-                scatter.add_gradient(e, &d.gradient, grad);
-                scatter.add_hessian(e, &d.hessian, pattern, values);
-                Ok(())
-            },
-        )?;
-        Ok(total)
+        self.elements.hessian(self, eval, grad, pattern, values)
     }
 
     fn commit(&mut self, state: &mut SystemState, layout: &DofLayout, u: &[f64], dt: f64) {

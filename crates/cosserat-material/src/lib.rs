@@ -47,5 +47,5 @@ pub mod volume;
 
 pub use error::{MaterialError, RestStateError};
 pub use model::{AxlVariant, CurvedTerms, EnergyTerm, MembraneVolume, ModelOptions, ShellModel, TermSet};
-pub use parameters::{MaterialParameters, Moduli, poisson_ratio_problem};
+pub use parameters::{ContinuumParameters, MaterialParameters, Moduli, poisson_ratio_problem};
 pub use projection::{StabilizationConstants, StrainInterpolation, StrainProjection};

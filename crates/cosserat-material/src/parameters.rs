@@ -55,58 +55,13 @@ impl MaterialParameters {
     /// # Errors
     /// [`MaterialError::InvalidParameter`] naming the first offending parameter.
     pub fn validate(&self) -> Result<(), MaterialError> {
-        let check = |name: &'static str, value: f64, ok: bool, reason: &'static str| {
-            if value.is_finite() && ok {
-                Ok(())
-            } else {
-                Err(MaterialError::InvalidParameter { name, value, reason })
-            }
-        };
         check(
             "thickness",
             self.thickness,
             self.thickness > 0.0,
             "must be finite and positive",
         )?;
-        check(
-            "youngs_modulus",
-            self.youngs_modulus,
-            self.youngs_modulus > 0.0,
-            "must be finite and positive",
-        )?;
-        if let Some(reason) = poisson_ratio_problem(self.poisson_ratio) {
-            return Err(MaterialError::InvalidParameter {
-                name: "poisson_ratio",
-                value: self.poisson_ratio,
-                reason,
-            });
-        }
-        check(
-            "density",
-            self.density,
-            self.density > 0.0,
-            "must be finite and positive",
-        )?;
-        check(
-            "mu_c_factor",
-            self.mu_c_factor,
-            self.mu_c_factor >= 0.0,
-            "must be finite and non-negative",
-        )?;
-        check(
-            "length_scale",
-            self.length_scale,
-            self.length_scale >= 0.0,
-            "must be finite and non-negative",
-        )?;
-        let names = [
-            "curvature_coefficients[0]",
-            "curvature_coefficients[1]",
-            "curvature_coefficients[2]",
-        ];
-        for (name, &b) in names.into_iter().zip(&self.curvature_coefficients) {
-            check(name, b, b >= 0.0, "must be finite and non-negative")?;
-        }
+        self.continuum().validate()?;
         check(
             "bending_correction",
             self.bending_correction,
@@ -114,6 +69,18 @@ impl MaterialParameters {
             "must be finite and non-negative",
         )?;
         Ok(())
+    }
+
+    /// The parameters the shell shares with the other isotropic Cosserat materials.
+    pub fn continuum(&self) -> ContinuumParameters {
+        ContinuumParameters {
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+            density: self.density,
+            mu_c_factor: self.mu_c_factor,
+            length_scale: self.length_scale,
+            curvature_coefficients: self.curvature_coefficients,
+        }
     }
 
     /// The moduli the energy needs, after validation.
@@ -154,6 +121,84 @@ impl MaterialParameters {
         let [b1, b2, _] = self.curvature_coefficients;
         self.bending_correction * self.plate_bending_stiffness()
             + self.thickness * mu * self.length_scale * self.length_scale * (b1 + b2)
+    }
+}
+
+/// The parameters of an isotropic Cosserat material that do not depend on how the body is discretised:
+/// those of [`MaterialParameters`] without the shell's thickness and bending correction. The
+/// volumetric micropolar model has the same ones and validates them here, so that both models accept
+/// the same values and reject the others with the same message.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContinuumParameters {
+    /// Young's modulus `E` \[Pa\]. Finite and positive.
+    pub youngs_modulus: f64,
+    /// Poisson ratio `ν`, in (−1, 0.5).
+    pub poisson_ratio: f64,
+    /// Volumetric mass density `ρ` \[kg/m³\]. Finite and positive.
+    pub density: f64,
+    /// Cosserat couple modulus factor: `μ_c = mu_c_factor · μ`. Finite and non-negative.
+    pub mu_c_factor: f64,
+    /// Internal length scale `L_c` \[m\] of the curvature energy. Finite and non-negative.
+    pub length_scale: f64,
+    /// `(b₁, b₂, b₃)` of the curvature energy. Each finite and non-negative.
+    pub curvature_coefficients: [f64; 3],
+}
+
+impl ContinuumParameters {
+    /// Checks every parameter.
+    ///
+    /// # Errors
+    /// [`MaterialError::InvalidParameter`] naming the first offending parameter by its field name.
+    pub fn validate(&self) -> Result<(), MaterialError> {
+        check(
+            "youngs_modulus",
+            self.youngs_modulus,
+            self.youngs_modulus > 0.0,
+            "must be finite and positive",
+        )?;
+        if let Some(reason) = poisson_ratio_problem(self.poisson_ratio) {
+            return Err(MaterialError::InvalidParameter {
+                name: "poisson_ratio",
+                value: self.poisson_ratio,
+                reason,
+            });
+        }
+        check(
+            "density",
+            self.density,
+            self.density > 0.0,
+            "must be finite and positive",
+        )?;
+        check(
+            "mu_c_factor",
+            self.mu_c_factor,
+            self.mu_c_factor >= 0.0,
+            "must be finite and non-negative",
+        )?;
+        check(
+            "length_scale",
+            self.length_scale,
+            self.length_scale >= 0.0,
+            "must be finite and non-negative",
+        )?;
+        let names = [
+            "curvature_coefficients[0]",
+            "curvature_coefficients[1]",
+            "curvature_coefficients[2]",
+        ];
+        for (name, &b) in names.into_iter().zip(&self.curvature_coefficients) {
+            check(name, b, b >= 0.0, "must be finite and non-negative")?;
+        }
+        Ok(())
+    }
+}
+
+/// `Ok` if `value` is finite and `ok`, else the error naming the parameter.
+fn check(name: &'static str, value: f64, ok: bool, reason: &'static str) -> Result<(), MaterialError> {
+    if value.is_finite() && ok {
+        Ok(())
+    } else {
+        Err(MaterialError::InvalidParameter { name, value, reason })
     }
 }
 

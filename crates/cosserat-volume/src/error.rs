@@ -3,21 +3,9 @@
 
 use thiserror::Error;
 
-/// An invalid micropolar material parameter.
-#[derive(Debug, Clone, PartialEq, Error)]
-#[non_exhaustive]
-pub enum MaterialError {
-    /// A parameter outside its range.
-    #[error("material parameter `{name}` = {value}: {reason}")]
-    InvalidParameter {
-        /// The parameter's field name.
-        name: &'static str,
-        /// Its value.
-        value: f64,
-        /// The admissible range.
-        reason: &'static str,
-    },
-}
+/// An invalid material parameter: the shell material's error, since the volumetric material validates
+/// the parameters the two share with the shell's checks ([`cosserat_material::ContinuumParameters`]).
+pub use cosserat_material::MaterialError;
 
 /// An invalid tetrahedral mesh or mesh request.
 #[derive(Debug, Clone, PartialEq, Error)]

@@ -5,6 +5,7 @@
 //! `ν = 0.5` (an infinite `λ`) or a negative length scale.
 
 use crate::error::MaterialError;
+use cosserat_material::ContinuumParameters;
 
 /// An isotropic micropolar material (Löschner et al. 2023, eqs. 9–11 in the notation of the shell's
 /// supplement eqs. 6–7), in SI units.
@@ -46,53 +47,19 @@ impl MicropolarMaterial {
     /// # Errors
     /// [`MaterialError::InvalidParameter`] naming the first offending field.
     pub fn validate(&self) -> Result<(), MaterialError> {
-        let check = |name: &'static str, value: f64, ok: bool, reason: &'static str| {
-            if value.is_finite() && ok {
-                Ok(())
-            } else {
-                Err(MaterialError::InvalidParameter { name, value, reason })
-            }
-        };
-        check(
-            "youngs_modulus",
-            self.youngs_modulus,
-            self.youngs_modulus > 0.0,
-            "must be finite and positive",
-        )?;
-        let problem = cosserat_material::poisson_ratio_problem(self.poisson_ratio);
-        check(
-            "poisson_ratio",
-            self.poisson_ratio,
-            problem.is_none(),
-            problem.unwrap_or_default(),
-        )?;
-        check(
-            "density",
-            self.density,
-            self.density > 0.0,
-            "must be finite and positive",
-        )?;
-        check(
-            "mu_c_factor",
-            self.mu_c_factor,
-            self.mu_c_factor >= 0.0,
-            "must be finite and non-negative",
-        )?;
-        check(
-            "length_scale",
-            self.length_scale,
-            self.length_scale >= 0.0,
-            "must be finite and non-negative",
-        )?;
-        let names = [
-            "curvature_coefficients[0]",
-            "curvature_coefficients[1]",
-            "curvature_coefficients[2]",
-        ];
-        for (name, &b) in names.into_iter().zip(&self.curvature_coefficients) {
-            check(name, b, b >= 0.0, "must be finite and non-negative")?;
+        self.continuum().validate()
+    }
+
+    /// The parameters this material shares with the shell's, whose validation it uses.
+    pub fn continuum(&self) -> ContinuumParameters {
+        ContinuumParameters {
+            youngs_modulus: self.youngs_modulus,
+            poisson_ratio: self.poisson_ratio,
+            density: self.density,
+            mu_c_factor: self.mu_c_factor,
+            length_scale: self.length_scale,
+            curvature_coefficients: self.curvature_coefficients,
         }
-        Ok(())
     }
 
     /// The moduli of the energy density, after validation.

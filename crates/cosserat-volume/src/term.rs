@@ -4,8 +4,9 @@
 //! Per element the term gathers the end-of-step nodal positions and the shared nodal rotation jets,
 //! advances the element's point rotation with the interpolated angular velocity, runs the point kernel
 //! (`kernel`), maps to the element's unknowns (`element`) and scatters through precomputed positions.
-//! Elements are evaluated in parallel and consumed in element order
-//! ([`cosserat_assembly::parallel::ordered_map`]), so results are bit-identical for any number of threads.
+//! The loop over the elements is the shell's ([`cosserat_assembly::element_assembly`]): elements are
+//! evaluated in parallel and consumed in element order, so results are bit-identical for any number of
+//! threads.
 
 use crate::density::StrainMatrix;
 use crate::element::{ElementDerivatives, accumulate, accumulate_gradient};
@@ -13,16 +14,16 @@ use crate::kernel::{PointState, point_gradient, point_hessian, point_value};
 use crate::material::MicropolarModuli;
 use crate::tet4::{VolumePoint, deformation_gradient, point_omega};
 use cosserat_assembly::dofs::DofLayout;
-use cosserat_assembly::finite::all_finite;
-use cosserat_assembly::parallel::{ChunkBuffers, ordered_map};
-use cosserat_assembly::scatter::ElementScatter;
+use cosserat_assembly::element_assembly::{
+    ElementAssembly, ElementKernel, angular_velocities, displacement_rotation_blocks, end_of_step_positions,
+};
 use cosserat_assembly::shell::project_positive_semidefinite;
 use cosserat_assembly::state::SystemState;
 use cosserat_assembly::term::{Evaluation, PotentialTerm};
 use cosserat_assembly::{AssemblyError, SparsityPattern};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
 use nalgebra::{Matrix3, Vector3};
-use std::sync::{Arc, Mutex, RwLock, RwLockReadGuard};
+use std::sync::{Arc, RwLock, RwLockReadGuard};
 
 /// The prescribed rest curvature `Γ_rest` of every quadrature point (world axes; row = axial component,
 /// column = direction of differentiation), shared between a [`VolumeTerm`] and the scripts that change
@@ -110,13 +111,12 @@ pub struct VolumeDiscretization<const N: usize> {
 pub struct VolumeTerm<const N: usize, const NL: usize, const NE: usize, const NB: usize> {
     disc: VolumeDiscretization<N>,
     rest_curvature: RestCurvature,
-    scatter: Option<ElementScatter<NB>>,
     layout: DofLayout,
     /// Project each element Hessian onto the positive semi-definite cone (off by default). Needed only
     /// when the linear solver requires a positive definite matrix far from equilibrium.
     pub project_pd: bool,
-    values: Mutex<ChunkBuffers<f64>>,
-    derivatives: Mutex<ChunkBuffers<ElementDerivatives<NE>>>,
+    /// The element loop; the elements need no scratch beyond their results.
+    elements: ElementAssembly<NE, NB, ()>,
 }
 
 /// Linear tetrahedra for displacements and rotations.
@@ -145,11 +145,9 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
         Self {
             disc,
             rest_curvature,
-            scatter: None,
             layout,
             project_pd: false,
-            values: Mutex::new(ChunkBuffers::new()),
-            derivatives: Mutex::new(ChunkBuffers::new()),
+            elements: ElementAssembly::new(),
         }
     }
 
@@ -180,26 +178,17 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
         min
     }
 
-    fn blocks(&self, e: usize) -> [usize; NB] {
-        let d = &self.disc.disp_elements[e];
-        let r = &self.disc.rot_elements[e];
-        std::array::from_fn(|i| {
-            if i < N {
-                self.layout.disp_block(d[i])
-            } else {
-                self.layout.rot_block(r[i - N])
-            }
-        })
+    /// The term's elements with the rest curvature read for one evaluation.
+    fn elements_with<'a>(&'a self, rest: &'a [Matrix3<f64>]) -> VolumeElements<'a, N, NL, NE, NB> {
+        VolumeElements { term: self, rest }
     }
 
     fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; N] {
-        let d = &self.disc.disp_elements[e];
-        std::array::from_fn(|i| eval.state.x[d[i]] + eval.layout.velocity(eval.u, d[i]) * eval.dt)
+        end_of_step_positions(eval, &self.disc.disp_elements[e])
     }
 
     fn omegas(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; N] {
-        let r = &self.disc.rot_elements[e];
-        std::array::from_fn(|k| eval.layout.omega(eval.u, r[k]))
+        angular_velocities(eval, &self.disc.rot_elements[e])
     }
 
     fn element_value(&self, e: usize, eval: &Evaluation<'_>, rest: &[Matrix3<f64>]) -> f64 {
@@ -252,20 +241,50 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
             accumulate_gradient(point, &gradient, eval.dt, point.weight, &mut out.gradient);
         }
     }
+}
 
-    fn non_finite(&self, e: usize) -> AssemblyError {
-        AssemblyError::NonFinite {
-            term: self.name(),
-            location: "element",
-            index: e,
-        }
+/// A [`VolumeTerm`] during one evaluation: its elements, with the rest curvature read once for all of
+/// them (a read lock per element would make the threads contend for it).
+struct VolumeElements<'a, const N: usize, const NL: usize, const NE: usize, const NB: usize> {
+    term: &'a VolumeTerm<N, NL, NE, NB>,
+    rest: &'a [Matrix3<f64>],
+}
+
+/// What one element computes; the loop over the elements is [`ElementAssembly`]'s.
+impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> ElementKernel<NE, NB>
+    for VolumeElements<'_, N, NL, NE, NB>
+{
+    /// Nothing: the element has one point, whose local derivatives are returned by value.
+    type Scratch = ();
+
+    fn scratch() -> Self::Scratch {}
+
+    fn term_name(&self) -> String {
+        self.term.name()
     }
 
-    fn check(&self, d: &ElementDerivatives<NE>, e: usize, with_hessian: bool) -> Result<(), AssemblyError> {
-        let ok = d.value.is_finite()
-            && all_finite(d.gradient.as_slice())
-            && (!with_hessian || all_finite(d.hessian.as_slice()));
-        if ok { Ok(()) } else { Err(self.non_finite(e)) }
+    fn n_elements(&self) -> usize {
+        self.term.n_elements()
+    }
+
+    fn blocks(&self, e: usize) -> [usize; NB] {
+        let disc = &self.term.disc;
+        displacement_rotation_blocks(&self.term.layout, &disc.disp_elements[e], &disc.rot_elements[e])
+    }
+
+    fn element_value(&self, e: usize, eval: &Evaluation<'_>) -> f64 {
+        self.term.element_value(e, eval, self.rest)
+    }
+
+    fn element_derivatives(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        with_hessian: bool,
+        out: &mut ElementDerivatives<NE>,
+        _scratch: &mut (),
+    ) {
+        self.term.element_derivatives(e, eval, self.rest, with_hessian, out);
     }
 }
 
@@ -279,54 +298,25 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> Potentia
     }
 
     fn coupling_groups(&self) -> Vec<Vec<usize>> {
-        (0..self.n_elements()).map(|e| self.blocks(e).to_vec()).collect()
+        let rest = self.rest_curvature.read();
+        ElementAssembly::coupling_groups(&self.elements_with(&rest))
     }
 
     fn bind(&mut self, pattern: &SparsityPattern) {
-        let blocks = (0..self.n_elements()).map(|e| self.blocks(e)).collect();
-        self.scatter = Some(ElementScatter::new(pattern, blocks));
+        let rest = self.rest_curvature.read();
+        let scatter = ElementAssembly::scatter(pattern, &self.elements_with(&rest));
+        drop(rest);
+        self.elements.bind(scatter);
     }
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
         let rest = self.rest_curvature.read();
-        let mut total = 0.0;
-        let mut buffers = self.values.lock().unwrap_or_else(|e| e.into_inner());
-        ordered_map(
-            self.n_elements(),
-            eval.parallelism,
-            &mut buffers,
-            || 0.0,
-            |e, slot| *slot = self.element_value(e, eval, &rest),
-            |e, &v: &f64| {
-                if !v.is_finite() {
-                    return Err(self.non_finite(e));
-                }
-                total += v;
-                Ok(())
-            },
-        )?;
-        Ok(total)
+        self.elements.value(&self.elements_with(&rest), eval)
     }
 
     fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
-        let scatter = self.scatter.as_ref().expect("term used before bind()");
         let rest = self.rest_curvature.read();
-        let mut total = 0.0;
-        let mut buffers = self.derivatives.lock().unwrap_or_else(|e| e.into_inner());
-        ordered_map(
-            self.n_elements(),
-            eval.parallelism,
-            &mut buffers,
-            ElementDerivatives::zeros,
-            |e, slot| self.element_derivatives(e, eval, &rest, false, slot),
-            |e, d| {
-                self.check(d, e, false)?;
-                total += d.value;
-                scatter.add_gradient(e, &d.gradient, grad);
-                Ok(())
-            },
-        )?;
-        Ok(total)
+        self.elements.gradient(&self.elements_with(&rest), eval, grad)
     }
 
     fn hessian(
@@ -336,25 +326,8 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> Potentia
         pattern: &SparsityPattern,
         values: &mut [f64],
     ) -> Result<f64, AssemblyError> {
-        let scatter = self.scatter.as_ref().expect("term used before bind()");
         let rest = self.rest_curvature.read();
-        let mut total = 0.0;
-        let mut buffers = self.derivatives.lock().unwrap_or_else(|e| e.into_inner());
-        ordered_map(
-            self.n_elements(),
-            eval.parallelism,
-            &mut buffers,
-            ElementDerivatives::zeros,
-            |e, slot| self.element_derivatives(e, eval, &rest, true, slot),
-            |e, d| {
-                self.check(d, e, true)?;
-                total += d.value;
-                scatter.add_gradient(e, &d.gradient, grad);
-                scatter.add_hessian(e, &d.hessian, pattern, values);
-                Ok(())
-            },
-        )?;
-        Ok(total)
+        self.elements.hessian(&self.elements_with(&rest), eval, grad, pattern, values)
     }
 
     fn commit(&mut self, state: &mut SystemState, layout: &DofLayout, u: &[f64], dt: f64) {

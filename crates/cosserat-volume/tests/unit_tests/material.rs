@@ -1,5 +1,6 @@
 //! Validation and derived moduli of the micropolar material.
 
+use cosserat_material::MaterialParameters;
 use cosserat_volume::{MaterialError, MicropolarMaterial};
 
 #[test]
@@ -32,6 +33,26 @@ fn invalid_parameters_are_named() {
             other => panic!("{field}: expected an error, got {other:?}"),
         }
     }
+}
+
+#[test]
+fn invalid_parameters_are_rejected_as_for_the_shell() {
+    // The same bad value of a shared parameter gets the same error from both models' materials.
+    let volume = MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.1);
+    let shell = MaterialParameters::new(0.01, 1e6, 0.3, 1000.0, 0.1);
+    let cases: [(f64, f64, f64, f64); 4] = [
+        (-1e6, 0.3, 1000.0, 0.1),
+        (1e6, -1.0, 1000.0, 0.1),
+        (1e6, 0.3, f64::NAN, 0.1),
+        (1e6, 0.3, 1000.0, -0.1),
+    ];
+    for (e, nu, rho, l) in cases {
+        let v = MicropolarMaterial::new(e, nu, rho, l).moduli().unwrap_err();
+        let s = MaterialParameters::new(shell.thickness, e, nu, rho, l).moduli().unwrap_err();
+        // The message names the field, the value and the reason (`PartialEq` would fail on NaN).
+        assert_eq!(v.to_string(), s.to_string());
+    }
+    assert!(volume.moduli().is_ok() && shell.moduli().is_ok());
 }
 
 #[test]
