@@ -103,60 +103,8 @@ fn main() -> Result<()> {
             bench_table::run(large, rounds as usize)?;
             0
         }
-        Command::Experiments(a) => {
-            let options = experiments::Options {
-                quick: a.quick,
-                large: a.large,
-                only: a.only.clone(),
-                row: a.row.clone(),
-                meshes: a.meshes.clone(),
-                out: PathBuf::from(if a.quick {
-                    "out/experiments_quick"
-                } else {
-                    "out/experiments"
-                }),
-                render_dir: (!a.quick && a.only.is_none() && a.row.is_none()).then(|| PathBuf::from("docs/img")),
-            };
-            let report = experiments::run_all(&options)?;
-            let path = if a.quick || a.only.is_some() || a.row.is_some() {
-                PathBuf::from("out").join(if a.quick {
-                    "experiments_quick.md"
-                } else {
-                    "experiments_partial.md"
-                })
-            } else {
-                PathBuf::from("docs/experiments.md")
-            };
-            std::fs::create_dir_all(path.parent().unwrap_or(std::path::Path::new(".")))?;
-            std::fs::write(&path, &report.markdown)?;
-            eprintln!("wrote {}", path.display());
-            if report.failures.is_empty() {
-                0
-            } else {
-                eprintln!("{} experiment check(s) failed:", report.failures.len());
-                for f in &report.failures {
-                    eprintln!("  - {f}");
-                }
-                1
-            }
-        }
-        Command::Validate(a) => {
-            let options = validate::Options {
-                runner: runner::Runner::current_exe()?,
-                out: PathBuf::from("out/validation"),
-                images: PathBuf::from(if a.quick { "out/img" } else { "docs/img" }),
-                quick: a.quick,
-            };
-            let md = validate::run_all(&options)?;
-            let path = PathBuf::from(if a.quick {
-                "out/validation_quick.md"
-            } else {
-                "docs/validation.md"
-            });
-            std::fs::write(&path, md)?;
-            eprintln!("wrote {}", path.display());
-            0
-        }
+        Command::Experiments(a) => run_experiments(&a)?,
+        Command::Validate(a) => run_validation(&a)?,
         Command::Study(a) => study::run(&a)?,
         Command::SceneReference => {
             scene_reference::write(&workspace_root())?;
@@ -183,4 +131,64 @@ fn main() -> Result<()> {
         }
     };
     std::process::exit(code)
+}
+
+/// `cargo xtask experiments`: runs them, writes the report (docs/experiments.md for a full run, a
+/// file under `out/` otherwise) and lists the checks that failed; the exit code is 1 when one did.
+fn run_experiments(a: &ExperimentsArgs) -> Result<i32> {
+    let partial = a.only.is_some() || a.row.is_some();
+    let options = experiments::Options {
+        quick: a.quick,
+        large: a.large,
+        only: a.only.clone(),
+        row: a.row.clone(),
+        meshes: a.meshes.clone(),
+        out: PathBuf::from(if a.quick {
+            "out/experiments_quick"
+        } else {
+            "out/experiments"
+        }),
+        render_dir: (!a.quick && !partial).then(|| PathBuf::from("docs/img")),
+    };
+    let report = experiments::run_all(&options)?;
+    let path = if a.quick || partial {
+        PathBuf::from("out").join(if a.quick {
+            "experiments_quick.md"
+        } else {
+            "experiments_partial.md"
+        })
+    } else {
+        PathBuf::from("docs/experiments.md")
+    };
+    std::fs::create_dir_all(path.parent().unwrap_or(std::path::Path::new(".")))?;
+    std::fs::write(&path, &report.markdown)?;
+    eprintln!("wrote {}", path.display());
+    if report.failures.is_empty() {
+        return Ok(0);
+    }
+    eprintln!("{} experiment check(s) failed:", report.failures.len());
+    for f in &report.failures {
+        eprintln!("  - {f}");
+    }
+    Ok(1)
+}
+
+/// `cargo xtask validate`: runs the validation benchmarks and writes docs/validation.md (or
+/// out/validation_quick.md with `--quick`).
+fn run_validation(a: &ValidateArgs) -> Result<i32> {
+    let options = validate::Options {
+        runner: runner::Runner::current_exe()?,
+        out: PathBuf::from("out/validation"),
+        images: PathBuf::from(if a.quick { "out/img" } else { "docs/img" }),
+        quick: a.quick,
+    };
+    let md = validate::run_all(&options)?;
+    let path = PathBuf::from(if a.quick {
+        "out/validation_quick.md"
+    } else {
+        "docs/validation.md"
+    });
+    std::fs::write(&path, md)?;
+    eprintln!("wrote {}", path.display());
+    Ok(0)
 }

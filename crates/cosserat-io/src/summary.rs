@@ -362,22 +362,7 @@ impl RunSummary {
             }
         }
         if let Some(c) = &self.contact {
-            let fields = [
-                ("energy_seconds", c.energy_seconds),
-                ("ccd_seconds", c.ccd_seconds),
-                ("broad_phase_seconds", c.broad_phase_seconds),
-                ("share_of_step", c.share_of_step),
-                ("energy_share", c.energy_share),
-                ("ccd_share", c.ccd_share),
-                ("broad_phase_share", c.broad_phase_share),
-                ("mean_active_pairs", c.mean_active_pairs),
-                ("max_obstacle_lag", c.max_obstacle_lag),
-                ("final_obstacle_lag", c.final_obstacle_lag),
-            ];
-            out.extend(fields.into_iter().map(|(k, v)| (format!("contact.{k}"), v)));
-            if let Some(gap) = c.min_gap {
-                out.push(("contact.min_gap".into(), gap));
-            }
+            c.numbers_into(&mut out);
         }
         let energies = [
             ("t", &self.energy.t),
@@ -397,16 +382,7 @@ impl RunSummary {
             out.extend(fields.into_iter().map(|(k, v)| (format!("convergence.{k}"), v)));
         }
         if let Some(step) = &self.failed_step {
-            out.push(("failed_step.t".into(), step.t));
-            for (k, a) in step.attempts.iter().enumerate() {
-                out.push((format!("failed_step.attempts[{k}].dt"), a.dt));
-                out.extend(
-                    a.residuals
-                        .iter()
-                        .enumerate()
-                        .map(|(i, r)| (format!("failed_step.attempts[{k}].residuals[{i}]"), *r)),
-                );
-            }
+            step.numbers_into(&mut out);
         }
         out
     }
@@ -434,6 +410,44 @@ impl RunSummary {
         })?;
         json.push('\n');
         Ok(json)
+    }
+}
+
+impl ContactRecord {
+    /// The record's numbers with their field paths in the summary.
+    fn numbers_into(&self, out: &mut Vec<(String, f64)>) {
+        let fields = [
+            ("energy_seconds", self.energy_seconds),
+            ("ccd_seconds", self.ccd_seconds),
+            ("broad_phase_seconds", self.broad_phase_seconds),
+            ("share_of_step", self.share_of_step),
+            ("energy_share", self.energy_share),
+            ("ccd_share", self.ccd_share),
+            ("broad_phase_share", self.broad_phase_share),
+            ("mean_active_pairs", self.mean_active_pairs),
+            ("max_obstacle_lag", self.max_obstacle_lag),
+            ("final_obstacle_lag", self.final_obstacle_lag),
+        ];
+        out.extend(fields.into_iter().map(|(k, v)| (format!("contact.{k}"), v)));
+        if let Some(gap) = self.min_gap {
+            out.push(("contact.min_gap".into(), gap));
+        }
+    }
+}
+
+impl FailedStep {
+    /// The record's numbers with their field paths in the summary.
+    fn numbers_into(&self, out: &mut Vec<(String, f64)>) {
+        out.push(("failed_step.t".into(), self.t));
+        for (k, a) in self.attempts.iter().enumerate() {
+            out.push((format!("failed_step.attempts[{k}].dt"), a.dt));
+            out.extend(
+                a.residuals
+                    .iter()
+                    .enumerate()
+                    .map(|(i, r)| (format!("failed_step.attempts[{k}].residuals[{i}]"), *r)),
+            );
+        }
     }
 }
 

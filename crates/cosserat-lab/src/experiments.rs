@@ -121,6 +121,8 @@ fn ladder(o: &Options, full: &[usize], large: &[usize], quick: &[usize]) -> Vec<
 
 /// All experiments.
 pub fn registry() -> Vec<Experiment> {
+    // Long because the registry is a data table, one entry per experiment of the paper, that reads
+    // best as one list.
     vec![
         Experiment {
             name: "twisting_strip",
@@ -1159,12 +1161,16 @@ pub fn run_all(o: &Options) -> Result<Report> {
     let experiments = registry();
     let planned = plan(o, &experiments);
     announce(&planned, &experiments);
-    let total_estimate: f64 = planned.iter().filter_map(|p| p.estimate.map(|e| e.0)).sum();
+    let mut progress = Progress {
+        started,
+        n_runs: planned.len(),
+        total_estimate: planned.iter().filter_map(|p| p.estimate.map(|e| e.0)).sum(),
+        estimated_done: 0.0,
+    };
     let mut table = String::new();
     let mut checks = String::new();
     let mut failures = Vec::new();
     let mut all_results = Vec::new();
-    let mut estimated_done = 0.0;
     for (k, exp) in experiments.iter().enumerate() {
         let runs: Vec<&Planned> = planned.iter().filter(|p| p.experiment == k).collect();
         if runs.is_empty() {
@@ -1173,42 +1179,8 @@ pub fn run_all(o: &Options) -> Result<Report> {
         let mut results = Vec::new();
         for p in runs {
             let position = planned.iter().position(|q| std::ptr::eq(q, p)).unwrap_or(0) + 1;
-            eprintln!(
-                "[{position}/{}] {}: {} {} ({} elapsed, about {} left) ...",
-                planned.len(),
-                exp.name,
-                p.spec.variant,
-                p.spec.element,
-                duration(started.elapsed().as_secs_f64()),
-                duration(total_estimate - estimated_done)
-            );
-            estimated_done += p.estimate.map_or(0.0, |e| e.0);
-            match execute(&p.spec, &p.dir) {
-                Ok(res) => {
-                    if res.summary.status != RunStatus::Ok {
-                        failures.push(format!(
-                            "{} {}: {:?} {}",
-                            exp.name,
-                            p.spec.variant,
-                            res.summary.status,
-                            res.summary.reason.clone().unwrap_or_default()
-                        ));
-                    }
-                    eprintln!(
-                        "  {:?}, {} steps, {:.2} it/step, {:.1} ms/step",
-                        res.summary.status,
-                        res.summary.n_steps,
-                        res.summary.avg_newton_iterations,
-                        res.summary.avg_step_ms
-                    );
-                    writeln!(table, "{}", fmt_row(&res, exp.name))?;
-                    results.push(res);
-                }
-                Err(e) => {
-                    failures.push(format!("{} {}: {e:#}", exp.name, p.spec.variant));
-                    writeln!(table, "| {} | {} **failed: {e}** |", p.spec.variant, exp.name)?;
-                }
-            }
+            progress.start(position, exp.name, p);
+            results.extend(execute_and_record(p, exp.name, &mut table, &mut failures)?);
         }
         if o.render_dir.is_some() {
             render(o, exp, &results)?;
@@ -1236,4 +1208,63 @@ pub fn run_all(o: &Options) -> Result<Report> {
         }
     }
     Ok(Report { markdown: md, failures })
+}
+
+/// How far a run of the experiments has got, for the progress lines.
+struct Progress {
+    started: std::time::Instant,
+    n_runs: usize,
+    /// Seconds the planned runs with an estimate should take, and those of the runs started.
+    total_estimate: f64,
+    estimated_done: f64,
+}
+
+impl Progress {
+    /// Announces run `position` (1-based) of the plan, with the time spent and the time left.
+    fn start(&mut self, position: usize, experiment: &str, p: &Planned) {
+        eprintln!(
+            "[{position}/{}] {}: {} {} ({} elapsed, about {} left) ...",
+            self.n_runs,
+            experiment,
+            p.spec.variant,
+            p.spec.element,
+            duration(self.started.elapsed().as_secs_f64()),
+            duration(self.total_estimate - self.estimated_done)
+        );
+        self.estimated_done += p.estimate.map_or(0.0, |e| e.0);
+    }
+}
+
+/// Runs one planned run and records it: its row of the timing table, and a failure for a run that
+/// could not be set up or did not complete. The result of a run that produced one.
+fn execute_and_record(
+    p: &Planned,
+    experiment: &str,
+    table: &mut String,
+    failures: &mut Vec<String>,
+) -> Result<Option<RunResult>> {
+    match execute(&p.spec, &p.dir) {
+        Ok(res) => {
+            if res.summary.status != RunStatus::Ok {
+                failures.push(format!(
+                    "{} {}: {:?} {}",
+                    experiment,
+                    p.spec.variant,
+                    res.summary.status,
+                    res.summary.reason.clone().unwrap_or_default()
+                ));
+            }
+            eprintln!(
+                "  {:?}, {} steps, {:.2} it/step, {:.1} ms/step",
+                res.summary.status, res.summary.n_steps, res.summary.avg_newton_iterations, res.summary.avg_step_ms
+            );
+            writeln!(table, "{}", fmt_row(&res, experiment))?;
+            Ok(Some(res))
+        }
+        Err(e) => {
+            failures.push(format!("{} {}: {e:#}", experiment, p.spec.variant));
+            writeln!(table, "| {} | {} **failed: {e}** |", p.spec.variant, experiment)?;
+            Ok(None)
+        }
+    }
 }

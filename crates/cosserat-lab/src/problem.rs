@@ -181,6 +181,8 @@ fn small_load_stiffness() -> (f64, f64) {
 
 /// All validation problems.
 pub fn registry() -> Vec<Problem> {
+    // Long because the registry is a data table, each problem with its references and ladder, that
+    // reads best as one list.
     vec![
         Problem {
             name: "sze_cantilever_end_shear",

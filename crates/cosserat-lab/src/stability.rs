@@ -234,9 +234,9 @@ pub const ROTATIONAL_INERTIA: f64 = 1000.0 * 1e-6 / 12.0;
 /// The combined corners (also the cells the tests run).
 pub fn corners() -> Vec<Cell> {
     let base = Settings::default;
+    let corner = |label: &str, settings: Settings| cell("corner", label, settings);
     vec![
-        cell(
-            "corner",
+        corner(
             "thin and stiff, large dt: h/L = 1e-5, E = 1e11, dt = 0.1",
             Settings {
                 thickness: 1e-6,
@@ -245,8 +245,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "μ_c = 0 and L_c = 0",
             Settings {
                 mu_c_factor: 0.0,
@@ -254,8 +253,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "ten turns on a coarse strip (4×1)",
             Settings {
                 turns: 10.0,
@@ -263,8 +261,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "ten turns on a coarse strip (4×1), ρ_θ = ρh²/12",
             Settings {
                 turns: 10.0,
@@ -273,8 +270,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "ten turns on a coarse strip (4×1), dt = 0.1",
             Settings {
                 turns: 10.0,
@@ -283,8 +279,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "nearly incompressible and thin: ν = 0.499, h/L = 1e-4",
             Settings {
                 poisson_ratio: 0.499,
@@ -292,8 +287,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "slivers, thin, four turns: 4×40, h/L = 1e-4",
             Settings {
                 mesh: (4, 40),
@@ -302,8 +296,7 @@ pub fn corners() -> Vec<Cell> {
                 ..base()
             },
         ),
-        cell(
-            "corner",
+        corner(
             "soft and large dt, four turns: E = 1e3, dt = 0.1",
             Settings {
                 youngs_modulus: 1e3,

@@ -266,62 +266,8 @@ pub fn run_all(o: &Options) -> Result<String> {
         let runs = run_problem(&problem, o, &[])?;
         let image = o.images.join(format!("validation_{}.svg", problem.name));
         let plotted = plot_problem(&problem, &runs, &image);
-        let default = runs.iter().find(|r| r.pair == Pair::Tri6Tri3 && r.mesh == problem.default_mesh);
-        let within = |pair| first_within(&runs, pair, 0.01).map_or("none of the ladder".into(), |r| r.mesh.clone());
-        writeln!(
-            summary,
-            "| {} | {} | {} | {} | {} |",
-            problem.title,
-            default
-                .and_then(|r| r.errors.as_ref())
-                .map_or("not run or failed".into(), |e| format!(
-                    "{} ({})",
-                    pct(e.max()),
-                    problem.default_mesh
-                )),
-            within(Pair::Tri3Tri3),
-            within(Pair::Tri6Tri3),
-            within(Pair::Tri6Tri6)
-        )?;
-        writeln!(body, "\n## {}\n", problem.title)?;
-        writeln!(
-            body,
-            "Scene `{}`. Reference: {}.\n",
-            problem.scene, problem.reference_note
-        )?;
-        match plotted {
-            Ok(()) => writeln!(
-                body,
-                "![{}](img/{})\n",
-                problem.title,
-                image.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default()
-            )?,
-            Err(e) => writeln!(body, "(plot not written: {e})\n")?,
-        }
-        let labels: Vec<String> = problem.components.iter().map(|c| format!("max error {}", c.label)).collect();
-        writeln!(
-            body,
-            "| pair | mesh | cells | DOFs | {} | Newton it./level | solve wall | total wall | status |\n|---|---|---|---|{}---|---|---|---|",
-            labels.join(" | "),
-            "---|".repeat(labels.len())
-        )?;
-        for r in &runs {
-            writeln!(body, "{}", run_row(&problem, r))?;
-        }
-        if let Some(r) = default {
-            writeln!(
-                body,
-                "\nEvery load level, Tri6/Tri3 on the scene's mesh {} (probe `tip`: the mean over the loaded end):\n",
-                problem.default_mesh
-            )?;
-            level_table(&problem, r, &mut body)?;
-            if let Some(d) = r.outcome.probes.as_ref().and_then(mean_vs_mid_width) {
-                writeln!(
-                    body,
-                    "\nThe mean over the loaded end (`tip`) and the mid-width node (`tip_mid`) differ by at most {d:.1e} of the largest tip displacement (the strip bends without twisting).",
-                )?;
-            }
-        }
+        summary_row(&problem, &runs, &mut summary)?;
+        problem_section(&problem, &runs, &image, plotted, &mut body)?;
     }
     let mut md = String::new();
     writeln!(md, "# Validation against published benchmarks\n")?;
@@ -336,4 +282,84 @@ pub fn run_all(o: &Options) -> Result<String> {
     md.push_str(&crate::path_validation::run_all(o)?);
     md.push_str(&crate::obstacle::run_all(&o.runner, &o.out, o.quick)?);
     Ok(md)
+}
+
+/// The run of a problem's element pair Tri6/Tri3 on the scene's own mesh, if it was run.
+fn default_run<'a>(problem: &Problem, runs: &'a [ValidationRun]) -> Option<&'a ValidationRun> {
+    runs.iter().find(|r| r.pair == Pair::Tri6Tri3 && r.mesh == problem.default_mesh)
+}
+
+/// A problem's row of the summary table: the error on the scene's mesh and, per pair, the coarsest
+/// mesh within 1 %.
+fn summary_row(problem: &Problem, runs: &[ValidationRun], summary: &mut String) -> Result<()> {
+    let default = default_run(problem, runs);
+    let within = |pair| first_within(runs, pair, 0.01).map_or("none of the ladder".into(), |r| r.mesh.clone());
+    writeln!(
+        summary,
+        "| {} | {} | {} | {} | {} |",
+        problem.title,
+        default
+            .and_then(|r| r.errors.as_ref())
+            .map_or("not run or failed".into(), |e| format!(
+                "{} ({})",
+                pct(e.max()),
+                problem.default_mesh
+            )),
+        within(Pair::Tri3Tri3),
+        within(Pair::Tri6Tri3),
+        within(Pair::Tri6Tri6)
+    )?;
+    Ok(())
+}
+
+/// A problem's section: its scene and reference, the plot, the table of every run and, for the
+/// scene's own mesh, every load level.
+fn problem_section(
+    problem: &Problem,
+    runs: &[ValidationRun],
+    image: &Path,
+    plotted: Result<()>,
+    body: &mut String,
+) -> Result<()> {
+    let default = default_run(problem, runs);
+    writeln!(body, "\n## {}\n", problem.title)?;
+    writeln!(
+        body,
+        "Scene `{}`. Reference: {}.\n",
+        problem.scene, problem.reference_note
+    )?;
+    match plotted {
+        Ok(()) => writeln!(
+            body,
+            "![{}](img/{})\n",
+            problem.title,
+            image.file_name().map(|f| f.to_string_lossy().into_owned()).unwrap_or_default()
+        )?,
+        Err(e) => writeln!(body, "(plot not written: {e})\n")?,
+    }
+    let labels: Vec<String> = problem.components.iter().map(|c| format!("max error {}", c.label)).collect();
+    writeln!(
+        body,
+        "| pair | mesh | cells | DOFs | {} | Newton it./level | solve wall | total wall | status |\n|---|---|---|---|{}---|---|---|---|",
+        labels.join(" | "),
+        "---|".repeat(labels.len())
+    )?;
+    for r in runs {
+        writeln!(body, "{}", run_row(problem, r))?;
+    }
+    if let Some(r) = default {
+        writeln!(
+            body,
+            "\nEvery load level, Tri6/Tri3 on the scene's mesh {} (probe `tip`: the mean over the loaded end):\n",
+            problem.default_mesh
+        )?;
+        level_table(problem, r, body)?;
+        if let Some(d) = r.outcome.probes.as_ref().and_then(mean_vs_mid_width) {
+            writeln!(
+                body,
+                "\nThe mean over the loaded end (`tip`) and the mid-width node (`tip_mid`) differ by at most {d:.1e} of the largest tip displacement (the strip bends without twisting).",
+            )?;
+        }
+    }
+    Ok(())
 }

@@ -462,9 +462,35 @@ fn assemble(
             .copied()
             .ok_or_else(|| element_error(tag, format!("node {node} is not in `$Nodes`")))
     };
-    // Corner vertices in `$Nodes` order.
+    let (vertex_of, positions) = corner_vertices(nodes, &triangles, &lookup)?;
+    let (elements, mid_edge) = vertex_triangles(nodes, &triangles, order, &vertex_of, &lookup, &element_error)?;
+    let mesh = TriMesh {
+        nodes: positions,
+        elements,
+    };
+    let element_tags: Vec<u64> = triangles.iter().map(|t| t.0).collect();
+    check_triangles(&mesh, &|e| Location::Element(element_tags[e]), path)?;
+    let groups = groups(names, entities, blocks, &node_index, &vertex_of, &element_error)?;
+    Ok(GmshMesh {
+        mesh,
+        mid_edge,
+        groups,
+        element_tags,
+    })
+}
+
+/// A triangle's tag and its node tags, as read.
+type Triangle = (u64, Vec<u64>);
+
+/// Numbers the triangles' corner nodes as vertices in `$Nodes` order: each node's vertex
+/// (`usize::MAX` for a node that is no corner) and the vertices' positions.
+fn corner_vertices(
+    nodes: &[(u64, Vector3<f64>)],
+    triangles: &[&Triangle],
+    lookup: &dyn Fn(u64, u64) -> Result<usize, MeshFileError>,
+) -> Result<(Vec<usize>, Vec<Vector3<f64>>), MeshFileError> {
     let mut is_corner = vec![false; nodes.len()];
-    for (tag, el) in &triangles {
+    for (tag, el) in triangles {
         for &n in &el[..3] {
             is_corner[lookup(*tag, n)?] = true;
         }
@@ -475,10 +501,26 @@ fn assemble(
         vertex_of[i] = positions.len();
         positions.push(*p);
     }
+    Ok((vertex_of, positions))
+}
+
+/// The triangles by their corner vertices and, for 6-node triangles, the position of each edge's
+/// mid-edge node by the edge's sorted vertex pair; triangles sharing an edge must share its node.
+fn vertex_triangles(
+    nodes: &[(u64, Vector3<f64>)],
+    triangles: &[&Triangle],
+    order: usize,
+    vertex_of: &[usize],
+    lookup: &dyn Fn(u64, u64) -> Result<usize, MeshFileError>,
+    element_error: &dyn Fn(u64, String) -> MeshFileError,
+) -> Result<MidEdgeTriangles, MeshFileError> {
     let mut elements = Vec::with_capacity(triangles.len());
     let mut mid_edge = (order == 6).then(HashMap::new);
-    for (tag, el) in &triangles {
-        let v = [0, 1, 2].map(|k| vertex_of[node_index[&el[k]]]);
+    for (tag, el) in triangles {
+        let mut v = [0; 3];
+        for (slot, &n) in v.iter_mut().zip(&el[..3]) {
+            *slot = vertex_of[lookup(*tag, n)?];
+        }
         if let Some(mid) = &mut mid_edge {
             for k in 0..3 {
                 let (a, b) = (v[k], v[(k + 1) % 3]);
@@ -499,20 +541,11 @@ fn assemble(
         }
         elements.push(v);
     }
-    let mesh = TriMesh {
-        nodes: positions,
-        elements,
-    };
-    let element_tags: Vec<u64> = triangles.iter().map(|t| t.0).collect();
-    check_triangles(&mesh, &|e| Location::Element(element_tags[e]), path)?;
-    let groups = groups(names, entities, blocks, &node_index, &vertex_of, &element_error)?;
-    Ok(GmshMesh {
-        mesh,
-        mid_edge,
-        groups,
-        element_tags,
-    })
+    Ok((elements, mid_edge))
 }
+
+/// Triangles by corner vertices, with the mid-edge node positions of a 6-node mesh.
+type MidEdgeTriangles = (Vec<[usize; 3]>, Option<HashMap<[usize; 2], Vector3<f64>>>);
 
 /// The physical groups as vertex sets.
 fn groups(

@@ -66,74 +66,16 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
         line,
         reason,
     };
-    let mut nodes: Vec<Vector3<f64>> = Vec::new();
-    let mut vertex_lines = Vec::new();
-    // Faces as raw indices (positive 1-based or already resolved relative ones) with their lines.
-    let mut raw_faces: Vec<([i64; 3], usize)> = Vec::new();
-    // Group names, and per group the faces in it.
-    let mut group_faces: Vec<(String, Vec<usize>)> = Vec::new();
-    let mut current: Vec<usize> = Vec::new();
-    for (k, raw_line) in text.lines().enumerate() {
-        let line = k + 1;
-        let content = raw_line.split('#').next().unwrap_or("");
-        let mut words = content.split_whitespace();
-        let Some(keyword) = words.next() else { continue };
-        match keyword {
-            "v" => {
-                nodes.push(parse_vertex(words, line, &parse_error)?);
-                vertex_lines.push(line);
-            }
-            "f" => {
-                let face = parse_face(words, line, nodes.len(), raw_faces.len(), path, &parse_error)?;
-                for &g in &current {
-                    group_faces[g].1.push(raw_faces.len());
-                }
-                raw_faces.push((face, line));
-            }
-            "g" | "o" => {
-                current = words
-                    .filter(|name| *name != "default")
-                    .map(|name| match group_faces.iter().position(|(n, _)| n == name) {
-                        Some(g) => g,
-                        None => {
-                            group_faces.push((name.to_string(), Vec::new()));
-                            group_faces.len() - 1
-                        }
-                    })
-                    .collect();
-            }
-            "l" | "p" => {
-                return Err(parse_error(
-                    line,
-                    format!("`{keyword}` elements (lines, points) are not supported in a shell mesh"),
-                ));
-            }
-            _ => {}
-        }
-    }
-    if raw_faces.is_empty() {
+    let statements = Statements::read(text, path, &parse_error)?;
+    if statements.faces.is_empty() {
         return Err(ObjError::Empty {
             path: path.to_path_buf(),
         });
     }
-    let n_vertices = nodes.len();
-    let mut elements = Vec::with_capacity(raw_faces.len());
-    let mut face_lines = Vec::with_capacity(raw_faces.len());
-    for (face, line) in &raw_faces {
-        let mut element = [0; 3];
-        for (slot, &i) in element.iter_mut().zip(face) {
-            if i as usize > n_vertices {
-                return Err(parse_error(
-                    *line,
-                    format!("vertex {i} does not exist: the file has {n_vertices} vertices"),
-                ));
-            }
-            *slot = i as usize - 1;
-        }
-        elements.push(element);
-        face_lines.push(*line);
-    }
-    let groups = group_faces
+    let elements = statements.elements(&parse_error)?;
+    let face_lines = statements.faces.iter().map(|&(_, line)| line).collect();
+    let groups = statements
+        .groups
         .into_iter()
         .filter(|(_, faces)| !faces.is_empty())
         .map(|(name, faces)| {
@@ -143,15 +85,104 @@ pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
             MeshGroup { name, dim: 2, vertices }
         })
         .collect();
-    let mesh = TriMesh { nodes, elements };
+    let mesh = TriMesh {
+        nodes: statements.nodes,
+        elements,
+    };
     let obj = ObjMesh {
         mesh,
-        vertex_lines,
+        vertex_lines: statements.vertex_lines,
         face_lines,
         groups,
     };
     obj.check(path)?;
     Ok(obj)
+}
+
+/// What the statements of an OBJ file define, before the faces' indices are checked.
+struct Statements {
+    nodes: Vec<Vector3<f64>>,
+    /// The 1-based line of each vertex.
+    vertex_lines: Vec<usize>,
+    /// Faces as raw indices (positive 1-based or already resolved relative ones) with their lines.
+    faces: Vec<([i64; 3], usize)>,
+    /// Group names, and per group the faces in it.
+    groups: Vec<(String, Vec<usize>)>,
+}
+
+impl Statements {
+    /// The `v`, `f`, `g` and `o` statements of the text, in order; `l` and `p` are refused.
+    fn read(text: &str, path: &Path, parse_error: &dyn Fn(usize, String) -> ObjError) -> Result<Self, ObjError> {
+        let mut out = Self {
+            nodes: Vec::new(),
+            vertex_lines: Vec::new(),
+            faces: Vec::new(),
+            groups: Vec::new(),
+        };
+        // The groups that the following faces belong to.
+        let mut current: Vec<usize> = Vec::new();
+        for (k, raw_line) in text.lines().enumerate() {
+            let line = k + 1;
+            let content = raw_line.split('#').next().unwrap_or("");
+            let mut words = content.split_whitespace();
+            let Some(keyword) = words.next() else { continue };
+            match keyword {
+                "v" => {
+                    out.nodes.push(parse_vertex(words, line, parse_error)?);
+                    out.vertex_lines.push(line);
+                }
+                "f" => {
+                    let face = parse_face(words, line, out.nodes.len(), out.faces.len(), path, parse_error)?;
+                    for &g in &current {
+                        out.groups[g].1.push(out.faces.len());
+                    }
+                    out.faces.push((face, line));
+                }
+                "g" | "o" => {
+                    current = words.filter(|name| *name != "default").map(|name| out.group(name)).collect();
+                }
+                "l" | "p" => {
+                    return Err(parse_error(
+                        line,
+                        format!("`{keyword}` elements (lines, points) are not supported in a shell mesh"),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(out)
+    }
+
+    /// The index of the group of this name, added if new.
+    fn group(&mut self, name: &str) -> usize {
+        match self.groups.iter().position(|(n, _)| n == name) {
+            Some(g) => g,
+            None => {
+                self.groups.push((name.to_string(), Vec::new()));
+                self.groups.len() - 1
+            }
+        }
+    }
+
+    /// The faces as 0-based vertex indices, each checked to name an existing vertex.
+    fn elements(&self, parse_error: &dyn Fn(usize, String) -> ObjError) -> Result<Vec<[usize; 3]>, ObjError> {
+        let n_vertices = self.nodes.len();
+        let mut elements = Vec::with_capacity(self.faces.len());
+        for (face, line) in &self.faces {
+            let mut element = [0; 3];
+            for (slot, &i) in element.iter_mut().zip(face) {
+                if i as usize > n_vertices {
+                    return Err(parse_error(
+                        *line,
+                        format!("vertex {i} does not exist: the file has {n_vertices} vertices"),
+                    ));
+                }
+                *slot = i as usize - 1;
+            }
+            elements.push(element);
+        }
+        Ok(elements)
+    }
 }
 
 /// The coordinates of a `v` statement.

@@ -27,7 +27,7 @@ use crate::gmsh::MeshGroup;
 use crate::mesh_source::{bounding_box, tri6_edge_nodes};
 use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::mesh::Topology;
-use cosserat_fem::{ElementKind, MeshError};
+use cosserat_fem::{ElementKind, MeshError, Tri6Mesh};
 use nalgebra::Vector3;
 
 /// The nodes of one shell, as regions see them.
@@ -66,27 +66,8 @@ impl ShellNodes {
             shell: name.to_string(),
             source,
         };
-        let mismatch = |reason: &str| {
-            topology_error(MeshError::CornerMeshMismatch {
-                reason: reason.to_string(),
-            })
-        };
-        mesh.corners.check_indices().map_err(topology_error)?;
+        let tri6 = checked_tri6(mesh, pair).map_err(topology_error)?;
         let n_vertices = mesh.corners.n_nodes();
-        let tri6 = match (pair.displacement(), &mesh.tri6) {
-            (ElementKind::Tri6, Some(t)) => {
-                t.check_indices().map_err(topology_error)?;
-                if t.n_elements() != mesh.corners.n_elements() {
-                    return Err(mismatch("the Tri6 and corner meshes have different element counts"));
-                }
-                if mesh.corner_nodes.len() != n_vertices || mesh.corner_nodes.iter().any(|&i| i >= t.n_nodes()) {
-                    return Err(mismatch("the corner-node map does not fit the meshes"));
-                }
-                Some(t)
-            }
-            (ElementKind::Tri6, None) => return Err(mismatch("the element pair needs a Tri6 mesh")),
-            _ => None,
-        };
         let (disp_positions, vertex_disp) = match tri6 {
             Some(t) => (t.nodes.clone(), mesh.corner_nodes.clone()),
             None => (mesh.corners.nodes.clone(), (0..n_vertices).collect()),
@@ -98,29 +79,14 @@ impl ShellNodes {
             (mesh.corners.nodes.clone(), (0..n_vertices).collect())
         };
         let topology = Topology::new(&mesh.corners);
-        let vertex_loops = topology.boundary_loops().map_err(|source| RegionError::Topology {
-            shell: name.to_string(),
-            source,
-        })?;
+        let vertex_loops = topology.boundary_loops().map_err(topology_error)?;
         let edge_nodes = tri6.map(|t| tri6_edge_nodes(&topology, t));
         let loops = vertex_loops
             .iter()
             .map(|cycle| {
-                let mut disp: Vec<usize> = cycle.iter().map(|&v| vertex_disp[v]).collect();
-                let mut rot: Vec<usize> = cycle.iter().map(|&v| vertex_rot[v]).collect();
-                if let Some(edge_nodes) = &edge_nodes {
-                    for k in 0..cycle.len() {
-                        let (a, b) = (cycle[k], cycle[(k + 1) % cycle.len()]);
-                        if let Some(e) = topology.find_edge(a, b) {
-                            disp.push(edge_nodes[e]);
-                            if rot_is_tri6 {
-                                rot.push(edge_nodes[e]);
-                            }
-                        }
-                    }
-                }
-                sort_unique(&mut disp);
-                sort_unique(&mut rot);
+                let disp = loop_nodes(cycle, &topology, &vertex_disp, edge_nodes.as_deref());
+                let rot_edge_nodes = if rot_is_tri6 { edge_nodes.as_deref() } else { None };
+                let rot = loop_nodes(cycle, &topology, &vertex_rot, rot_edge_nodes);
                 (disp, rot)
             })
             .collect();
@@ -233,6 +199,92 @@ impl ShellNodes {
             })
         }
     }
+
+    /// The displacement and rotation nodes at which `test` holds.
+    fn select_where(&self, test: &dyn Fn(&Vector3<f64>) -> Result<bool, RegionError>) -> Result<Selected, RegionError> {
+        let filter = |positions: &[Vector3<f64>]| {
+            let mut out = Vec::new();
+            for (i, p) in positions.iter().enumerate() {
+                if test(p)? {
+                    out.push(i);
+                }
+            }
+            Ok::<_, RegionError>(out)
+        };
+        Ok(Selected {
+            disp_nodes: filter(&self.disp_positions)?,
+            rot_nodes: filter(&self.rot_positions)?,
+        })
+    }
+
+    /// The nodes at the listed corner vertices and, for quadratic elements, the mid-edge nodes of the
+    /// edges whose two corners are listed.
+    fn at_vertices(&self, list: &[usize]) -> Result<Selected, RegionError> {
+        let n_vertices = self.vertex_disp.len();
+        if let Some(&vertex) = list.iter().find(|&&v| v >= n_vertices) {
+            return Err(RegionError::VertexOutOfRange {
+                vertex,
+                shell: self.name.clone(),
+                n_vertices,
+            });
+        }
+        let mut disp_nodes: Vec<usize> = list.iter().map(|&v| self.vertex_disp[v]).collect();
+        let mut rot_nodes: Vec<usize> = list.iter().map(|&v| self.vertex_rot[v]).collect();
+        let mut listed = list.to_vec();
+        sort_unique(&mut listed);
+        let is_listed = |v: usize| listed.binary_search(&v).is_ok();
+        for &([a, b], mid) in &self.mid_edge_nodes {
+            if is_listed(a) && is_listed(b) {
+                disp_nodes.push(mid);
+                if self.rot_is_tri6 {
+                    rot_nodes.push(mid);
+                }
+            }
+        }
+        sort_unique(&mut disp_nodes);
+        sort_unique(&mut rot_nodes);
+        Ok(Selected { disp_nodes, rot_nodes })
+    }
+}
+
+/// The Tri6 mesh of a quadratic displacement element (`None` for a linear one), checked against the
+/// corner mesh: indices in range, the same elements, and a corner-node map that fits both.
+fn checked_tri6(mesh: &ShellMesh, pair: ElementPair) -> Result<Option<&Tri6Mesh>, MeshError> {
+    let mismatch = |reason: &str| MeshError::CornerMeshMismatch {
+        reason: reason.to_string(),
+    };
+    mesh.corners.check_indices()?;
+    match (pair.displacement(), &mesh.tri6) {
+        (ElementKind::Tri6, Some(t)) => {
+            t.check_indices()?;
+            if t.n_elements() != mesh.corners.n_elements() {
+                return Err(mismatch("the Tri6 and corner meshes have different element counts"));
+            }
+            if mesh.corner_nodes.len() != mesh.corners.n_nodes() || mesh.corner_nodes.iter().any(|&i| i >= t.n_nodes())
+            {
+                return Err(mismatch("the corner-node map does not fit the meshes"));
+            }
+            Ok(Some(t))
+        }
+        (ElementKind::Tri6, None) => Err(mismatch("the element pair needs a Tri6 mesh")),
+        _ => Ok(None),
+    }
+}
+
+/// The nodes of one boundary loop of corner vertices, sorted: the vertices' nodes (`vertex_node`)
+/// and, for a quadratic element (`edge_nodes`, the mid-edge node of each edge), those of its edges.
+fn loop_nodes(cycle: &[usize], topology: &Topology, vertex_node: &[usize], edge_nodes: Option<&[usize]>) -> Vec<usize> {
+    let mut nodes: Vec<usize> = cycle.iter().map(|&v| vertex_node[v]).collect();
+    if let Some(edge_nodes) = edge_nodes {
+        for k in 0..cycle.len() {
+            let (a, b) = (cycle[k], cycle[(k + 1) % cycle.len()]);
+            if let Some(e) = topology.find_edge(a, b) {
+                nodes.push(edge_nodes[e]);
+            }
+        }
+    }
+    sort_unique(&mut nodes);
+    nodes
 }
 
 /// A set of nodes named by a scene.
@@ -290,58 +342,14 @@ impl Region {
     /// [`RegionError::PointOutsideMesh`] (nearest) and [`RegionError::Predicate`] for a predicate that
     /// is not boolean at some node. An empty selection is not an error here.
     pub fn select(&self, nodes: &ShellNodes) -> Result<Selected, RegionError> {
-        let filter = |positions: &[Vector3<f64>], test: &dyn Fn(&Vector3<f64>) -> Result<bool, RegionError>| {
-            let mut out = Vec::new();
-            for (i, p) in positions.iter().enumerate() {
-                if test(p)? {
-                    out.push(i);
-                }
-            }
-            Ok::<_, RegionError>(out)
-        };
         match self {
             Region::Box { center, size } => {
                 let lo = center - size * 0.5;
                 let hi = center + size * 0.5;
-                let inside = |p: &Vector3<f64>| Ok((0..3).all(|i| lo[i] <= p[i] && p[i] <= hi[i]));
-                Ok(Selected {
-                    disp_nodes: filter(&nodes.disp_positions, &inside)?,
-                    rot_nodes: filter(&nodes.rot_positions, &inside)?,
-                })
+                nodes.select_where(&|p| Ok((0..3).all(|i| lo[i] <= p[i] && p[i] <= hi[i])))
             }
-            Region::Predicate(predicate) => {
-                let test = |p: &Vector3<f64>| predicate.test(p).map_err(RegionError::from);
-                Ok(Selected {
-                    disp_nodes: filter(&nodes.disp_positions, &test)?,
-                    rot_nodes: filter(&nodes.rot_positions, &test)?,
-                })
-            }
-            Region::Vertices(list) => {
-                let n_vertices = nodes.vertex_disp.len();
-                if let Some(&vertex) = list.iter().find(|&&v| v >= n_vertices) {
-                    return Err(RegionError::VertexOutOfRange {
-                        vertex,
-                        shell: nodes.name.clone(),
-                        n_vertices,
-                    });
-                }
-                let mut disp_nodes: Vec<usize> = list.iter().map(|&v| nodes.vertex_disp[v]).collect();
-                let mut rot_nodes: Vec<usize> = list.iter().map(|&v| nodes.vertex_rot[v]).collect();
-                let mut listed = list.clone();
-                sort_unique(&mut listed);
-                let is_listed = |v: usize| listed.binary_search(&v).is_ok();
-                for &([a, b], mid) in &nodes.mid_edge_nodes {
-                    if is_listed(a) && is_listed(b) {
-                        disp_nodes.push(mid);
-                        if nodes.rot_is_tri6 {
-                            rot_nodes.push(mid);
-                        }
-                    }
-                }
-                sort_unique(&mut disp_nodes);
-                sort_unique(&mut rot_nodes);
-                Ok(Selected { disp_nodes, rot_nodes })
-            }
+            Region::Predicate(predicate) => nodes.select_where(&|p| predicate.test(p).map_err(RegionError::from)),
+            Region::Vertices(list) => nodes.at_vertices(list),
             Region::Group(name) => {
                 let group = nodes
                     .groups

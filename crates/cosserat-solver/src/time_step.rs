@@ -248,66 +248,73 @@ impl TimeStepper {
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
             // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
-            if let Err(error) = self.prepare_dynamic(potential) {
-                attempts.push(FailedAttempt { dt, error });
-                let next = dt * 0.5;
-                if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
-                    return Err(StepError::NotConverged { t: self.t, attempts });
-                }
-                dt = next;
-                continue;
-            }
-            let fixed = potential.fixed_dofs().map(|(mask, values)| {
-                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
-                    self.u[i] = values[i];
-                }
-                mask
-            });
-            let mut result = {
-                let mut problem = PotentialProblem::new(potential, fixed.clone());
-                self.solver.solve(&mut problem, &mut self.u)
-            };
-            // A converged solution that reached contacts outside the prepared candidates is solved
-            // again with the candidates grown around it.
-            for _ in 0..3 {
-                if result.is_err() || !potential.needs_resolve(&self.u) {
-                    break;
-                }
-                if let Err(error) = self.refresh_dynamic(potential) {
-                    result = Err(error);
-                    break;
-                }
-                let mut problem = PotentialProblem::new(potential, fixed.clone());
-                result = self.solver.solve(&mut problem, &mut self.u);
-            }
-            match result {
-                Ok(newton) => {
-                    potential.commit(&self.u);
-                    self.t += dt;
-                    let reductions = attempts.len();
-                    self.dt = if self.settings.adaptive {
-                        (dt * self.settings.growth).min(self.settings.dt)
-                    } else {
-                        self.settings.dt
-                    };
-                    return Ok(StepReport {
-                        t: self.t,
-                        dt,
-                        newton,
-                        reductions,
-                        wasted_iterations: wasted,
-                    });
-                }
-                Err(error) => {
-                    wasted += error.residuals().len().saturating_sub(1);
-                    attempts.push(FailedAttempt { dt, error });
-                    let next = dt * 0.5;
-                    if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
-                        return Err(StepError::NotConverged { t: self.t, attempts });
+            let error = match self.prepare_dynamic(potential) {
+                Err(error) => error,
+                Ok(()) => match self.solve_attempt(potential) {
+                    Ok(newton) => return Ok(self.accept(potential, dt, newton, attempts.len(), wasted)),
+                    Err(error) => {
+                        wasted += error.residuals().len().saturating_sub(1);
+                        error
                     }
-                    dt = next;
-                }
+                },
+            };
+            attempts.push(FailedAttempt { dt, error });
+            let next = dt * 0.5;
+            if attempts.len() > self.settings.max_reductions || next < self.settings.min_dt {
+                return Err(StepError::NotConverged { t: self.t, attempts });
             }
+            dt = next;
+        }
+    }
+
+    /// Newton from the initial guess in `self.u` with the fixed degrees of freedom set; a converged
+    /// solution that reached contacts outside the prepared candidates is solved again with the
+    /// candidates grown around it (up to three times).
+    fn solve_attempt(&mut self, potential: &mut IncrementalPotential) -> Result<NewtonReport, NewtonError> {
+        let fixed = potential.fixed_dofs().map(|(mask, values)| {
+            for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+                self.u[i] = values[i];
+            }
+            mask
+        });
+        let mut result = {
+            let mut problem = PotentialProblem::new(potential, fixed.clone());
+            self.solver.solve(&mut problem, &mut self.u)
+        };
+        for _ in 0..3 {
+            if result.is_err() || !potential.needs_resolve(&self.u) {
+                break;
+            }
+            self.refresh_dynamic(potential)?;
+            let mut problem = PotentialProblem::new(potential, fixed.clone());
+            result = self.solver.solve(&mut problem, &mut self.u);
+        }
+        result
+    }
+
+    /// Commits the converged attempt of length `dt`, advances the time and sets the next time step
+    /// (grown after an adaptive step, the set one otherwise).
+    fn accept(
+        &mut self,
+        potential: &mut IncrementalPotential,
+        dt: f64,
+        newton: NewtonReport,
+        reductions: usize,
+        wasted_iterations: usize,
+    ) -> StepReport {
+        potential.commit(&self.u);
+        self.t += dt;
+        self.dt = if self.settings.adaptive {
+            (dt * self.settings.growth).min(self.settings.dt)
+        } else {
+            self.settings.dt
+        };
+        StepReport {
+            t: self.t,
+            dt,
+            newton,
+            reductions,
+            wasted_iterations,
         }
     }
 

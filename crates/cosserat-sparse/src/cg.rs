@@ -276,10 +276,7 @@ impl CgSolver {
             if iterations == 0 {
                 p.copy_from_slice(z);
             } else {
-                let beta = rho / rho_old;
-                for i in 0..n {
-                    p[i] = z[i] + beta * p[i];
-                }
+                conjugate_direction(p, z, rho / rho_old);
             }
             product.product_into(pattern, values, p, q);
             let curvature = dot(p, q);
@@ -298,11 +295,7 @@ impl CgSolver {
                 }
                 return Ok(report(iterations, r_norm, CgStop::NegativeCurvature));
             }
-            let alpha = rho / curvature;
-            for i in 0..n {
-                x[i] += alpha * p[i];
-                r[i] -= alpha * q[i];
-            }
+            step_along(rho / curvature, p, q, x, r);
             rho_old = rho;
             r_norm = dot(r, r).sqrt();
             if !r_norm.is_finite() {
@@ -310,6 +303,24 @@ impl CgSolver {
             }
         }
         Ok(report(iterations, r_norm, CgStop::Converged))
+    }
+}
+
+/// The next search direction `p = z + β p` from the preconditioned residual `z`.
+fn conjugate_direction(p: &mut [f64], z: &[f64], beta: f64) {
+    for (p, z) in p.iter_mut().zip(z) {
+        *p = z + beta * *p;
+    }
+}
+
+/// A step of length `α` along the direction `p`, whose product with the matrix is `q`: `x += α p`
+/// and `r −= α q`.
+fn step_along(alpha: f64, p: &[f64], q: &[f64], x: &mut [f64], r: &mut [f64]) {
+    for (x, p) in x.iter_mut().zip(p) {
+        *x += alpha * p;
+    }
+    for (r, q) in r.iter_mut().zip(q) {
+        *r -= alpha * q;
     }
 }
 

@@ -169,25 +169,9 @@ impl Fronts {
             let l_offset = sn.col_ptr_for_val()[s];
             let update_rows = (begin + eliminated..end).chain(pattern.iter().copied());
             let rel_start = rel.len();
-            let target = match update_rows.clone().next() {
-                None => Target::Nothing,
-                Some(first) if first >= n_own => {
-                    rel.extend(update_rows.map(|r| r - n_own));
-                    Target::Separator
-                }
-                Some(first) => {
-                    let parent = sn.supernode_end().partition_point(|&e| e <= first);
-                    for r in update_rows {
-                        rel.push(position_in(sn, parent, r)?);
-                    }
-                    Target::Front(parent)
-                }
-            };
-            // Where the positions stop being consecutive, then the end.
+            let target = update_target(sn, update_rows, n_own, &mut rel)?;
             let runs_start = runs.len();
-            let positions = &rel[rel_start..];
-            runs.extend((0..positions.len()).filter(|&i| i == 0 || positions[i] != positions[i - 1] + 1));
-            runs.push(positions.len());
+            push_runs(&rel[rel_start..], &mut runs);
             let a_start = a_source.len();
             for j in begin..begin + eliminated {
                 let rows = m_lower.row_idx_of_col_raw(j);
@@ -249,6 +233,11 @@ impl Fronts {
         for j in 0..n_sep {
             separator[j * n_sep + j..(j + 1) * n_sep].fill(0.0);
         }
+        let positions = Positions {
+            fronts: &self.fronts,
+            rel: &self.rel,
+            runs: &self.runs,
+        };
         for &f in &self.order {
             let front = &self.fronts[f];
             let (height, eliminated, m) = (front.height, front.eliminated, front.update_rows());
@@ -263,20 +252,7 @@ impl Fronts {
             };
             let children = &self.children[front.children.clone()];
             // The children's update entries in the eliminated columns, before they are factorised.
-            for &c in children {
-                let child = &self.fronts[c];
-                let rel = &self.rel[child.rel.clone()];
-                let columns = 0..rel.partition_point(|&gj| gj < eliminated);
-                extend_add(
-                    child.update_on(other),
-                    rel,
-                    &self.runs[child.runs.clone()],
-                    columns,
-                    panel,
-                    height,
-                    0,
-                );
-            }
+            positions.add_children(children, other, eliminated, Part::Eliminated, panel, height);
             let panel = MatMut::from_column_major_slice_mut(panel, height, eliminated);
             let (mut top, mut below) = panel.split_at_row_mut(eliminated);
             if let Err(LltError::NonPositivePivot { index }) = cholesky_in_place(
@@ -305,20 +281,7 @@ impl Fronts {
                 Par::Seq,
             );
             // The children's update entries in the update rows.
-            for &c in children {
-                let child = &self.fronts[c];
-                let rel = &self.rel[child.rel.clone()];
-                let columns = rel.partition_point(|&gj| gj < eliminated)..rel.len();
-                extend_add(
-                    child.update_on(other),
-                    rel,
-                    &self.runs[child.runs.clone()],
-                    columns,
-                    update,
-                    m,
-                    eliminated,
-                );
-            }
+            positions.add_children(children, other, eliminated, Part::Update, update, m);
             if front.target == Target::Separator {
                 let rel = &self.rel[front.rel.clone()];
                 extend_add(update, rel, &self.runs[front.runs.clone()], 0..m, separator, n_sep, 0);
@@ -326,6 +289,89 @@ impl Fronts {
         }
         Ok(())
     }
+}
+
+/// Which columns of a front the children's update entries go to.
+#[derive(Debug, Clone, Copy)]
+enum Part {
+    /// The eliminated columns (the panel, before its Cholesky factorisation).
+    Eliminated,
+    /// The update rows' columns (the front's own update matrix).
+    Update,
+}
+
+/// The fronts with their update rows' positions in their targets, borrowed apart from the update
+/// stacks that the factorisation writes.
+struct Positions<'a> {
+    fronts: &'a [Front],
+    rel: &'a [usize],
+    runs: &'a [usize],
+}
+
+impl Positions<'_> {
+    /// Extend-adds the entries of the `children`'s update matrices (on `stack`) that fall in `part`
+    /// of their parent, whose first `eliminated` columns are eliminated, into `target` (leading
+    /// dimension `ld`: the panel's height, or the update matrix's order).
+    fn add_children(
+        &self,
+        children: &[usize],
+        stack: &[f64],
+        eliminated: usize,
+        part: Part,
+        target: &mut [f64],
+        ld: usize,
+    ) {
+        for &c in children {
+            let child = &self.fronts[c];
+            let rel = &self.rel[child.rel.clone()];
+            let split = rel.partition_point(|&gj| gj < eliminated);
+            let (columns, shift) = match part {
+                Part::Eliminated => (0..split, 0),
+                Part::Update => (split..rel.len(), eliminated),
+            };
+            extend_add(
+                child.update_on(stack),
+                rel,
+                &self.runs[child.runs.clone()],
+                columns,
+                target,
+                ld,
+                shift,
+            );
+        }
+    }
+}
+
+/// Where a front with these update rows sends its update: nowhere, the separator or its parent
+/// front, with the rows' positions there pushed onto `rel`. `None` if a row is not a row of the
+/// parent.
+fn update_target(
+    sn: &SymbolicSupernodalCholesky<usize>,
+    update_rows: impl Iterator<Item = usize> + Clone,
+    n_own: usize,
+    rel: &mut Vec<usize>,
+) -> Option<Target> {
+    Some(match update_rows.clone().next() {
+        None => Target::Nothing,
+        Some(first) if first >= n_own => {
+            rel.extend(update_rows.map(|r| r - n_own));
+            Target::Separator
+        }
+        Some(first) => {
+            let parent = sn.supernode_end().partition_point(|&e| e <= first);
+            for r in update_rows {
+                rel.push(position_in(sn, parent, r)?);
+            }
+            Target::Front(parent)
+        }
+    })
+}
+
+/// Pushes the indices of `positions` where a stretch of consecutive positions starts, then their
+/// count (the extend-add's `runs`).
+fn push_runs(positions: &[usize], runs: &mut Vec<usize>) {
+    runs.extend((0..positions.len()).filter(|&i| i == 0 || positions[i] != positions[i - 1] + 1));
+    runs.push(positions.len());
 }
 
 /// Sets every front's children (in increasing supernode order) and returns the list they index.

@@ -208,6 +208,27 @@ fn free_edge_warning(name: &str, potential: &IncrementalPotential, handle: Follo
     })
 }
 
+/// The weights of the selected nodes `local` in a load of this distribution: equal shares, one per
+/// node, or by the boundary length or element area each carries (`elements` and rest `positions`
+/// by local index; the totals are normalised by the caller).
+fn distribution_weights(
+    distribution: ForceDistribution,
+    local: &[usize],
+    elements: &[Vec<usize>],
+    positions: &[Vector3<f64>],
+) -> Vec<(usize, f64)> {
+    match distribution {
+        ForceDistribution::Equal => local.iter().map(|&i| (i, 1.0 / local.len() as f64)).collect(),
+        ForceDistribution::PerNode => local.iter().map(|&i| (i, 1.0)).collect(),
+        ForceDistribution::PerLength | ForceDistribution::TotalOverLength => {
+            line_weights(elements, &|i| positions[i], local)
+        }
+        ForceDistribution::PerArea | ForceDistribution::TotalOverArea => {
+            area_weights(&covered_elements(elements, local), &|i| positions[i])
+        }
+    }
+}
+
 /// The elements whose nodes are all selected.
 fn covered_elements(elements: &[Vec<usize>], selected: &[usize]) -> Vec<Vec<usize>> {
     let has = |i: &usize| selected.binary_search(i).is_ok();
@@ -395,24 +416,7 @@ impl Scripts {
                 (*vector, *distribution)
             }
             LoadKind::Pressure { value, follower } => {
-                let NodeMap::Offset(start) = placement.disp else {
-                    return Err(SimulationError::Setup(format!(
-                        "load `{}`: a pressure needs a shell model (one node per mid-surface node)",
-                        load.name
-                    )));
-                };
-                let elements = covered_elements(&placement.disp_elements, &load.selection.disp_nodes);
-                if *follower {
-                    let system: Vec<Vec<usize>> =
-                        elements.iter().map(|e| e.iter().map(|&i| start + i).collect()).collect();
-                    script.follower = Some((FollowerHandle::insert(potential, &load.name, &system), *value));
-                } else {
-                    let rest = &placement.rest_disp;
-                    script.nodes = normal_weights(&elements, &|i| rest[i])
-                        .into_iter()
-                        .map(|(i, n)| (start + i, n * *value))
-                        .collect();
-                }
+                Self::pressure(&mut script, load, (*value, *follower), placement, potential)?;
                 return Ok(script);
             }
         };
@@ -431,16 +435,7 @@ impl Scripts {
                 &placement.rest_disp,
             )
         };
-        let mut weights: Vec<(usize, f64)> = match distribution {
-            ForceDistribution::Equal => local.iter().map(|&i| (i, 1.0 / local.len() as f64)).collect(),
-            ForceDistribution::PerNode => local.iter().map(|&i| (i, 1.0)).collect(),
-            ForceDistribution::PerLength | ForceDistribution::TotalOverLength => {
-                line_weights(elements, &|i| positions[i], local)
-            }
-            ForceDistribution::PerArea | ForceDistribution::TotalOverArea => {
-                area_weights(&covered_elements(elements, local), &|i| positions[i])
-            }
-        };
+        let mut weights = distribution_weights(distribution, local, elements, positions);
         if weights.is_empty() {
             return Err(SimulationError::Setup(format!(
                 "load `{}`: the region covers no boundary edge or element to spread the load over",
@@ -456,6 +451,35 @@ impl Scripts {
         }
         script.nodes = map.weights(&weights).into_iter().map(|(i, w)| (i, vector * w)).collect();
         Ok(script)
+    }
+
+    /// A pressure `(value, follower)` on the elements the selection covers: a follower term in the
+    /// potential, or fixed nodal forces along the rest normals.
+    fn pressure(
+        script: &mut LoadScript,
+        load: &LoadSpec,
+        (value, follower): (f64, bool),
+        placement: &ShellPlacement,
+        potential: &mut IncrementalPotential,
+    ) -> Result<(), SimulationError> {
+        let NodeMap::Offset(start) = placement.disp else {
+            return Err(SimulationError::Setup(format!(
+                "load `{}`: a pressure needs a shell model (one node per mid-surface node)",
+                load.name
+            )));
+        };
+        let elements = covered_elements(&placement.disp_elements, &load.selection.disp_nodes);
+        if follower {
+            let system: Vec<Vec<usize>> = elements.iter().map(|e| e.iter().map(|&i| start + i).collect()).collect();
+            script.follower = Some((FollowerHandle::insert(potential, &load.name, &system), value));
+        } else {
+            let rest = &placement.rest_disp;
+            script.nodes = normal_weights(&elements, &|i| rest[i])
+                .into_iter()
+                .map(|(i, n)| (start + i, n * value))
+                .collect();
+        }
+        Ok(())
     }
 
     /// The names of the scene's boundary conditions, in scene order.

@@ -90,6 +90,24 @@ fn vertex_normals(points: &[[f64; 3]], triangles: &[[usize; 3]]) -> Vec<Vector3<
     normals
 }
 
+/// The first and last sample columns and rows of a `width × height` buffer within the bounding box
+/// of a screen triangle (inclusive); `None` if it lies left of or above the buffer.
+fn sample_box(s: &[ScreenPoint; 3], width: usize, height: usize) -> Option<((usize, usize), (usize, usize))> {
+    let x_min = s.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
+    let x_max = s.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max);
+    let y_min = s.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
+    let y_max = s.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
+    // Sample (i, j) sits at (i + 0.5, j + 0.5); clamp the covered range to the buffer.
+    let first = |lo: f64| (lo - 0.5).ceil().max(0.0) as usize;
+    let last = |hi: f64, n: usize| ((hi - 0.5).floor().min(n as f64 - 1.0)).max(-1.0);
+    let (i0, j0) = (first(x_min), first(y_min));
+    let (i1, j1) = (last(x_max, width), last(y_max, height));
+    if i1 < 0.0 || j1 < 0.0 {
+        return None;
+    }
+    Some(((i0, i1 as usize), (j0, j1 as usize)))
+}
+
 /// Draws the triangles of one mesh. `scalars`, if given, holds one colour-map coordinate per point.
 pub(crate) fn rasterise(
     points: &[[f64; 3]],
@@ -120,19 +138,9 @@ pub(crate) fn rasterise(
         if area.abs() < 1e-12 {
             continue;
         }
-        let x_min = s.iter().map(|p| p.x).fold(f64::INFINITY, f64::min);
-        let x_max = s.iter().map(|p| p.x).fold(f64::NEG_INFINITY, f64::max);
-        let y_min = s.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
-        let y_max = s.iter().map(|p| p.y).fold(f64::NEG_INFINITY, f64::max);
-        // Sample (i, j) sits at (i + 0.5, j + 0.5); clamp the covered range to the buffer.
-        let first = |lo: f64| (lo - 0.5).ceil().max(0.0) as usize;
-        let last = |hi: f64, n: usize| ((hi - 0.5).floor().min(n as f64 - 1.0)).max(-1.0);
-        let (i0, j0) = (first(x_min), first(y_min));
-        let (i1, j1) = (last(x_max, target.width), last(y_max, target.height));
-        if i1 < 0.0 || j1 < 0.0 {
+        let Some(((i0, i1), (j0, j1))) = sample_box(&s, target.width, target.height) else {
             continue;
-        }
-        let (i1, j1) = (i1 as usize, j1 as usize);
+        };
         for j in j0..=j1 {
             let py = j as f64 + 0.5;
             for i in i0..=i1 {

@@ -376,48 +376,8 @@ pub(super) fn scroll_check(r: &[RunResult]) -> Check {
     let mut c = Check::new();
     for res in r {
         contact_report(&mut c, res);
-        let pvd = res.dir.join("frames").join("run.pvd");
-        let rolled = read_pvd(&pvd).ok().and_then(|entries| {
-            let k = entries
-                .iter()
-                .enumerate()
-                .filter(|(_, e)| e.time <= 6.0 + 1e-9)
-                .max_by(|a, b| a.1.time.total_cmp(&b.1.time))?
-                .0;
-            read_pvd_frame(&pvd, k).ok()
-        });
-        let mut turns = Vec::new();
-        for (name, frame) in [
-            ("before the boxes (t ≤ 6 s)", rolled.as_ref()),
-            ("last frame", res.frame.as_ref()),
-        ] {
-            let Some(f) = frame else { continue };
-            let sides: Vec<(f64, f64)> = [-1.0, 1.0].iter().filter_map(|&side| roll(f, side)).collect();
-            if let [left, right] = sides[..] {
-                c.say(format!(
-                    "  - rolls {name}, t = {:.2} s: left {:.2} turns, end radius {:.1} mm; right {:.2} turns, end radius {:.1} mm.",
-                    f.time,
-                    left.0,
-                    1e3 * left.1,
-                    right.0,
-                    1e3 * right.1
-                ));
-                turns.push((f.time, left, right));
-            }
-        }
-        let middle = res.probes.as_ref().map(|p| {
-            let v = |name: &str, t: f64| p.at(name, t).unwrap_or(f64::NAN);
-            c.say(format!(
-                "  - middle of the sheet moved ({:.2}, {:.2}) mm in x, y by t = 6 s; roll ends at x = {:.1} / {:.1} mm at t = 9 s and {:.1} / {:.1} mm at the end.",
-                1e3 * v("middle.x", 6.0),
-                1e3 * v("middle.y", 6.0),
-                1e3 * v("left_end.x", 9.0),
-                1e3 * v("right_end.x", 9.0),
-                1e3 * p.last("left_end.x").unwrap_or(f64::NAN),
-                1e3 * p.last("right_end.x").unwrap_or(f64::NAN)
-            ));
-            v("middle.x", 6.0).hypot(v("middle.y", 6.0))
-        });
+        let turns = scroll_rolls(&mut c, res);
+        let middle = scroll_middle_motion(&mut c, res);
         c.say("");
         let before = turns.iter().find(|(t, _, _)| *t <= 6.0 + 1e-9).copied();
         let last = turns.iter().rfind(|(t, _, _)| *t > 6.0 + 1e-9).copied();
@@ -462,4 +422,60 @@ pub(super) fn scroll_check(r: &[RunResult]) -> Check {
         );
     }
     c
+}
+
+/// One roll of the scroll: its turns and its end radius \[m\].
+type Roll = (f64, f64);
+
+/// The two rolls of the scroll before the boxes come (the last frame at t ≤ 6 s) and in the last
+/// frame, reported: per frame its time and the (turns, end radius) of the left and the right roll.
+fn scroll_rolls(c: &mut Check, res: &RunResult) -> Vec<(f64, Roll, Roll)> {
+    let pvd = res.dir.join("frames").join("run.pvd");
+    let rolled = read_pvd(&pvd).ok().and_then(|entries| {
+        let k = entries
+            .iter()
+            .enumerate()
+            .filter(|(_, e)| e.time <= 6.0 + 1e-9)
+            .max_by(|a, b| a.1.time.total_cmp(&b.1.time))?
+            .0;
+        read_pvd_frame(&pvd, k).ok()
+    });
+    let mut turns = Vec::new();
+    for (name, frame) in [
+        ("before the boxes (t ≤ 6 s)", rolled.as_ref()),
+        ("last frame", res.frame.as_ref()),
+    ] {
+        let Some(f) = frame else { continue };
+        let sides: Vec<(f64, f64)> = [-1.0, 1.0].iter().filter_map(|&side| roll(f, side)).collect();
+        if let [left, right] = sides[..] {
+            c.say(format!(
+                "  - rolls {name}, t = {:.2} s: left {:.2} turns, end radius {:.1} mm; right {:.2} turns, end radius {:.1} mm.",
+                f.time,
+                left.0,
+                1e3 * left.1,
+                right.0,
+                1e3 * right.1
+            ));
+            turns.push((f.time, left, right));
+        }
+    }
+    turns
+}
+
+/// How far the middle of the sheet moved in x and y by t = 6 s, reported with where the roll ends
+/// are at 9 s and at the end.
+fn scroll_middle_motion(c: &mut Check, res: &RunResult) -> Option<f64> {
+    res.probes.as_ref().map(|p| {
+        let v = |name: &str, t: f64| p.at(name, t).unwrap_or(f64::NAN);
+        c.say(format!(
+            "  - middle of the sheet moved ({:.2}, {:.2}) mm in x, y by t = 6 s; roll ends at x = {:.1} / {:.1} mm at t = 9 s and {:.1} / {:.1} mm at the end.",
+            1e3 * v("middle.x", 6.0),
+            1e3 * v("middle.y", 6.0),
+            1e3 * v("left_end.x", 9.0),
+            1e3 * v("right_end.x", 9.0),
+            1e3 * p.last("left_end.x").unwrap_or(f64::NAN),
+            1e3 * p.last("right_end.x").unwrap_or(f64::NAN)
+        ));
+        v("middle.x", 6.0).hypot(v("middle.y", 6.0))
+    })
 }

@@ -52,29 +52,8 @@ pub(super) fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
         }
         if c.is_ascii_digit() || (c == '.' && chars.get(i + 1).is_some_and(|d| d.is_ascii_digit())) {
             let start = i;
-            while i < chars.len() && chars[i].is_ascii_digit() {
-                i += 1;
-            }
-            if i < chars.len() && chars[i] == '.' {
-                i += 1;
-                while i < chars.len() && chars[i].is_ascii_digit() {
-                    i += 1;
-                }
-            }
-            if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
-                let mut j = i + 1;
-                if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
-                    j += 1;
-                }
-                if j < chars.len() && chars[j].is_ascii_digit() {
-                    while j < chars.len() && chars[j].is_ascii_digit() {
-                        j += 1;
-                    }
-                    i = j;
-                } else {
-                    return Err(error(column, "a number's exponent needs digits (e.g. `1e-9`)".into()));
-                }
-            }
+            i = number_end(&chars, start)
+                .ok_or_else(|| error(column, "a number's exponent needs digits (e.g. `1e-9`)".into()))?;
             let literal: String = chars[start..i].iter().collect();
             let value = literal
                 .parse::<f64>()
@@ -96,28 +75,8 @@ pub(super) fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
             });
             continue;
         }
-        let next = chars.get(i + 1).copied();
-        let (kind, len) = match (c, next) {
-            ('(', _) => (TokenKind::Open, 1),
-            (')', _) => (TokenKind::Close, 1),
-            (',', _) => (TokenKind::Comma, 1),
-            ('<', Some('=')) => (TokenKind::Op("<="), 2),
-            ('>', Some('=')) => (TokenKind::Op(">="), 2),
-            ('=', Some('=')) => (TokenKind::Op("=="), 2),
-            ('!', Some('=')) => (TokenKind::Op("!="), 2),
-            ('&', Some('&')) => (TokenKind::Op("&&"), 2),
-            ('|', Some('|')) => (TokenKind::Op("||"), 2),
-            ('*', Some('*')) => (TokenKind::Op("^"), 2),
-            ('<', _) => (TokenKind::Op("<"), 1),
-            ('>', _) => (TokenKind::Op(">"), 1),
-            ('!', _) => (TokenKind::Op("!"), 1),
-            ('+', _) => (TokenKind::Op("+"), 1),
-            ('-', _) => (TokenKind::Op("-"), 1),
-            ('*', _) => (TokenKind::Op("*"), 1),
-            ('/', _) => (TokenKind::Op("/"), 1),
-            ('^', _) => (TokenKind::Op("^"), 1),
-            _ => return Err(error(column, format!("unexpected character `{c}`"))),
-        };
+        let (kind, len) =
+            symbol(c, chars.get(i + 1).copied()).ok_or_else(|| error(column, format!("unexpected character `{c}`")))?;
         tokens.push(Token { kind, column });
         i += len;
     }
@@ -126,6 +85,58 @@ pub(super) fn tokenize(text: &str) -> Result<Vec<Token>, ExprError> {
         column: chars.len() + 1,
     });
     Ok(tokens)
+}
+
+/// The end of the number literal that starts at `start`: digits, an optional fraction, an optional
+/// exponent; `None` for an exponent without digits.
+fn number_end(chars: &[char], start: usize) -> Option<usize> {
+    let digits_from = |mut i: usize| {
+        while i < chars.len() && chars[i].is_ascii_digit() {
+            i += 1;
+        }
+        i
+    };
+    let mut i = digits_from(start);
+    if i < chars.len() && chars[i] == '.' {
+        i = digits_from(i + 1);
+    }
+    if i < chars.len() && (chars[i] == 'e' || chars[i] == 'E') {
+        let mut j = i + 1;
+        if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
+            j += 1;
+        }
+        if !(j < chars.len() && chars[j].is_ascii_digit()) {
+            return None;
+        }
+        i = digits_from(j);
+    }
+    Some(i)
+}
+
+/// The punctuation or operator token that starts with `c` (followed by `next`) and its length in
+/// characters; `**` is read as `^`.
+fn symbol(c: char, next: Option<char>) -> Option<(TokenKind, usize)> {
+    Some(match (c, next) {
+        ('(', _) => (TokenKind::Open, 1),
+        (')', _) => (TokenKind::Close, 1),
+        (',', _) => (TokenKind::Comma, 1),
+        ('<', Some('=')) => (TokenKind::Op("<="), 2),
+        ('>', Some('=')) => (TokenKind::Op(">="), 2),
+        ('=', Some('=')) => (TokenKind::Op("=="), 2),
+        ('!', Some('=')) => (TokenKind::Op("!="), 2),
+        ('&', Some('&')) => (TokenKind::Op("&&"), 2),
+        ('|', Some('|')) => (TokenKind::Op("||"), 2),
+        ('*', Some('*')) => (TokenKind::Op("^"), 2),
+        ('<', _) => (TokenKind::Op("<"), 1),
+        ('>', _) => (TokenKind::Op(">"), 1),
+        ('!', _) => (TokenKind::Op("!"), 1),
+        ('+', _) => (TokenKind::Op("+"), 1),
+        ('-', _) => (TokenKind::Op("-"), 1),
+        ('*', _) => (TokenKind::Op("*"), 1),
+        ('/', _) => (TokenKind::Op("/"), 1),
+        ('^', _) => (TokenKind::Op("^"), 1),
+        _ => return None,
+    })
 }
 
 pub(super) fn infix(op: &str) -> Option<Binary> {

@@ -29,64 +29,9 @@ impl Ctx<'_> {
                 ));
             }
         }
-        for (k, b) in c.boundaries.iter().enumerate() {
-            if matches!(kind(b.selection.shell), ModelKind::KirchhoffLove(_)) {
-                let rejected = [
-                    ("rotation", b.rotation.is_some()),
-                    ("angular_velocity", b.angular_velocity.is_some()),
-                ];
-                if let Some((key, _)) = rejected.iter().find(|(_, given)| *given) {
-                    return Err(self.invalid(
-                        &format!("boundary.{k}.{key}"),
-                        "the Kirchhoff–Love model has no rotation unknowns: clamp an edge by fixing the positions of two rows of vertices",
-                    ));
-                }
-            }
-        }
-        for (k, l) in c.loads.iter().enumerate() {
-            let model = kind(l.selection.shell);
-            match (&l.kind, model) {
-                (LoadKind::Torque { .. }, ModelKind::KirchhoffLove(_)) => {
-                    return Err(self.invalid(
-                        &format!("load.{k}.torque"),
-                        "the Kirchhoff–Love model has no rotation unknowns to carry a torque",
-                    ));
-                }
-                (
-                    LoadKind::Force { distribution, .. } | LoadKind::Torque { distribution, .. },
-                    ModelKind::MicropolarVolume { .. },
-                ) if distribution.is_line() || distribution.is_area() => {
-                    return Err(self.invalid(
-                        &format!("load.{k}.distribution"),
-                        "line and area loads are not available for the micropolar volume model: use `equal` or `per_node`",
-                    ));
-                }
-                (LoadKind::Pressure { .. }, ModelKind::MicropolarVolume { .. }) => {
-                    return Err(self.invalid(
-                        &format!("load.{k}.pressure"),
-                        "pressure is not available for the micropolar volume model (it loads a mid-surface)",
-                    ));
-                }
-                _ => {}
-            }
-        }
-        for (k, r) in c.rest_fields.iter().enumerate() {
-            match kind(r.shell) {
-                ModelKind::KirchhoffLove(_) => {
-                    return Err(self.invalid(
-                        &format!("rest_field.{k}"),
-                        "the Kirchhoff–Love model takes its rest state from the rest mesh; prescribed rest fields are not available",
-                    ));
-                }
-                ModelKind::MicropolarVolume { .. } if r.growth.is_some() => {
-                    return Err(self.invalid(
-                        &format!("rest_field.{k}.growth"),
-                        "the micropolar volume model has no rest-metric growth (only rest curvature)",
-                    ));
-                }
-                _ => {}
-            }
-        }
+        self.check_boundary_models(c.boundaries, &kind)?;
+        self.check_load_models(c.loads, &kind)?;
+        self.check_rest_field_models(c.rest_fields, &kind)?;
         for (k, p) in c.probes.iter().enumerate() {
             if p.quantity == ProbeQuantity::Director && matches!(kind(p.selection.shell), ModelKind::KirchhoffLove(_)) {
                 return Err(self.invalid(
@@ -102,6 +47,88 @@ impl Ctx<'_> {
                 .any(|s| matches!(kind(s.shell), ModelKind::MicropolarVolume { .. }))
         {
             return Err(self.invalid("contact", "contact is not available for the micropolar volume model"));
+        }
+        Ok(())
+    }
+
+    /// The Kirchhoff–Love model's boundaries prescribe no rotations or angular velocities.
+    fn check_boundary_models(
+        &self,
+        boundaries: &[BoundarySpec],
+        kind: &dyn Fn(usize) -> ModelKind,
+    ) -> Result<(), SceneError> {
+        for (k, b) in boundaries.iter().enumerate() {
+            if matches!(kind(b.selection.shell), ModelKind::KirchhoffLove(_)) {
+                let rejected = [
+                    ("rotation", b.rotation.is_some()),
+                    ("angular_velocity", b.angular_velocity.is_some()),
+                ];
+                if let Some((key, _)) = rejected.iter().find(|(_, given)| *given) {
+                    return Err(self.invalid(
+                    &format!("boundary.{k}.{key}"),
+                    "the Kirchhoff–Love model has no rotation unknowns: clamp an edge by fixing the positions of two rows of vertices",
+                ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The Kirchhoff–Love model carries no torques; the micropolar volume model no line, area or
+    /// pressure loads.
+    fn check_load_models(&self, loads: &[LoadSpec], kind: &dyn Fn(usize) -> ModelKind) -> Result<(), SceneError> {
+        for (k, l) in loads.iter().enumerate() {
+            let model = kind(l.selection.shell);
+            match (&l.kind, model) {
+                (LoadKind::Torque { .. }, ModelKind::KirchhoffLove(_)) => {
+                    return Err(self.invalid(
+                        &format!("load.{k}.torque"),
+                        "the Kirchhoff–Love model has no rotation unknowns to carry a torque",
+                    ));
+                }
+                (
+                    LoadKind::Force { distribution, .. } | LoadKind::Torque { distribution, .. },
+                    ModelKind::MicropolarVolume { .. },
+                ) if distribution.is_line() || distribution.is_area() => {
+                    return Err(self.invalid(
+                    &format!("load.{k}.distribution"),
+                    "line and area loads are not available for the micropolar volume model: use `equal` or `per_node`",
+                ));
+                }
+                (LoadKind::Pressure { .. }, ModelKind::MicropolarVolume { .. }) => {
+                    return Err(self.invalid(
+                        &format!("load.{k}.pressure"),
+                        "pressure is not available for the micropolar volume model (it loads a mid-surface)",
+                    ));
+                }
+                _ => {}
+            }
+        }
+        Ok(())
+    }
+
+    /// The Kirchhoff–Love model takes no rest fields; the micropolar volume model no growth.
+    fn check_rest_field_models(
+        &self,
+        rest_fields: &[RestFieldSpec],
+        kind: &dyn Fn(usize) -> ModelKind,
+    ) -> Result<(), SceneError> {
+        for (k, r) in rest_fields.iter().enumerate() {
+            match kind(r.shell) {
+                ModelKind::KirchhoffLove(_) => {
+                    return Err(self.invalid(
+                    &format!("rest_field.{k}"),
+                    "the Kirchhoff–Love model takes its rest state from the rest mesh; prescribed rest fields are not available",
+                ));
+                }
+                ModelKind::MicropolarVolume { .. } if r.growth.is_some() => {
+                    return Err(self.invalid(
+                        &format!("rest_field.{k}.growth"),
+                        "the micropolar volume model has no rest-metric growth (only rest curvature)",
+                    ));
+                }
+                _ => {}
+            }
         }
         Ok(())
     }

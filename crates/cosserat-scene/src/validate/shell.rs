@@ -8,9 +8,9 @@ use crate::mesh_source::{
 };
 use crate::region::ShellNodes;
 use crate::schema::{
-    AxlName, CurvatureSourceName, CurvedTermsName, ElementName, ExprValue, GeneratorName, LawName, MaterialSection,
-    MembraneVolumeName, MeshSection, ModelName, NormalWeightingName, RestVolumeName, SceneFile,
-    StrainInterpolationName,
+    AxlName, CurvatureSourceName, CurvedTermsName, ElementName, ExprValue, GeneratorName, InitialSection, LawName,
+    MaterialSection, MembraneVolumeName, MeshSection, ModelName, NormalWeightingName, RestVolumeName, SceneFile,
+    StrainInterpolationName, TransformSection,
 };
 use crate::spec::{HyperelasticLaw, KlRestVolume, KlSettings, ModelKind, ShellSpec, SurfaceMesh};
 use cosserat_assembly::{ElementPair, ShellMesh};
@@ -334,22 +334,7 @@ impl Ctx<'_> {
     }
 
     fn recipe(&self, m: &str, mesh: &MeshSection, pair: ElementPair) -> Result<MeshRecipe, SceneError> {
-        let given = given_parameters(mesh);
-        let source = match (mesh.generator, &mesh.path) {
-            (Some(_), Some(_)) => {
-                return Err(self.invalid(&format!("{m}.path"), "give `generator` or `path`, not both"));
-            }
-            (None, None) => {
-                return Err(self.invalid(m, "needs a `generator` or a `path` to an OBJ file"));
-            }
-            (None, Some(path)) => {
-                if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
-                    return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
-                }
-                MeshSource::file(self.resolve_path(&format!("{m}.path"), path))
-            }
-            (Some(generator), None) => MeshSource::Generator(self.generator(m, generator, mesh, &given)?),
-        };
+        let source = self.mesh_source(m, mesh)?;
         let refine = mesh.refine.unwrap_or(0);
         if refine > MAX_REFINE {
             return Err(self.invalid(
@@ -373,49 +358,11 @@ impl Ctx<'_> {
         };
         let transform = match &mesh.transform {
             None => None,
-            Some(t) => {
-                let f = format!("{m}.transform");
-                let scaling = match (t.height, t.scale) {
-                    (Some(_), Some(_)) => {
-                        return Err(self.invalid(&format!("{f}.scale"), "give `height` or `scale`, not both"));
-                    }
-                    (Some(h), None) => Some(Scaling::Height(self.positive(&format!("{f}.height"), h)?)),
-                    (None, Some(s)) => Some(Scaling::Factor(self.positive(&format!("{f}.scale"), s)?)),
-                    (None, None) => None,
-                };
-                Some(Transform {
-                    rotation: match &t.rotate {
-                        Some(steps) => self.rotation(&format!("{f}.rotate"), steps)?,
-                        None => Matrix3::identity(),
-                    },
-                    center: t.center.unwrap_or(false),
-                    scaling,
-                    translation: match t.translate {
-                        Some(d) => self.vector(&format!("{f}.translate"), d)?,
-                        None => Vector3::zeros(),
-                    },
-                })
-            }
+            Some(t) => Some(self.transform(&format!("{m}.transform"), t)?),
         };
         let initial = match &mesh.initial {
             None => None,
-            Some(i) => {
-                let f = format!("{m}.initial");
-                Some(RigidMotion {
-                    rotation: match &i.rotate {
-                        Some(steps) => self.rotation(&format!("{f}.rotate"), steps)?,
-                        None => Matrix3::identity(),
-                    },
-                    about: match i.about {
-                        Some(p) => self.vector(&format!("{f}.about"), p)?,
-                        None => Vector3::zeros(),
-                    },
-                    translation: match i.translate {
-                        Some(d) => self.vector(&format!("{f}.translate"), d)?,
-                        None => Vector3::zeros(),
-                    },
-                })
-            }
+            Some(i) => Some(self.initial_motion(&format!("{m}.initial"), i)?),
         };
         let weld = match (mesh.weld, &mesh.path) {
             (None, _) => None,
@@ -431,6 +378,64 @@ impl Ctx<'_> {
             flatten_cap,
             transform,
             initial,
+        })
+    }
+
+    /// Where the mesh comes from: a generator with its parameters or an OBJ file, exactly one.
+    fn mesh_source(&self, m: &str, mesh: &MeshSection) -> Result<MeshSource, SceneError> {
+        let given = given_parameters(mesh);
+        match (mesh.generator, &mesh.path) {
+            (Some(_), Some(_)) => Err(self.invalid(&format!("{m}.path"), "give `generator` or `path`, not both")),
+            (None, None) => Err(self.invalid(m, "needs a `generator` or a `path` to an OBJ file")),
+            (None, Some(path)) => {
+                if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
+                    return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
+                }
+                Ok(MeshSource::file(self.resolve_path(&format!("{m}.path"), path)))
+            }
+            (Some(generator), None) => Ok(MeshSource::Generator(self.generator(m, generator, mesh, &given)?)),
+        }
+    }
+
+    /// The `transform` step at field path `f`: rotation, centring, one scaling, translation.
+    fn transform(&self, f: &str, t: &TransformSection) -> Result<Transform, SceneError> {
+        let scaling = match (t.height, t.scale) {
+            (Some(_), Some(_)) => {
+                return Err(self.invalid(&format!("{f}.scale"), "give `height` or `scale`, not both"));
+            }
+            (Some(h), None) => Some(Scaling::Height(self.positive(&format!("{f}.height"), h)?)),
+            (None, Some(s)) => Some(Scaling::Factor(self.positive(&format!("{f}.scale"), s)?)),
+            (None, None) => None,
+        };
+        Ok(Transform {
+            rotation: match &t.rotate {
+                Some(steps) => self.rotation(&format!("{f}.rotate"), steps)?,
+                None => Matrix3::identity(),
+            },
+            center: t.center.unwrap_or(false),
+            scaling,
+            translation: match t.translate {
+                Some(d) => self.vector(&format!("{f}.translate"), d)?,
+                None => Vector3::zeros(),
+            },
+        })
+    }
+
+    /// The `initial` rigid motion at field path `f`: a rotation about a point, then a translation.
+    fn initial_motion(&self, f: &str, i: &InitialSection) -> Result<RigidMotion, SceneError> {
+        Ok(RigidMotion {
+            rotation: match &i.rotate {
+                Some(steps) => self.rotation(&format!("{f}.rotate"), steps)?,
+                None => Matrix3::identity(),
+            },
+            about: match i.about {
+                Some(p) => self.vector(&format!("{f}.about"), p)?,
+                None => Vector3::zeros(),
+            },
+            translation: match i.translate {
+                Some(d) => self.vector(&format!("{f}.translate"), d)?,
+                None => Vector3::zeros(),
+            },
         })
     }
 
@@ -559,6 +564,18 @@ impl Ctx<'_> {
         p: &str,
         m: &MaterialSection,
     ) -> Result<(MaterialParameters, RestOptions, f64, f64), SceneError> {
+        let params = self.material_parameters(p, m)?;
+        let damping = self.non_negative(&format!("{p}.damping"), m.damping.unwrap_or(0.0))?;
+        let angular_inertia_density = self.non_negative(
+            &format!("{p}.angular_inertia_density"),
+            m.angular_inertia_density.unwrap_or(0.0),
+        )?;
+        let rest = self.rest_options(p, m)?;
+        Ok((params, rest, damping, angular_inertia_density))
+    }
+
+    /// The elastic parameters with the section's overrides, validated (errors name the key).
+    fn material_parameters(&self, p: &str, m: &MaterialSection) -> Result<MaterialParameters, SceneError> {
         let length_scale = match (m.model, m.length_scale) {
             (ModelName::KirchhoffLove, _) => 0.0,
             (_, Some(l)) => l,
@@ -585,11 +602,12 @@ impl Ctx<'_> {
             }
             other => self.invalid(p, other.to_string()),
         })?;
-        let damping = self.non_negative(&format!("{p}.damping"), m.damping.unwrap_or(0.0))?;
-        let angular_inertia_density = self.non_negative(
-            &format!("{p}.angular_inertia_density"),
-            m.angular_inertia_density.unwrap_or(0.0),
-        )?;
+        Ok(params)
+    }
+
+    /// The model's options (plate or shell, curved terms, volume term, axl) and the rest-state
+    /// options (strain interpolation, curvature source, normal weighting).
+    fn rest_options(&self, p: &str, m: &MaterialSection) -> Result<RestOptions, SceneError> {
         let model = ModelOptions {
             model: match m.model {
                 ModelName::Plate | ModelName::KirchhoffLove | ModelName::MicropolarVolume => ShellModel::Plate,
@@ -636,7 +654,7 @@ impl Ctx<'_> {
                 NormalWeightingName::Uniform => NormalWeighting::Uniform,
             };
         }
-        Ok((params, rest, damping, angular_inertia_density))
+        Ok(rest)
     }
 }
 
@@ -678,6 +696,13 @@ impl Ctx<'_> {
                 ModelKind::MicropolarVolume { layers }
             }
         };
+        self.check_keys_of_model(p, m, kind)?;
+        Ok(kind)
+    }
+
+    /// Rejects the keys of a material section that the model does not take: the Kirchhoff–Love
+    /// law and rest volume, the volume's layers, and the Cosserat-only parameters.
+    fn check_keys_of_model(&self, p: &str, m: &MaterialSection, kind: ModelKind) -> Result<(), SceneError> {
         if m.law.is_some() && !matches!(kind, ModelKind::KirchhoffLove(_)) {
             return Err(self.invalid(
                 &format!("{p}.law"),
@@ -731,7 +756,7 @@ impl Ctx<'_> {
                 format!("does not apply to the {} model", model_label(kind)),
             ));
         }
-        Ok(kind)
+        Ok(())
     }
 }
 
