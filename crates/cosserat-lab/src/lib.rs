@@ -17,6 +17,7 @@
 pub mod bench_table;
 pub mod ensemble;
 pub mod experiments;
+pub mod host;
 pub mod locking;
 pub mod obstacle;
 pub mod paper;
