@@ -17,9 +17,9 @@ use cosserat_assembly::{ElementPair, ShellMesh};
 use cosserat_fem::QuadratureRule;
 use cosserat_material::MaterialParameters;
 use cosserat_material::rest::RestOptions;
-use cosserat_solver::Tolerance;
 use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
+use cosserat_solver::{IndefiniteHessian, Tolerance};
 use nalgebra::{Matrix3, Vector3};
 use std::fmt;
 use std::path::PathBuf;
@@ -278,6 +278,8 @@ pub struct SolverSpec {
     pub initial_guess: InitialGuess,
     /// Project element Hessians of the shell energy onto the PSD cone.
     pub project_pd: bool,
+    /// What Newton's method does with a Hessian that is not positive definite.
+    pub indefinite_hessian: IndefiniteHessian,
     /// Maximum number of time-step halvings of one step before the run stops.
     pub max_step_reductions: usize,
 }

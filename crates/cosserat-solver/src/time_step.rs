@@ -176,7 +176,8 @@ impl TimeStepper {
         self.dt
     }
 
-    /// Sets the time step the next step will try (to resume a run from a checkpoint).
+    /// Sets the time step the next step will try (to resume a run from a checkpoint, or to end a run
+    /// on time).
     pub fn set_dt(&mut self, dt: f64) {
         self.dt = dt;
     }

@@ -364,10 +364,16 @@ impl Simulation {
         if let Some(checkpoint) = resume {
             self.resume_dynamic(checkpoint, &mut stepper, &mut schedule)?;
         }
-        // Fixed steps end exactly at `end` up to round-off; half a step of slack avoids an extra step.
-        while stepper.time() < end - 0.5 * stepper.dt().min(dt) {
+        // Steps end at `end` up to round-off, which must not add a step of its own.
+        while stepper.time() < end - 1e-9 * stepper.dt().min(dt) {
             if let Some(reason) = stop.reason() {
                 return Ok(Outcome::Interrupted(stepper.time(), reason));
+            }
+            // A halved step shifts the time grid: the last step is shortened to end at `end` (steps
+            // on the grid are left alone, so that their round-off does not change their length).
+            let remaining = end - stepper.time();
+            if remaining < stepper.dt() * (1.0 - 1e-9) {
+                stepper.set_dt(remaining);
             }
             let result = self.step(&mut stepper);
             self.stats.factor = stepper.solver().linear_solver().symmetric_stats();
@@ -474,6 +480,7 @@ impl Simulation {
         s.newton.tolerance = self.solver.tolerance;
         s.newton.max_iterations = self.solver.max_newton_iterations;
         s.newton.max_line_search_iterations = self.solver.max_line_search_iterations;
+        s.newton.indefinite_hessian = self.solver.indefinite_hessian;
         s.newton.linear_solver.kind = self.solver.linear_solver;
         s.newton.linear_solver.domains = self.solver.domain_split;
         s

@@ -173,6 +173,23 @@ pub enum LinearSolverName {
     Cg,
 }
 
+/// What Newton's method does with a Hessian that is not positive definite
+/// (`cosserat_solver::IndefiniteHessian`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IndefiniteHessianName {
+    /// Cholesky of the Hessian shifted to positive definiteness (a trust-region step): the most
+    /// robust through snaps, but it cannot settle on a solution that is a saddle of the energy.
+    Shift,
+    /// The Hessian's own indefinite factorisation while its steps pass in full, then the shift for the
+    /// rest of the step: for strips driven through saddles of their massless rotations (the twisting
+    /// strip).
+    Adaptive,
+    /// The Hessian's own indefinite factorisation throughout, ascending directions negated (the
+    /// reference code's treatment).
+    Factorise,
+}
+
 /// Two-domain Cholesky names (`cosserat_solver::DomainSplit`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -223,6 +240,9 @@ pub struct SolverSection {
     pub initial_guess: Option<InitialGuessName>,
     /// Project element Hessians onto the PSD cone (default `false`).
     pub project_pd: Option<bool>,
+    /// What Newton's method does where the Hessian is not positive definite (default `"shift"`;
+    /// `"adaptive"` or `"factorise"` where a solution is a saddle of the energy, docs/stability.md).
+    pub indefinite_hessian: Option<IndefiniteHessianName>,
     /// Maximum halvings of one step before the run stops (default 8).
     pub max_step_reductions: Option<usize>,
 }

@@ -3,13 +3,13 @@
 use super::Ctx;
 use crate::error::SceneError;
 use crate::schema::{
-    DomainSplitName, FrameFormatName, InitialGuessName, LinearSolverName, OutputSection, SolverSection, TimeMode,
-    TimeSection,
+    DomainSplitName, FrameFormatName, IndefiniteHessianName, InitialGuessName, LinearSolverName, OutputSection,
+    SolverSection, TimeMode, TimeSection,
 };
 use crate::spec::{FrameFormats, OutputSpec, SolverSpec, TimeSpec};
-use cosserat_solver::Tolerance;
 use cosserat_solver::linear::{DomainSplit, LinearSolverKind};
 use cosserat_solver::time_step::InitialGuess;
+use cosserat_solver::{IndefiniteHessian, Tolerance};
 
 /// Output rate when a dynamic scene gives none: the reference code's 30 frames per second.
 const DEFAULT_OUTPUT_FPS: f64 = 30.0;
@@ -247,6 +247,12 @@ impl Ctx<'_> {
                 Some(InitialGuessName::Zero) => InitialGuess::Zero,
             },
             project_pd: s.project_pd.unwrap_or(d.project_pd),
+            indefinite_hessian: match s.indefinite_hessian {
+                None => d.indefinite_hessian,
+                Some(IndefiniteHessianName::Shift) => IndefiniteHessian::Shift,
+                Some(IndefiniteHessianName::Adaptive) => IndefiniteHessian::Adaptive,
+                Some(IndefiniteHessianName::Factorise) => IndefiniteHessian::Factorise,
+            },
             max_step_reductions: s.max_step_reductions.unwrap_or(d.max_step_reductions),
         })
     }
@@ -319,6 +325,7 @@ fn default_solver(time: &TimeSpec) -> SolverSpec {
         domain_split: DomainSplit::Auto,
         initial_guess: InitialGuess::PreviousVelocity,
         project_pd: false,
+        indefinite_hessian: IndefiniteHessian::Shift,
         max_step_reductions: 8,
     }
 }

@@ -1,6 +1,7 @@
-//! The direction of an iteration: Newton's, from a Hessian shifted to positive definiteness when it is
-//! not ([`IndefiniteHessian::Shift`](super::IndefiniteHessian::Shift)), or a chord step with the factors
-//! of an earlier iteration.
+//! The direction of an iteration: Newton's, from the Hessian itself or, when it is not positive
+//! definite, from the Hessian shifted to positive definiteness
+//! ([`IndefiniteHessian`](super::IndefiniteHessian) says when), or a chord step with the factors of an
+//! earlier iteration.
 //!
 //! The shift is Levenberg's with Marquardt's scaling: `H + μ D` with `D = |diag H|`, so that it acts
 //! alike on unknowns of different units (velocities and angular velocities). `μ` runs through factors of
@@ -8,9 +9,11 @@
 //! of indefinite Hessians costs about two extra Cholesky attempts each. The shifted step is a descent direction whose
 //! length shrinks and whose direction turns towards the scaled gradient as `μ` grows: the model
 //! minimiser of a trust region whose radius the line search then adjusts. An unshifted indefinite
-//! factorisation, by contrast, solves for the saddle of the quadratic model, and its direction (negated
-//! when it ascends) can be nearly orthogonal to the gradient; on the coiling strip of the stability
-//! matrix such directions stall the line search (docs/stability.md).
+//! factorisation, by contrast, solves for the stationary point of the quadratic model: near a solution
+//! that is itself a saddle (massless rotations) it converges quadratically, where a descent method
+//! cannot settle, but far from one its direction (negated when it ascends) can be nearly orthogonal to
+//! the gradient; on the coiling strip of the stability matrix such directions stall the line search
+//! (docs/stability.md).
 
 use std::time::Instant;
 
@@ -50,6 +53,7 @@ impl NewtonSolver {
         let k = run.iterations;
         run.decrement = None;
         run.shifted = false;
+        run.indefinite = false;
         if chord && let Some(slope) = self.chord_direction(run) {
             run.report.chord_iterations += 1;
             return Ok(slope);
@@ -59,9 +63,14 @@ impl NewtonSolver {
             self.estimate_floor(problem, x, run);
         }
         at.hessian = false;
-        let shifted = self.factorise(k, run)?;
-        let used = self.solve_direction(k, run)?;
+        let (mut shifted, mut used) = (self.factorise(k, run)?, self.solve_direction(k, run)?);
         let mut slope = dot(&self.dx, &self.grad);
+        // An indefinite Hessian's own step that ascends heads for a maximum or a saddle the energy
+        // does not lead to: with the adaptive treatment, this point is solved again shifted.
+        if slope > 0.0 && !shifted && used != Factorisation::Llt && self.shift_from_now(run) {
+            (shifted, used) = (self.factorise(k, run)?, self.solve_direction(k, run)?);
+            slope = dot(&self.dx, &self.grad);
+        }
         let flipped = slope > 0.0 && self.settings.flip_on_non_descent;
         if flipped {
             self.dx.iter_mut().for_each(|d| *d = -*d);
@@ -80,6 +89,7 @@ impl NewtonSolver {
             run.decrement = Some(-slope);
         }
         run.shifted = shifted;
+        run.indefinite = !shifted && matches!(used, Factorisation::Lblt | Factorisation::Lu);
         Ok(slope)
     }
 

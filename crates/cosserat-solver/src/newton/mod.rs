@@ -4,8 +4,8 @@
 //! One iteration from `x`:
 //! 1. assemble the Hessian with the gradient (or reuse the last factors for a chord step);
 //! 2. solve `H dx = −∇Π` with fixed unknowns eliminated: Cholesky, or, when `H` is not positive
-//!    definite, Cholesky of `H + μ D` with the smallest tried shift that makes it so
-//!    ([`IndefiniteHessian`]); with [`LinearSolverKind::Cg`] inexactly, to the relative residual of the
+//!    definite, the symmetric indefinite factorisation of `H` while its steps pass in full and then
+//!    Cholesky of `H + μ D` with the smallest tried shift that makes it so ([`IndefiniteHessian`]); with [`LinearSolverKind::Cg`] inexactly, to the relative residual of the
 //!    forcing sequence [`NewtonSettings::cg_forcing`] (truncated Newton-CG);
 //! 3. take the full step (shortened to the problem's feasible fraction and halved while the state is
 //!    invalid) with its gradient, accept it if it passes the Armijo test or the convergence test,
@@ -102,6 +102,12 @@ struct Run {
     floor_known: bool,
     /// Whether the last direction came from a shifted (indefinite) Hessian.
     shifted: bool,
+    /// Whether the last direction came from the factorisation of an indefinite (or singular) Hessian
+    /// itself.
+    indefinite: bool,
+    /// Whether indefinite Hessians are shifted from now on in this solve
+    /// ([`IndefiniteHessian::Adaptive`] after a shortened step along an unshifted direction).
+    shift_from_now: bool,
 }
 
 impl Run {
@@ -215,6 +221,8 @@ impl NewtonSolver {
             decrement: None,
             floor_known: false,
             shifted: false,
+            indefinite: false,
+            shift_from_now: false,
         };
         let result = self.minimise(problem, x, &mut run);
         // A solve that stopped where it started lets the next one evaluate the gradient alone first, so
@@ -270,7 +278,9 @@ impl NewtonSolver {
             }
             let chord = reuse && !at.hessian;
             let slope = self.direction(problem, x, &mut at, chord, run)?;
-            match self.step(problem, x, slope, &mut at, run)? {
+            let step = self.step(problem, x, slope, &mut at, run)?;
+            let retry_shifted = self.shift_after(&step, r, run);
+            match step {
                 Step::Full { alpha } => {
                     // A full step with fast progress lets the next iteration keep the factorisation.
                     reuse = alpha == 1.0
@@ -280,6 +290,8 @@ impl NewtonSolver {
                 Step::Backtracked => reuse = false,
                 // The old factors gave a poor direction: retry this point with a fresh Newton step.
                 Step::Failed if chord => reuse = false,
+                // The indefinite Hessian's own direction gave no step: retry this point shifted.
+                Step::Failed if retry_shifted => reuse = false,
                 Step::Failed if run.test.stagnated(&run.residuals, run.decrement, true) => {
                     return Ok((at.energy, run.test.record(Criterion::Stagnated)));
                 }
@@ -292,6 +304,32 @@ impl NewtonSolver {
                 }
             }
         }
+    }
+
+    /// With [`IndefiniteHessian::Adaptive`]: whether `step`, taken along the direction of an unshifted
+    /// indefinite Hessian from a point of residual `r`, was shortened or rejected or did not reduce
+    /// the residual (Newton's own steps converge only near a solution), so that indefinite Hessians
+    /// are shifted from now on in this solve.
+    fn shift_after(&mut self, step: &Step, r: f64, run: &mut Run) -> bool {
+        let poor = match step {
+            Step::Full { .. } => run.last_residual() >= r,
+            Step::Backtracked | Step::Failed => true,
+        };
+        run.indefinite && poor && self.shift_from_now(run)
+    }
+
+    /// With [`IndefiniteHessian::Adaptive`], and unless it happened before in this solve: shifts
+    /// indefinite Hessians from now on in this solve (the linear solver then factorises by Cholesky
+    /// alone, as with [`IndefiniteHessian::Shift`]); returns whether it switched.
+    fn shift_from_now(&mut self, run: &mut Run) -> bool {
+        if self.settings.indefinite_hessian != IndefiniteHessian::Adaptive || run.shift_from_now {
+            return false;
+        }
+        let mut linear = *self.linear.settings();
+        linear.kind = LinearSolverKind::Cholesky;
+        // The symbolic analyses of `Auto` serve Cholesky as they are: nothing is redone.
+        run.shift_from_now = self.linear.set_settings(linear).is_ok();
+        run.shift_from_now
     }
 
     /// Evaluates the initial state: the Hessian with the gradient (see [`Self::solve`]) or the gradient
@@ -406,8 +444,9 @@ impl NewtonSolver {
     }
 }
 
-/// The linear solver's settings for Newton's settings: with the shift strategy, `Auto` factorises by
-/// Cholesky alone (the shift replaces the indefinite and LU fallbacks).
+/// The linear solver's settings for Newton's settings at the start of a solve: with the shift
+/// strategy, `Auto` factorises by Cholesky alone (the shift replaces the indefinite and LU fallbacks);
+/// the adaptive strategy starts with the fallbacks.
 fn effective_linear_settings(settings: &NewtonSettings) -> crate::linear::LinearSolverSettings {
     let mut linear = settings.linear_solver;
     if linear.kind == LinearSolverKind::Auto && settings.indefinite_hessian == IndefiniteHessian::Shift {

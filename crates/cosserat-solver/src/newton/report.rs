@@ -46,7 +46,7 @@ pub struct NewtonReport {
     /// Number of Newton directions negated because they did not descend.
     pub direction_flips: usize,
     /// Iterations whose Hessian was not positive definite and was shifted
-    /// ([`IndefiniteHessian::Shift`](crate::IndefiniteHessian::Shift)).
+    /// ([`IndefiniteHessian`](crate::IndefiniteHessian)).
     pub shifted_iterations: usize,
     /// Doublings of shifted steps along negative curvature.
     pub extrapolations: usize,

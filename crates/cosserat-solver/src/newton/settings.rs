@@ -9,10 +9,20 @@ use crate::linear::{CgForcing, LinearSolverSettings};
 /// always used as it is).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum IndefiniteHessian {
+    /// The factorisation of `H` itself first (as [`Factorise`](Self::Factorise)) while its steps pass
+    /// the line search in full; once the line search has to shorten or reject a step along such a
+    /// direction, the rest of the solve shifts (as [`Shift`](Self::Shift)), and a rejected step is
+    /// retried at once with the shift. Near a solution whose Hessian is indefinite (a twisted strip's
+    /// massless rotations at a saddle of their energy) Newton's own steps converge quadratically, while
+    /// a shifted descent cannot settle there; far from a solution (a coiling snap) the shift's
+    /// trust-region steps get through where the unshifted direction stalls.
+    Adaptive,
     /// A Levenberg-style shift: Cholesky of `H + μ D` with `D` the absolute diagonal of `H` and the
-    /// smallest `μ` (grown by factors of 10 from the previous solve's) that makes it positive definite.
-    /// The step is then a descent direction that turns from Newton's towards the scaled gradient as
-    /// the curvature gets more negative, the behaviour of a trust region. Default.
+    /// smallest `μ` (grown by factors of 4 from a quarter of the previous solve's) that makes it
+    /// positive definite. The step is then a descent direction that turns from Newton's towards the
+    /// scaled gradient as the curvature gets more negative, the behaviour of a trust region. Default:
+    /// the most robust through snaps (docs/stability.md), but it cannot settle on a solution that is
+    /// a saddle of the energy.
     #[default]
     Shift,
     /// The symmetric indefinite factorisation (then LU) of `H` itself, with the direction negated when

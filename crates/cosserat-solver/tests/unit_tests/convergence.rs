@@ -1,6 +1,6 @@
 //! The default convergence test (relative to the load scale, with a round-off floor and a stagnation
-//! test) and the shifted Newton step on indefinite Hessians, against the reference code's absolute
-//! tolerance and indefinite factorisation.
+//! test) and the treatment of indefinite Hessians (the default shift, the adaptive one), against the
+//! reference code's absolute tolerance and indefinite factorisation.
 
 use cosserat_solver::{
     Criterion, IndefiniteHessian, NewtonError, NewtonProblem, NewtonSettings, NewtonSolver, ProblemError, Tolerance,
@@ -193,6 +193,23 @@ fn indefinite_hessians_are_shifted_into_descent_directions() {
     assert!(is_local_minimum(&mut problem, &x), "{x:?}");
     assert!(shifted.shifted_iterations > 0);
     assert_eq!(shifted.factorisations.lblt + shifted.factorisations.lu, 0);
+    // The adaptive treatment starts with the indefinite factorisation and shifts once a step along it
+    // is shortened: it reaches a minimum as well.
+    let mut x = start.clone();
+    let adaptive = solve(
+        &mut problem,
+        &mut x,
+        NewtonSettings {
+            indefinite_hessian: IndefiniteHessian::Adaptive,
+            ..absolute(1e-7)
+        },
+    )
+    .unwrap();
+    assert!(is_local_minimum(&mut problem, &x), "{x:?}");
+    assert!(
+        adaptive.factorisations.lblt > 0 && adaptive.shifted_iterations > 0,
+        "{adaptive:?}"
+    );
     let mut x = start;
     let factorised = solve(
         &mut problem,
@@ -210,6 +227,35 @@ fn indefinite_hessians_are_shifted_into_descent_directions() {
         shifted.iterations, factorised.iterations
     );
     assert!(shifted.iterations <= factorised.iterations);
+}
+
+#[test]
+fn the_adaptive_treatment_takes_newtons_own_step_to_a_saddle_that_the_shift_cannot_reach() {
+    // Π = x² − y² from (1, 0.1): the stationary point is the saddle at the origin (a massless
+    // rotation held at a saddle of its energy is the shell's case). Newton's step from the indefinite
+    // factorisation descends (the x part dominates its slope) and lands on the saddle in one
+    // iteration; the shifted step descends along −y² and runs away.
+    let saddle = || Quadratic {
+        a: super::fixtures::UpperMatrix {
+            pattern: super::toy::pattern_of(2, [(0, 0), (1, 1)]),
+            values: vec![2.0, -2.0],
+        },
+        b: vec![0.0, 0.0],
+    };
+    let mut x = [1.0, 0.1];
+    let adaptive = NewtonSettings {
+        indefinite_hessian: IndefiniteHessian::Adaptive,
+        ..absolute(1e-10)
+    };
+    let report = solve(&mut saddle(), &mut x, adaptive).unwrap();
+    assert_eq!((report.iterations, report.shifted_iterations), (1, 0));
+    assert!(x.iter().all(|v| v.abs() < 1e-12), "{x:?}");
+    let mut x = [1.0, 0.1];
+    let shifted = NewtonSettings {
+        max_iterations: 20,
+        ..absolute(1e-10)
+    };
+    assert!(solve(&mut saddle(), &mut x, shifted).is_err(), "{x:?}");
 }
 
 /// Whether the Hessian at `x` is positive definite (with a small gradient there: a strict local minimum).
@@ -275,7 +321,7 @@ fn a_parameter_running_to_a_half_turn_is_taken_across_it() {
     // parameter reaches only as v → ∞. Crossing over, Newton's method reaches 200° = −160°,
     // v = 2 tan(−80°); without, it runs out along v. (The energy is concave in v near the half turn,
     // and the indefinite factorisation's steps land better there than the shifted ones in one
-    // dimension; the shell's rotations cross with the default shift, docs/stability.md.)
+    // dimension; the shell's rotations cross with the default, docs/stability.md.)
     let target = 200f64.to_radians();
     let start = 2.0 * 50f64.to_radians().tan();
     let solve_from = |crosses: bool| {

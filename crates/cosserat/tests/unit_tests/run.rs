@@ -295,6 +295,29 @@ fn an_interrupted_run_keeps_complete_frames_and_says_where_it_stopped() {
     );
 }
 
+#[test]
+fn a_run_ends_at_its_end_time_when_the_step_does_not_divide_it() {
+    let d = dir("end_time");
+    let scene = write_scene(&d, &STRIP.replace("end = 0.1", "end = 0.032"));
+    let spec = cosserat::scene::load_scene(&scene, &[]).unwrap();
+    let mut sim = Simulation::new(spec).unwrap();
+    let mut steps = Vec::new();
+    let summary = sim
+        .run(
+            &d.join("out"),
+            &mut |info| steps.push((info.t, info.dt)),
+            &StopRequest::new(),
+        )
+        .unwrap();
+    assert_eq!(summary.status, RunStatus::Ok);
+    // Three steps of 10 ms, then the 2 ms left: the run ends at 0.032 s, neither at 0.03 s nor 0.04 s.
+    assert_eq!(steps.len(), 4, "{steps:?}");
+    assert!(
+        (steps[3].1 - 0.002).abs() < 1e-12 && (sim.time() - 0.032).abs() < 1e-12,
+        "{steps:?}"
+    );
+}
+
 /// `output.formats = ["vtu", "obj", "ply", "usd"]`: every frame also as OBJ and PLY (read back by the
 /// scene's own readers) and one USD stage whose time samples are the frames' points, all equal to the
 /// VTU frames (PLY and USD store single precision).
