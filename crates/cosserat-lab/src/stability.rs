@@ -664,7 +664,6 @@ pub fn run_all(
     md.push_str(&findings(&records, variants));
     md.push_str(ADVICE);
     md.push_str(&locking);
-    md.push_str(LOCKING_ADVICE);
     Ok(md)
 }
 
@@ -763,12 +762,9 @@ const ADVICE: &str = "
 
 - **μ_c = 0 together with L_c = 0** leaves the drilling rotation (about the normal) without any stiffness of its own: it is held only through the clamps, and the interior drilling rotation is not determined by the energy. Give any L_c > 0 (1e-3·h changes the bending stiffness by a relative 1.2e-5) or μ_c > 0. The simulator warns about this combination when it builds the scene (on stderr and in `summary.json` under `warnings`), as it does about elements much longer than the thickness (locking, below).
 - **Coiling.** A twisted strip buckles into a coil after a few turns, and the coil snaps as the twist grows. Use at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second). Giving the rotations inertia (`material.angular_inertia_density = ρh²/12`) changes the dynamics of the snaps; check the *min area ratio*: a run with inverted elements must not be trusted.
+- **Indefinite Hessians.** Where the Hessian of a step is not positive definite, Newton's method shifts it to positive definiteness by default (`solver.indefinite_hessian = \"shift\"`), a trust-region step that gets through the snaps of this matrix. A shifted descent cannot settle on a solution that is a saddle of the step's energy, and a finer strip driven through its twist (the paper's Twisting strip, 40 × 4 quads, whose massless rotations pass such saddles) then has its steps halved again and again, and with the default tolerance stops at the first coil: there `\"factorise\"` (the reference code's treatment, Newton's own steps throughout) or `\"adaptive\"` (Newton's own steps while they pass in full, the shift after) converge where the shift does not. The matrix runs the default.
 - **Tolerances.** Without `solver.tolerance` the residual is judged relative to the step's load scale (external loads, reactions, or the first residual), with a floor from the assembled stiffness and machine precision; a step that stagnates at that floor is accepted with a warning in `summary.json`. Set `solver.tolerance` only to require an absolute residual in force units.
 
-";
-
-/// The advice drawn from the locking table.
-const LOCKING_ADVICE: &str = "Which pair to choose: **Tri6/Tri3** (quadratic displacements, linear rotations, the paper's pair). Tri3/Tri3 locks at every practical thickness: on 20×2 quads it is an order of magnitude too stiff at h/L = 1e-2, 320 elements along the strip are four times too stiff at h/L = 1e-3, and 1280 elements no longer converge there (the residual stalls). Tri6/Tri6 locks earlier than Tri6/Tri3 on the same mesh (its 6-point rule enforces the shear and membrane constraints more exactly). Tri6/Tri3 stays within 0.1 % of the elastica down to h/L = 1e-2 on 20×2 quads and down to h/L = 1e-3 on 80×8; at h/L = 1e-4 even 80×8 is 2 % too stiff, and at 1e-5 the thin strips lock on every mesh here and the 20×2 mesh no longer converges (the membrane stiffness exceeds the bending stiffness by (L/h)² = 1e10). So refine as h/L decreases: for h/L around 1e-3 use elements of about ten thicknesses, and check a thin shell's result on a second, finer mesh.
 ";
 
 /// Runs the stability command.

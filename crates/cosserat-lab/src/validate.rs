@@ -269,6 +269,8 @@ pub fn run_all(o: &Options) -> Result<String> {
         summary_row(&problem, &runs, &mut summary)?;
         problem_section(&problem, &runs, &image, plotted, &mut body)?;
     }
+    body.push_str(&crate::path_validation::run_all(o)?);
+    body.push_str(&crate::obstacle::run_all(&o.runner, &o.out, o.quick)?);
     let mut md = String::new();
     writeln!(md, "# Validation against published benchmarks\n")?;
     writeln!(
@@ -279,8 +281,6 @@ pub fn run_all(o: &Options) -> Result<String> {
     )?;
     writeln!(md, "## Summary\n\n{summary}\n{READING}")?;
     md.push_str(&body);
-    md.push_str(&crate::path_validation::run_all(o)?);
-    md.push_str(&crate::obstacle::run_all(&o.runner, &o.out, o.quick)?);
     Ok(md)
 }
 

@@ -1,11 +1,13 @@
 //! Goals of the locking issue that the stabilised strain projection reaches, pinned on their named
-//! meshes (docs/validation.md has the whole ladders, both interpolations): the pinched hemisphere within
+//! meshes (docs/validation.md has the whole ladders, every interpolation): the pinched hemisphere within
 //! 2 % on 8 bands, and the thin Sze 3.1 cantilever (h/L = 1e-3 and 1e-4) within 1 % of the elastica on
 //! 20 × 2 quads; and the thin cantilever with Regge membrane strains. Each run takes a few seconds in
 //! release.
 
 use cosserat::RunDescription;
+use cosserat_lab::locking::Row;
 use cosserat_lab::obstacle::course;
+use cosserat_lab::problem::Pair;
 use cosserat_lab::runner::{Runner, run_described};
 
 fn out(name: &str) -> std::path::PathBuf {
@@ -36,8 +38,8 @@ fn stabilized_pinched_hemisphere_is_within_two_percent_on_eight_bands() {
 fn stabilized_thin_cantilever_is_within_one_percent_of_the_elastica() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
-    let mut ov = cosserat_lab::locking::overrides(cosserat_lab::problem::Pair::Tri6Tri3, 20, 2, 1e-3);
-    ov.push("material.strain_interpolation=stabilized".into());
+    let row = Row::new(Pair::Tri6Tri3, "stabilized", 20, 2);
+    let ov = cosserat_lab::locking::overrides(&row, 1e-3);
     let run = RunDescription::new(cosserat_lab::locking::SCENE, out("sze"), &ov);
     let outcome = run_described(&Runner::InProcess, &run).unwrap();
     let ratio = cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
@@ -49,8 +51,8 @@ fn regge_thin_cantilever_is_within_one_percent_of_the_elastica() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
     for h_over_l in [1e-3, 1e-4] {
-        let mut ov = cosserat_lab::locking::overrides(cosserat_lab::problem::Pair::Tri6Tri3, 20, 2, h_over_l);
-        ov.push("material.strain_interpolation=regge".into());
+        let row = Row::new(Pair::Tri6Tri3, "regge", 20, 2);
+        let ov = cosserat_lab::locking::overrides(&row, h_over_l);
         let run = RunDescription::new(
             cosserat_lab::locking::SCENE,
             out(&format!("sze_regge_{h_over_l:e}")),
