@@ -262,6 +262,8 @@ fn row_finding(cells: &[Cell]) -> String {
     let beyond = H_OVER_L.iter().zip(cells).skip_while(|(_, c)| c.within());
     for (r, c) in beyond {
         parts.push(match c {
+            // Below a ratio of 0.005 the percentage would round to 100: the strip does not bend.
+            Cell::Ratio(ratio) if *ratio < 0.005 => format!("locked at {r:.0e} (W / W_elastica = {ratio:.1e})"),
             Cell::Ratio(ratio) if *ratio < 1.0 => {
                 format!("{:.0} % too stiff at {r:.0e}", 100.0 * (1.0 - ratio))
             }
