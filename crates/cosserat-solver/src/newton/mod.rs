@@ -4,9 +4,10 @@
 //! One iteration from `x`:
 //! 1. assemble the Hessian with the gradient (or reuse the last factors for a chord step);
 //! 2. solve `H dx = −∇Π` with fixed unknowns eliminated: Cholesky, or, when `H` is not positive
-//!    definite, the symmetric indefinite factorisation of `H` while its steps pass in full and then
-//!    Cholesky of `H + μ D` with the smallest tried shift that makes it so ([`IndefiniteHessian`]); with [`LinearSolverKind::Cg`] inexactly, to the relative residual of the
-//!    forcing sequence [`NewtonSettings::cg_forcing`] (truncated Newton-CG);
+//!    definite, Cholesky of `H + μ D` with the smallest tried shift that makes it so, or the symmetric
+//!    indefinite factorisation of `H` itself ([`IndefiniteHessian`]); with [`LinearSolverKind::Cg`]
+//!    inexactly, to the relative residual of the forcing sequence [`NewtonSettings::cg_forcing`]
+//!    (truncated Newton-CG);
 //! 3. take the full step (shortened to the problem's feasible fraction and halved while the state is
 //!    invalid) with its gradient, accept it if it passes the Armijo test or the convergence test,
 //!    otherwise backtrack on energies (the noise-resistant Armijo test of `line_search.rs`);

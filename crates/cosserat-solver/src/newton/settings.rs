@@ -10,9 +10,10 @@ use crate::linear::{CgForcing, LinearSolverSettings};
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum IndefiniteHessian {
     /// The factorisation of `H` itself first (as [`Factorise`](Self::Factorise)) while its steps pass
-    /// the line search in full; once the line search has to shorten or reject a step along such a
-    /// direction, the rest of the solve shifts (as [`Shift`](Self::Shift)), and a rejected step is
-    /// retried at once with the shift. Near a solution whose Hessian is indefinite (a twisted strip's
+    /// the line search in full and reduce the residual; once a step along such a direction ascends,
+    /// is shortened or rejected by the line search, or does not reduce the residual, the rest of the
+    /// solve shifts (as [`Shift`](Self::Shift)), and an ascending or rejected step is retried at once
+    /// with the shift. Near a solution whose Hessian is indefinite (a twisted strip's
     /// massless rotations at a saddle of their energy) Newton's own steps converge quadratically, while
     /// a shifted descent cannot settle there; far from a solution (a coiling snap) the shift's
     /// trust-region steps get through where the unshifted direction stalls.
