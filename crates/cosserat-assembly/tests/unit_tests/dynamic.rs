@@ -1,11 +1,10 @@
 //! Dynamic terms (contact-like couplings that change between steps) assemble into their own pattern,
 //! merged with the fixed one; the fixed pattern and element scatters stay untouched.
 
-use super::common::strip;
+use super::common::{dense_hessian, strip};
 use cosserat_assembly::term::Evaluation;
 use cosserat_assembly::{AssemblyError, DofLayout, ElementPair, PotentialTerm, SparsityPattern, SystemState};
 use cosserat_material::ShellModel;
-use nalgebra::DMatrix;
 
 /// Springs between node pairs chosen at the start of each step: `½ k |x_a − x_b|²`.
 struct Springs {
@@ -80,23 +79,6 @@ impl PotentialTerm for Springs {
     }
 }
 
-fn dense(p: &mut cosserat_assembly::IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
-    let n = p.n_dofs();
-    let mut g = vec![0.0; n];
-    let mut values = vec![0.0; p.pattern().nnz()];
-    p.hessian(u, &mut g, &mut values).unwrap();
-    let sym = p.pattern().symbolic();
-    let mut h = DMatrix::zeros(n, n);
-    for j in 0..n {
-        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
-            let i = sym.row_idx()[k];
-            h[(i, j)] = values[k];
-            h[(j, i)] = values[k];
-        }
-    }
-    h
-}
-
 #[test]
 fn dynamic_couplings_are_merged_and_the_pattern_grows_only_when_needed() {
     let mut sys = strip(ElementPair::Tri3Tri3, 6, 1, ShellModel::Plate, true);
@@ -121,7 +103,7 @@ fn dynamic_couplings_are_merged_and_the_pattern_grows_only_when_needed() {
     // First step: two pairs (popped from the back); the pattern grows and couples far nodes.
     assert!(p.begin_step(&u).unwrap());
     assert!(p.pattern().entry(3 * far_a, 3 * far_b).is_some());
-    let h = dense(&mut p, &u);
+    let h = dense_hessian(&mut p, &u);
     // Finite differences of the gradient (the springs and the shell together).
     let n = p.n_dofs();
     let step = 1e-6;

@@ -1,6 +1,7 @@
 //! Surface loads: consistent weights, and the follower pressure's energy, force and stiffness against
 //! central differences and the closed forms of a sphere.
 
+use super::common::dense_hessian;
 use cosserat_assembly::inertia::LoadTerm;
 use cosserat_assembly::pressure::{FollowerPressure, area_weights, normal_weights};
 use cosserat_assembly::{DofLayout, IncrementalPotential, PotentialParts, SystemState};
@@ -55,23 +56,6 @@ fn potential<const N: usize>(
     p.insert(term);
     p.set_time_step(dt);
     p
-}
-
-fn dense_hessian(p: &mut IncrementalPotential, u: &[f64]) -> DMatrix<f64> {
-    let n = u.len();
-    let mut g = vec![0.0; n];
-    let mut values = vec![0.0; p.pattern().nnz()];
-    p.hessian(u, &mut g, &mut values).unwrap();
-    let sym = p.pattern().symbolic();
-    let mut h = DMatrix::zeros(n, n);
-    for j in 0..n {
-        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
-            let i = sym.row_idx()[k];
-            h[(i, j)] = values[k];
-            h[(j, i)] = values[k];
-        }
-    }
-    h
 }
 
 fn gradient(p: &mut IncrementalPotential, u: &[f64]) -> Vec<f64> {

@@ -1,12 +1,13 @@
 //! Which quadrature rules leave spurious zero-energy modes: the null space of a free patch's Hessian
 //! at rest, counted for every element pair and rule degree.
 
+use super::common::dense_hessian;
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, SystemOptions, build_system};
 use cosserat_fem::QuadratureRule;
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
-use nalgebra::{DMatrix, Vector3};
+use nalgebra::Vector3;
 
 /// The number of zero eigenvalues (relative to the largest) of a free 2 × 2 patch's Hessian at rest.
 fn zero_modes(pair: ElementPair, model: ShellModel, degree: usize) -> usize {
@@ -32,19 +33,8 @@ fn zero_modes_with(pair: ElementPair, model: ShellModel, degree: usize, interpol
         dynamic: false,
     };
     let mut p = build_system(&[input], &options).unwrap().potential;
-    let n = p.n_dofs();
-    let mut g = vec![0.0; n];
-    let mut values = vec![0.0; p.pattern().nnz()];
-    p.hessian(&vec![0.0; n], &mut g, &mut values).unwrap();
-    let sym = p.pattern().symbolic();
-    let mut h = DMatrix::zeros(n, n);
-    for j in 0..n {
-        for k in sym.col_ptr()[j]..sym.col_ptr()[j + 1] {
-            let i = sym.row_idx()[k];
-            h[(i, j)] = values[k];
-            h[(j, i)] = values[k];
-        }
-    }
+    let zero = vec![0.0; p.n_dofs()];
+    let h = dense_hessian(&mut p, &zero);
     let eigenvalues = h.symmetric_eigenvalues();
     let largest = eigenvalues.iter().fold(0.0f64, |a, e| a.max(e.abs()));
     eigenvalues.iter().filter(|e| e.abs() < 1e-9 * largest).count()
