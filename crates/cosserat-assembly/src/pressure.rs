@@ -102,22 +102,53 @@ fn gather<const N: usize>(el: &[usize], x: &dyn Fn(usize) -> Vector3<f64>) -> [V
 /// If an element has neither 3 nor 6 nodes.
 #[track_caller]
 pub fn area_weights(elements: &[Vec<usize>], x: &dyn Fn(usize) -> Vector3<f64>) -> Vec<(usize, f64)> {
+    weights_of(elements, x, None)
+}
+
+/// Consistent nodal weights `∫ N_a f dA` of a load per unit area whose intensity varies as
+/// `profile` (a function of the position on the surface at `x`, evaluated at the points of a
+/// degree-4 rule: exact for profiles of degree 3 on Tri3 and 2 on Tri6); otherwise as
+/// [`area_weights`].
+///
+/// # Panics
+/// If an element has neither 3 nor 6 nodes.
+#[track_caller]
+pub fn profiled_area_weights(
+    elements: &[Vec<usize>],
+    x: &dyn Fn(usize) -> Vector3<f64>,
+    profile: &dyn Fn(&Vector3<f64>) -> f64,
+) -> Vec<(usize, f64)> {
+    weights_of(elements, x, Some(profile))
+}
+
+#[track_caller]
+fn weights_of(
+    elements: &[Vec<usize>],
+    x: &dyn Fn(usize) -> Vector3<f64>,
+    profile: Option<&dyn Fn(&Vector3<f64>) -> f64>,
+) -> Vec<(usize, f64)> {
     accumulate(elements, |el, out| {
         let mut add = |nodes: &[usize], weights: &[f64]| nodes.iter().zip(weights).for_each(|(&i, &w)| out(i, w));
         match el.len() {
-            3 => add(el, &scalar_weights::<3>(&gather(el, x))),
-            6 => add(el, &scalar_weights::<6>(&gather(el, x))),
+            3 => add(el, &scalar_weights::<3>(&gather(el, x), profile)),
+            6 => add(el, &scalar_weights::<6>(&gather(el, x), profile)),
             n => panic!("surface loads integrate over Tri3 or Tri6 elements, not {n}-node ones"),
         }
     })
 }
 
-fn scalar_weights<const N: usize>(x: &[Vector3<f64>; N]) -> [f64; N] {
+fn scalar_weights<const N: usize>(x: &[Vector3<f64>; N], profile: Option<&dyn Fn(&Vector3<f64>) -> f64>) -> [f64; N] {
     let mut out = [0.0; N];
-    for (xi, w) in rule::<N>().iter() {
+    let rule = if profile.is_some() {
+        QuadratureRule::dunavant_p4()
+    } else {
+        rule::<N>()
+    };
+    for (xi, w) in rule.iter() {
         let (values, grad) = shape::<N>(xi);
         let (g1, g2) = tangents(x, &grad);
-        let da = g1.cross(&g2).norm() * w;
+        let f = profile.map_or(1.0, |f| f(&x.iter().zip(values.iter()).map(|(p, v)| p * *v).sum()));
+        let da = g1.cross(&g2).norm() * w * f;
         for (a, o) in out.iter_mut().enumerate() {
             *o += da * values[a];
         }

@@ -429,6 +429,8 @@ pub struct LoadSpec {
     pub selection: NodeSelection,
     /// Force or torque.
     pub kind: LoadKind,
+    /// A function of the rest position that multiplies the load's intensity (none: uniform).
+    pub profile: Option<FieldFunction>,
     /// Scale over time.
     pub scale: TimeFunction,
     /// When the scale is evaluated.

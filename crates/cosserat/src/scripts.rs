@@ -13,12 +13,12 @@ use crate::error::SimulationError;
 use crate::placement::NodeMap;
 use crate::placement::ShellPlacement;
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionConstraint, PositionPenalty, RotationPenalty};
-use cosserat_assembly::pressure::{FollowerPressure, area_weights, normal_weights};
+use cosserat_assembly::pressure::{FollowerPressure, normal_weights, profiled_area_weights};
 use cosserat_assembly::{IncrementalPotential, TermHandle};
 use cosserat_geometry::rotation::exp_map;
 use cosserat_scene::spec::{
-    BoundarySpec, ForceDistribution, LoadKind, LoadSpec, MotionSpec, PositionEnforcement, SceneSpec, TimeFunction,
-    Timing,
+    BoundarySpec, FieldFunction, ForceDistribution, LoadKind, LoadSpec, MotionSpec, PositionEnforcement, SceneSpec,
+    TimeFunction, Timing,
 };
 use cosserat_solver::ScriptError;
 use nalgebra::{Matrix3, Vector3};
@@ -210,22 +210,29 @@ fn free_edge_warning(name: &str, potential: &IncrementalPotential, handle: Follo
 
 /// The weights of the selected nodes `local` in a load of this distribution: equal shares, one per
 /// node, or by the boundary length or element area each carries (`elements` and rest `positions`
-/// by local index; the totals are normalised by the caller).
+/// by local index; the totals are normalised by the caller). A profile multiplies the intensity: at
+/// the quadrature points of an area load, at the nodes otherwise.
 fn distribution_weights(
     distribution: ForceDistribution,
+    profile: Option<&FieldFunction>,
     local: &[usize],
     elements: &[Vec<usize>],
     positions: &[Vector3<f64>],
 ) -> Vec<(usize, f64)> {
-    match distribution {
+    let f = |x: &Vector3<f64>| profile.map_or(1.0, |p| p.eval(x, 0.0));
+    let nodal = match distribution {
         ForceDistribution::Equal => local.iter().map(|&i| (i, 1.0 / local.len() as f64)).collect(),
         ForceDistribution::PerNode => local.iter().map(|&i| (i, 1.0)).collect(),
         ForceDistribution::PerLength | ForceDistribution::TotalOverLength => {
             line_weights(elements, &|i| positions[i], local)
         }
         ForceDistribution::PerArea | ForceDistribution::TotalOverArea => {
-            area_weights(&covered_elements(elements, local), &|i| positions[i])
+            return profiled_area_weights(&covered_elements(elements, local), &|i| positions[i], &f);
         }
+    };
+    match profile {
+        None => nodal,
+        Some(_) => nodal.into_iter().map(|(i, w)| (i, w * f(&positions[i]))).collect(),
     }
 }
 
@@ -435,7 +442,7 @@ impl Scripts {
                 &placement.rest_disp,
             )
         };
-        let mut weights = distribution_weights(distribution, local, elements, positions);
+        let mut weights = distribution_weights(distribution, load.profile.as_ref(), local, elements, positions);
         if weights.is_empty() {
             return Err(SimulationError::Setup(format!(
                 "load `{}`: the region covers no boundary edge or element to spread the load over",

@@ -3,7 +3,7 @@
 
 use super::common::dense_hessian;
 use cosserat_assembly::inertia::LoadTerm;
-use cosserat_assembly::pressure::{FollowerPressure, area_weights, normal_weights};
+use cosserat_assembly::pressure::{FollowerPressure, area_weights, normal_weights, profiled_area_weights};
 use cosserat_assembly::{DofLayout, IncrementalPotential, PotentialParts, SystemState};
 use cosserat_fem::mesh::procedural;
 use nalgebra::{DMatrix, Vector3};
@@ -198,5 +198,47 @@ fn consistent_area_weights() {
     for (i, wi) in w {
         let expected = if i < 3 { 0.0 } else { 1.0 / 3.0 };
         assert!((wi - expected).abs() < 1e-15, "node {i}: {wi}");
+    }
+}
+
+/// A profile `f` weighs the consistent weights: on the flat triangle (0,0), (2,0), (0,1) of area 1,
+/// `Σ w_a = ∫ f dA` and `Σ w_a x_a = ∫ f x dA` (the nodes interpolate `x` exactly) hold for `f = x`
+/// (∫ = 2/3 and 2/3) and `f = x²` (∫ = 2/3 and 4/5) on Tri3 and Tri6, as the degree-4 rule
+/// integrates them exactly; the constant profile gives the unprofiled weights.
+#[test]
+fn profiled_area_weights_integrate_the_profile() {
+    let nodes = [
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(2.0, 0.0, 0.0),
+        Vector3::new(0.0, 1.0, 0.0),
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.5, 0.0),
+        Vector3::new(0.0, 0.5, 0.0),
+    ];
+    let cases: [(&dyn Fn(&Vector3<f64>) -> f64, f64, f64); 2] =
+        [(&|p| p.x, 2.0 / 3.0, 2.0 / 3.0), (&|p| p.x * p.x, 2.0 / 3.0, 4.0 / 5.0)];
+    for element in [vec![0, 1, 2], vec![0, 1, 2, 3, 4, 5]] {
+        let elements = [element];
+        for (k, (f, total, moment)) in cases.iter().enumerate() {
+            let w = profiled_area_weights(&elements, &|i| nodes[i], f);
+            let sum: f64 = w.iter().map(|x| x.1).sum();
+            let first: f64 = w.iter().map(|(i, x)| x * nodes[*i].x).sum();
+            assert!(
+                (sum - total).abs() < 1e-14,
+                "{} nodes, case {k}: {sum}",
+                elements[0].len()
+            );
+            assert!(
+                (first - moment).abs() < 1e-14,
+                "{} nodes, case {k}: {first}",
+                elements[0].len()
+            );
+        }
+        let plain = area_weights(&elements, &|i| nodes[i]);
+        let unit = profiled_area_weights(&elements, &|i| nodes[i], &|_| 1.0);
+        for (a, b) in plain.iter().zip(&unit) {
+            assert_eq!(a.0, b.0);
+            assert!((a.1 - b.1).abs() < 1e-15, "{a:?} vs {b:?}");
+        }
     }
 }

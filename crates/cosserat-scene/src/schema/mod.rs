@@ -766,6 +766,10 @@ pub struct LoadSection {
     pub follower: Option<bool>,
     /// Distribution (default `"equal"`).
     pub distribution: Option<DistributionName>,
+    /// A function of the rest position `x, y, z` that multiplies the load's intensity point by point
+    /// (default 1): integrated over the elements by `per_area` and `total_over_area`, taken at the
+    /// nodes by the other distributions. Not with `pressure`.
+    pub profile: Option<ExprValue>,
     /// Scale over time (default 1).
     pub scale: Option<ExprValue>,
     /// When the scale is evaluated (default `"start_of_step"`).

@@ -11,8 +11,8 @@ use crate::schema::{
     ShellRef, TimingName,
 };
 use crate::spec::{
-    BoundarySpec, ForceDistribution, LoadKind, LoadSpec, MotionSpec, NodeSelection, PositionEnforcement, ProbeQuantity,
-    ProbeReduction, ProbeSpec, RestFieldSpec, TimeFunction, Timing,
+    BoundarySpec, FieldFunction, ForceDistribution, LoadKind, LoadSpec, MotionSpec, NodeSelection, PositionEnforcement,
+    ProbeQuantity, ProbeReduction, ProbeSpec, RestFieldSpec, TimeFunction, Timing,
 };
 use nalgebra::Vector3;
 
@@ -360,6 +360,7 @@ impl Ctx<'_> {
                 DistributionName::TotalOverArea => ForceDistribution::TotalOverArea,
             };
             let (kind, needs, is_torque) = self.load_kind(&f, l, distribution)?;
+            let profile = self.load_profile(&f, l, &kind, &shells[shell])?;
             let scale = match &l.scale {
                 Some(s) => self.time_function(&format!("{f}.scale"), s)?,
                 None => TimeFunction::constant(1.0),
@@ -393,12 +394,42 @@ impl Ctx<'_> {
                     rot_nodes: selected.rot_nodes,
                 },
                 kind,
+                profile,
                 scale,
                 timing: Self::timing(l.timing, Timing::StartOfStep),
             });
             names.push(name);
         }
         Ok(out)
+    }
+
+    /// The profile of a load: a time-independent function of the rest position, finite on the
+    /// shell, for a force or a torque.
+    fn load_profile(
+        &self,
+        f: &str,
+        l: &LoadSection,
+        kind: &LoadKind,
+        shell: &ValidShell,
+    ) -> Result<Option<FieldFunction>, SceneError> {
+        let Some(value) = &l.profile else {
+            return Ok(None);
+        };
+        let field = format!("{f}.profile");
+        if matches!(kind, LoadKind::Pressure { .. }) {
+            return Err(self.invalid(
+                &field,
+                "a pressure is uniform; give a `force` per area with a profile instead",
+            ));
+        }
+        let profile = self.field_function(&field, value, &shell.sample_points)?;
+        if profile.is_time_dependent() {
+            return Err(self.invalid(
+                &field,
+                "is a function of the rest position `x, y, z` only; put the time dependence in `scale`",
+            ));
+        }
+        Ok(Some(profile))
     }
 
     /// The kind of a load: a force, a torque or a pressure (exactly one), with what it needs and

@@ -198,6 +198,42 @@ fn expressions_are_checked_where_they_are_written() {
 }
 
 #[test]
+fn a_load_profile_is_a_finite_function_of_the_rest_position_on_a_force_or_torque() {
+    let with = |profile: &str| {
+        [(
+            "scale = \"ramp(t, 0, 1)\"",
+            format!("scale = \"ramp(t, 0, 1)\"\nprofile = {profile}"),
+        )]
+    };
+    let accept = |profile: &str| {
+        let r = with(profile);
+        let spec = load(&scene(&[(r[0].0, &r[0].1)]), &[]).unwrap_or_else(|e| panic!("{profile}: {e}"));
+        let p = spec.loads[0].profile.as_ref().expect("a profile");
+        p.eval(&nalgebra::Vector3::new(0.05, 0.0, 0.0), 0.0)
+    };
+    assert_eq!(accept("\"1 + 20*x\""), 2.0);
+    assert_eq!(accept("0.5"), 0.5);
+    let refuse = |profile: &str| {
+        let r = with(profile);
+        message(&[(r[0].0, &r[0].1)], &[])
+    };
+    assert_eq!(
+        refuse("\"x*t\""),
+        "scene.toml:33: load.0.profile: is a function of the rest position `x, y, z` only; put the time \
+         dependence in `scale`"
+    );
+    assert!(refuse("\"sqrt(x)\"").starts_with("scene.toml:33: load.0.profile: `sqrt(x)` evaluates to NaN"));
+    let pressure = message(
+        &[
+            ("force = [0.0, 0.0, 1.0]", "pressure = 1.0"),
+            ("scale = \"ramp(t, 0, 1)\"", "profile = \"x\""),
+        ],
+        &[],
+    );
+    assert!(pressure.contains("load.0.profile: a pressure is uniform"), "{pressure}");
+}
+
+#[test]
 fn a_region_that_selects_nothing_is_an_error() {
     assert_eq!(
         message(&[("\"x <= -0.05 + 1e-9\"", "\"x <= -1\"")], &[]),

@@ -221,6 +221,42 @@ fn dead_pressure_on_a_flat_plate_is_a_load_per_area_along_the_normal() {
     }
 }
 
+/// A strip of length 1 hinged at both ends (ν = 0, so it bends as a beam) under a load per area of
+/// intensity `q cos(πx)` (the profile): the Navier solution `w(0) = q / (π⁴ D)` with
+/// `D = E h³ / 12`, against `5 q / (384 D)` without the profile. The load is small enough for the
+/// linear solution; shear adds `O(h²)`.
+#[test]
+fn a_profiled_load_per_area_bends_a_hinged_strip_into_the_navier_solution() {
+    let (e, h, q): (f64, f64, f64) = (1.0e6, 0.01, 1.0e-3);
+    let centre = |profile: &str, name: &str| {
+        let scene = format!(
+            "name = \"{name}\"\n[time]\nmode = \"quasi_static\"\nn_levels = 1\n[output]\nframes = false\n\
+             [mesh]\ngenerator = \"rectangle\"\nlx = 1.0\nly = 0.1\nnx = 24\nny = 2\nelement = \"tri6\"\n\
+             rotation_element = \"tri3\"\n[material]\nmodel = \"plate\"\nthickness = {h}\nyoungs_modulus = {e}\n\
+             poisson_ratio = 0.0\ndensity = 1000.0\nlength_scale = 1e-5\n[[boundary]]\nname = \"hinges\"\n\
+             region = {{ predicate = \"abs(x) >= 0.5 - 1e-9\" }}\nposition = {{ exact = true }}\n\
+             [[load]]\nname = \"q\"\nregion = {{ all = true }}\nforce = [0.0, 0.0, {q}]\n\
+             distribution = \"per_area\"\n{profile}\n"
+        );
+        let sim = run(&scene, name);
+        let x = &sim.potential().parts.state.x;
+        let mid: Vec<f64> = x.iter().filter(|p| p.x.abs() < 1e-9).map(|p| p.z).collect();
+        assert!(!mid.is_empty());
+        mid.iter().sum::<f64>() / mid.len() as f64
+    };
+    let d = e * h.powi(3) / 12.0;
+    let pi4 = std::f64::consts::PI.powi(4);
+    let profiled = centre("profile = \"cos(pi*x)\"", "strip_profiled");
+    let uniform = centre("", "strip_uniform");
+    eprintln!(
+        "hinged strip: profiled {profiled:.6e} (Navier {:.6e}), uniform {uniform:.6e} (closed form {:.6e})",
+        q / (pi4 * d),
+        5.0 * q / (384.0 * d)
+    );
+    assert!((profiled / (q / (pi4 * d)) - 1.0).abs() < 5e-3, "{profiled}");
+    assert!((uniform / (5.0 * q / (384.0 * d)) - 1.0).abs() < 5e-3, "{uniform}");
+}
+
 /// A follower pressure on a plate clamped on one edge has free edges: the simulation warns and names
 /// the load; with the whole rim held it does not.
 #[test]
