@@ -121,11 +121,14 @@ pub fn profiled_area_weights(
     weights_of(elements, x, Some(profile))
 }
 
+/// A load's intensity as a function of the position on the surface.
+type Profile = dyn Fn(&Vector3<f64>) -> f64;
+
 #[track_caller]
 fn weights_of(
     elements: &[Vec<usize>],
     x: &dyn Fn(usize) -> Vector3<f64>,
-    profile: Option<&dyn Fn(&Vector3<f64>) -> f64>,
+    profile: Option<&Profile>,
 ) -> Vec<(usize, f64)> {
     accumulate(elements, |el, out| {
         let mut add = |nodes: &[usize], weights: &[f64]| nodes.iter().zip(weights).for_each(|(&i, &w)| out(i, w));
@@ -137,7 +140,7 @@ fn weights_of(
     })
 }
 
-fn scalar_weights<const N: usize>(x: &[Vector3<f64>; N], profile: Option<&dyn Fn(&Vector3<f64>) -> f64>) -> [f64; N] {
+fn scalar_weights<const N: usize>(x: &[Vector3<f64>; N], profile: Option<&Profile>) -> [f64; N] {
     let mut out = [0.0; N];
     let rule = if profile.is_some() {
         QuadratureRule::dunavant_p4()
