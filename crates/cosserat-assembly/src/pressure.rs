@@ -122,13 +122,13 @@ pub fn profiled_area_weights(
 }
 
 /// A load's intensity as a function of the position on the surface.
-type Profile = dyn Fn(&Vector3<f64>) -> f64;
+type Profile<'a> = dyn Fn(&Vector3<f64>) -> f64 + 'a;
 
 #[track_caller]
 fn weights_of(
     elements: &[Vec<usize>],
     x: &dyn Fn(usize) -> Vector3<f64>,
-    profile: Option<&Profile>,
+    profile: Option<&Profile<'_>>,
 ) -> Vec<(usize, f64)> {
     accumulate(elements, |el, out| {
         let mut add = |nodes: &[usize], weights: &[f64]| nodes.iter().zip(weights).for_each(|(&i, &w)| out(i, w));
@@ -140,7 +140,7 @@ fn weights_of(
     })
 }
 
-fn scalar_weights<const N: usize>(x: &[Vector3<f64>; N], profile: Option<&Profile>) -> [f64; N] {
+fn scalar_weights<const N: usize>(x: &[Vector3<f64>; N], profile: Option<&Profile<'_>>) -> [f64; N] {
     let mut out = [0.0; N];
     let rule = if profile.is_some() {
         QuadratureRule::dunavant_p4()
