@@ -215,8 +215,8 @@ fn profiled_area_weights_integrate_the_profile() {
         Vector3::new(1.0, 0.5, 0.0),
         Vector3::new(0.0, 0.5, 0.0),
     ];
-    let cases: [(&dyn Fn(&Vector3<f64>) -> f64, f64, f64); 2] =
-        [(&|p| p.x, 2.0 / 3.0, 2.0 / 3.0), (&|p| p.x * p.x, 2.0 / 3.0, 4.0 / 5.0)];
+    type Case<'a> = (&'a dyn Fn(&Vector3<f64>) -> f64, f64, f64);
+    let cases: [Case; 2] = [(&|p| p.x, 2.0 / 3.0, 2.0 / 3.0), (&|p| p.x * p.x, 2.0 / 3.0, 4.0 / 5.0)];
     for element in [vec![0, 1, 2], vec![0, 1, 2, 3, 4, 5]] {
         let elements = [element];
         for (k, (f, total, moment)) in cases.iter().enumerate() {
