@@ -1,18 +1,19 @@
 //! Load paths through limit points in `cargo xtask validate`: the hinged cylindrical roofs (Sze 3.8,
-//! h = 12.7 and 6.35) traced by arc-length continuation on a mesh ladder and compared with the
-//! published paths along the path, with plots of the load factor against the centre deflection.
+//! h = 12.7 and 6.35) and the shallow sinusoidal arch (closed form) traced by arc-length continuation
+//! on a mesh ladder and compared with the reference paths along the path, with plots of the load
+//! factor against the centre deflection.
 //!
-//! Two measures compare a computed path with a published one. The *distance* of a published point
+//! Two measures compare a computed path with a reference one. The *distance* of a reference point
 //! `(W, λ)` to the computed path (a polyline through its equilibria, in path order) is measured with
-//! deflections divided by the published path's largest deflection and load factors by its largest
+//! deflections divided by the reference path's largest deflection and load factors by its largest
 //! load factor; it is small wherever the two paths lie on each other, whether they are steep or flat
-//! there. The *load at the published deflection* is the computed load factor where the computed path
-//! crosses the published deflection (the crossing nearest in load), divided by the published path's
+//! there. The *load at the reference deflection* is the computed load factor where the computed path
+//! crosses the reference deflection (the crossing nearest in load), divided by the reference path's
 //! largest load factor; it is meaningful where the deflection grows along the path and is not given
 //! for paths that snap back.
 
 use crate::plot::{Mark, Plot, Series};
-use crate::reference::{SZE_HINGED_ROOF, SZE_HINGED_ROOF_THIN};
+use crate::reference::{SZE_HINGED_ROOF, SZE_HINGED_ROOF_THIN, shallow_arch_load};
 use crate::runner::{RunOutcome, run_described};
 use crate::validate::Options;
 use anyhow::Result;
@@ -28,15 +29,17 @@ pub struct PathProblem {
     pub title: &'static str,
     /// Scene file.
     pub scene: &'static str,
-    /// The published path: `(λ, W)` in path order.
-    pub reference: &'static [(f64, f64)],
+    /// The reference path: `(λ, W)` in path order.
+    pub reference: Vec<(f64, f64)>,
+    /// The reference's name in the plot.
+    pub reference_label: &'static str,
     /// Where the reference comes from.
     pub reference_note: &'static str,
-    /// Quads along each side of the ladder's meshes (the scene's own first).
-    pub meshes: &'static [usize],
+    /// The ladder's meshes, quads `(nx, ny)` (the scene's own first).
+    pub meshes: &'static [(usize, usize)],
     /// Whether the deflection grows along the whole path (then loads are compared at deflections).
     pub monotone: bool,
-    /// The largest distance any published point may have from the path on the scene's mesh.
+    /// The largest distance any reference point may have from the path on the scene's mesh.
     pub required: Option<f64>,
 }
 
@@ -47,9 +50,10 @@ pub fn problems() -> Vec<PathProblem> {
             name: "hinged_roof",
             title: "Hinged cylindrical roof, h = 12.7: snap-through (Sze 3.8)",
             scene: "scenes/validation/hinged_roof.toml",
-            reference: &SZE_HINGED_ROOF,
+            reference: SZE_HINGED_ROOF.to_vec(),
+            reference_label: "Sze et al. 2004",
             reference_note: "Sze, Liu and Lo (2004), problem 3.8, isotropic, h = 12.7: −W_C at the centre along the path (docs/references.md)",
-            meshes: &[16, 24, 32],
+            meshes: &[(16, 16), (24, 24), (32, 32)],
             monotone: true,
             required: Some(0.02),
         },
@@ -57,23 +61,48 @@ pub fn problems() -> Vec<PathProblem> {
             name: "hinged_roof_thin",
             title: "Hinged cylindrical roof, h = 6.35: snap-through and snap-back (Sze 3.8)",
             scene: "scenes/validation/hinged_roof_thin.toml",
-            reference: &SZE_HINGED_ROOF_THIN,
+            reference: SZE_HINGED_ROOF_THIN.to_vec(),
+            reference_label: "Sze et al. 2004",
             reference_note: "Sze, Liu and Lo (2004), problem 3.8, isotropic, h = 6.35, normalised by the thicker roof's P_max = 3000 (docs/references.md)",
-            meshes: &[16, 24, 32],
+            meshes: &[(16, 16), (24, 24), (32, 32)],
             monotone: false,
             required: None,
+        },
+        PathProblem {
+            name: "shallow_arch",
+            title: "Shallow sinusoidal arch under a sinusoidal load: snap-through (closed form)",
+            scene: "scenes/validation/shallow_arch.toml",
+            reference: shallow_arch_reference(),
+            reference_label: "shallow-arch closed form",
+            reference_note: "the closed form of shallow-arch theory for the rise e = 4r, every quarter of r in crown deflection (docs/references.md)",
+            meshes: &[(32, 2), (16, 2), (64, 2)],
+            monotone: true,
+            required: Some(0.02),
         },
     ]
 }
 
-/// A computed path against the published one.
+/// The closed-form path of the shallow arch scene: `(λ, W)` at crown deflections `W` every quarter
+/// of the radius of gyration `r`, up to `8.25 r` (past the second crossing of the limit load). The
+/// scene's values: span 1 (`k = π`), `h = 0.01`, `E = 1e6`, the load `0.25 λ` per area, rise `4r`.
+fn shallow_arch_reference() -> Vec<(f64, f64)> {
+    let (h, young, load) = (0.01_f64, 1.0e6, 0.25);
+    let r = h / 12f64.sqrt();
+    let unit = young * h.powi(3) / 12.0 * std::f64::consts::PI.powi(4) * r / load;
+    (0..=33)
+        .map(|i| 0.25 * f64::from(i))
+        .map(|w| (unit * shallow_arch_load(4.0, w), w * r))
+        .collect()
+}
+
+/// A computed path against the reference one.
 #[derive(Debug, Clone)]
 pub struct PathComparison {
-    /// Per published point: `(W, λ, distance, load at that deflection)`.
+    /// Per reference point: `(W, λ, distance, load at that deflection)`.
     pub points: Vec<(f64, f64, f64, Option<f64>)>,
     /// The largest distance.
     pub max_distance: f64,
-    /// The largest difference of load at the published deflections (relative), where compared.
+    /// The largest difference of load at the reference deflections (relative), where compared.
     pub max_load_error: Option<f64>,
 }
 
@@ -128,14 +157,14 @@ fn load_at_deflection(path: &[(f64, f64)], w: f64, near: f64) -> Option<f64> {
 
 /// One run of a path problem.
 struct PathRun {
-    mesh: usize,
+    mesh: (usize, usize),
     outcome: RunOutcome,
     path: Vec<(f64, f64)>,
     comparison: Option<PathComparison>,
 }
 
 /// The computed path `(λ, −centre.uz)` of a run, including the start.
-fn read_path(outcome: &RunOutcome) -> Option<Vec<(f64, f64)>> {
+pub fn read_path(outcome: &RunOutcome) -> Option<Vec<(f64, f64)>> {
     let p = outcome.probes.as_ref()?;
     let (l, w) = (p.column("path.load_factor").ok()?, p.column("centre.uz").ok()?);
     Some(p.rows.iter().map(|r| (r[l], -r[w])).collect())
@@ -144,23 +173,23 @@ fn read_path(outcome: &RunOutcome) -> Option<Vec<(f64, f64)>> {
 fn run_problem(problem: &PathProblem, o: &Options) -> Result<Vec<PathRun>> {
     let meshes = if o.quick { &problem.meshes[..1] } else { problem.meshes };
     let mut runs = Vec::new();
-    for &n in meshes {
+    for &(nx, ny) in meshes {
         let overrides = [
-            format!("mesh.nx={n}"),
-            format!("mesh.ny={n}"),
+            format!("mesh.nx={nx}"),
+            format!("mesh.ny={ny}"),
             "output.frames=false".into(),
         ];
-        let dir = o.out.join(problem.name).join(format!("{n}x{n}"));
-        eprintln!("{}: {n}×{n} ...", problem.name);
+        let dir = o.out.join(problem.name).join(format!("{nx}x{ny}"));
+        eprintln!("{}: {nx}×{ny} ...", problem.name);
         let outcome = run_described(&o.runner, &RunDescription::new(problem.scene, dir, &overrides))?;
         if !outcome.is_ok() {
             eprintln!("  failed: {}", outcome.reason());
         }
         let path = read_path(&outcome).unwrap_or_default();
         let comparison =
-            (outcome.is_ok() && path.len() > 1).then(|| compare_path(problem.reference, &path, problem.monotone));
+            (outcome.is_ok() && path.len() > 1).then(|| compare_path(&problem.reference, &path, problem.monotone));
         runs.push(PathRun {
-            mesh: n,
+            mesh: (nx, ny),
             outcome,
             path,
             comparison,
@@ -171,14 +200,14 @@ fn run_problem(problem: &PathProblem, o: &Options) -> Result<Vec<PathRun>> {
 
 fn plot(problem: &PathProblem, runs: &[PathRun], path: &Path) -> Result<()> {
     let mut series = vec![Series {
-        label: "Sze et al. 2004".into(),
+        label: problem.reference_label.into(),
         points: problem.reference.iter().map(|&(l, w)| (w, l)).collect(),
         mark: Mark::Points,
         color: 0,
     }];
     for (k, r) in runs.iter().enumerate().filter(|(_, r)| r.path.len() > 1) {
         series.push(Series {
-            label: format!("Tri6/Tri3 {0}×{0}", r.mesh),
+            label: format!("Tri6/Tri3 {}×{}", r.mesh.0, r.mesh.1),
             points: r.path.iter().map(|&(l, w)| (w, l)).collect(),
             mark: Mark::Line,
             color: 1 + k,
@@ -186,12 +215,22 @@ fn plot(problem: &PathProblem, runs: &[PathRun], path: &Path) -> Result<()> {
     }
     Plot {
         title: problem.title.into(),
-        x_label: "centre deflection −W_C".into(),
+        x_label: "centre deflection".into(),
         y_label: "load factor P/P_max".into(),
         log_log: false,
         series,
     }
     .write_svg(path)
+}
+
+/// `x` with four significant digits.
+fn significant(x: f64) -> String {
+    let digits = if x == 0.0 {
+        3
+    } else {
+        (3 - x.abs().log10().floor() as i64).max(0) as usize
+    };
+    format!("{x:.digits$}")
 }
 
 fn pct(x: f64) -> String {
@@ -204,7 +243,7 @@ fn pct(x: f64) -> String {
 /// I/O failures.
 pub fn run_all(o: &Options) -> Result<String> {
     let mut md = String::from(
-        "\n## Load paths through limit points (arc-length continuation)\n\nScenes with `time.mode = \"arc_length\"`: every equilibrium along the path is a row of `probes.csv`, with the load factor in `path.load_factor`. Two measures compare a computed path with the published one: the *distance* of each published point from the computed path, with deflections divided by the published path's largest deflection and load factors by its largest load factor (small wherever the paths lie on each other, steep or flat); and, where the deflection grows along the whole path, the computed *load at the published deflection*, its difference divided by the largest published load factor. Largest over the published points.\n",
+        "\n## Load paths through limit points (arc-length continuation)\n\nScenes with `time.mode = \"arc_length\"`: every equilibrium along the path is a row of `probes.csv`, with the load factor in `path.load_factor`. Two measures compare a computed path with the reference one (published points or a closed form): the *distance* of each reference point from the computed path, with deflections divided by the reference path's largest deflection and load factors by its largest load factor (small wherever the paths lie on each other, steep or flat); and, where the deflection grows along the whole path, the computed *load at the reference deflection*, its difference divided by the largest reference load factor. Largest over the reference points.\n",
     );
     for problem in problems() {
         let runs = run_problem(&problem, o)?;
@@ -225,7 +264,7 @@ pub fn run_all(o: &Options) -> Result<String> {
         }
         writeln!(
             md,
-            "| mesh | DOFs | steps | corrector it./step | largest distance | largest load error at the published deflections | solve wall | status |\n|---|---|---|---|---|---|---|---|"
+            "| mesh | DOFs | steps | corrector it./step | largest distance | largest load error at the reference deflections | solve wall | status |\n|---|---|---|---|---|---|---|---|"
         )?;
         for r in &runs {
             writeln!(md, "{}", run_row(r))?;
@@ -242,8 +281,9 @@ fn run_row(r: &PathRun) -> String {
     let s = r.outcome.summary.as_ref();
     let c = r.comparison.as_ref();
     format!(
-        "| {0}×{0} | {1} | {2} | {3} | {4} | {5} | {6} | {7} |",
-        r.mesh,
+        "| {}×{} | {} | {} | {} | {} | {} | {} | {} |",
+        r.mesh.0,
+        r.mesh.1,
         s.map_or("–".into(), |s| (s.n_displacement_dofs + s.n_rotation_dofs)
             .to_string()),
         s.map_or("–".into(), |s| s.n_steps.to_string()),
@@ -266,21 +306,22 @@ fn findings(problem: &PathProblem, runs: &[PathRun]) -> String {
     };
     let c = own.comparison.as_ref().expect("filtered");
     let (l, w) = extremes(&own.path);
-    let mut text = format!(
-        "On the scene's mesh ({0}×{0}) every published point lies within {1} of the computed path; the path passes the largest load λ = {2:.4} and the smallest λ = {3:.4} before it, and the centre deflection reaches {4:.3}",
-        own.mesh,
-        pct(c.max_distance),
-        l.0,
-        l.1,
-        w
-    );
     let ref_max = problem.reference.iter().map(|p| p.0).fold(f64::NEG_INFINITY, f64::max);
     let first_limit = problem
         .reference
         .windows(2)
         .find(|s| s[1].0 < s[0].0)
         .map_or(ref_max, |s| s[0].0);
-    write!(text, " (published first limit load {first_limit:.4}).").ok();
+    let mut text = format!(
+        "On the scene's mesh ({}×{}) every reference point lies within {} of the computed path. The computed first limit load is λ = {:.4} against the reference's {first_limit:.4} ({:+.2} %); the smallest load after it is λ = {:.4}, and the centre deflection reaches {}.",
+        own.mesh.0,
+        own.mesh.1,
+        pct(c.max_distance),
+        l.0,
+        100.0 * (l.0 / first_limit - 1.0),
+        l.1,
+        significant(w)
+    );
     if let Some(required) = problem.required {
         let verdict = if c.max_distance <= required {
             "within"
@@ -308,8 +349,8 @@ fn point_table(problem: &PathProblem, r: &PathRun, md: &mut String) -> Result<()
     let c = r.comparison.as_ref().expect("compared runs only");
     writeln!(
         md,
-        "\nEvery published point against the {0}×{0} path:\n\n| −W_C | λ published | λ computed at −W_C | distance |\n|---:|---:|---:|---:|",
-        r.mesh
+        "\nEvery reference point against the {}×{} path:\n\n| deflection W | λ reference | λ computed at W | distance |\n|---:|---:|---:|---:|",
+        r.mesh.0, r.mesh.1
     )?;
     for &(w, l, d, load) in &c.points {
         let computed = if problem.monotone {
@@ -317,7 +358,7 @@ fn point_table(problem: &PathProblem, r: &PathRun, md: &mut String) -> Result<()
         } else {
             "–".into()
         };
-        writeln!(md, "| {w:.3} | {l:.4} | {computed} | {} |", pct(d))?;
+        writeln!(md, "| {} | {l:.4} | {computed} | {} |", significant(w), pct(d))?;
     }
     Ok(())
 }

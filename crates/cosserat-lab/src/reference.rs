@@ -263,9 +263,29 @@ pub fn ring_diametral(force: f64, radius: f64, bending_stiffness: f64) -> (f64, 
     ((PI / 4.0 - 2.0 / PI) * s, (2.0 / PI - 0.5) * s)
 }
 
+/// The closed-form path of a shallow sinusoidal arch under a sinusoidal load (docs/references.md):
+/// the load `q(W)` at the crown deflection `W` for the rise `e = ê r`, in units of `EI k⁴ r`, with
+/// `W` in units of the radius of gyration `r`.
+pub fn shallow_arch_load(rise: f64, deflection: f64) -> f64 {
+    let c = rise - deflection;
+    (rise - c) + c * (rise * rise - c * c) / 4.0
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_shallow_arch_path_has_its_limit_points_where_the_closed_form_puts_them() {
+        // ê = 4: maximum 8 at W = 2, zero at W = 6, 8 again at W = 8; the slope vanishes at both
+        // extremes (central differences).
+        let q = |w: f64| shallow_arch_load(4.0, w);
+        assert!((q(2.0) - 8.0).abs() < 1e-12 && q(6.0).abs() < 1e-12 && (q(8.0) - 8.0).abs() < 1e-12);
+        for w in [2.0, 6.0] {
+            assert!((q(w + 1e-5) - q(w - 1e-5)).abs() < 1e-8, "slope at {w}");
+        }
+        assert!(q(1.9) < 8.0 && q(2.1) < 8.0 && q(5.9) > 0.0 && q(6.1) > 0.0);
+    }
 
     #[test]
     fn elliptic_integrals_match_known_values() {
