@@ -15,8 +15,8 @@ use crate::pattern::SparsityPattern;
 use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
-use cosserat_material::assumed::TyingMap;
 use cosserat_material::assumed_kernel;
+use cosserat_material::coupled::Coupling;
 use cosserat_material::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
 };
@@ -28,7 +28,7 @@ use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, strain_offset};
 use cosserat_material::volume::{volume_density, volume_hessian};
-use cosserat_material::{AxlVariant, Moduli, StrainProjection};
+use cosserat_material::{AxlVariant, Moduli};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
@@ -272,23 +272,13 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         let volume = self.disc.volume.as_ref();
         let axl = self.disc.axl;
         if !with_hessian {
-            match coupling {
-                Coupling::Projection(p) => {
-                    projected::element_gradient::<NU, NR, NL, NE>(&points, p, axl, volume, eval.dt, out);
-                }
-                Coupling::Tying(maps) => {
-                    assumed_kernel::element_gradient::<NU, NR, NL, NE>(&points, maps, axl, volume, eval.dt, out);
-                }
-            }
+            coupling.element_gradient::<NU, NR, NL, NE>(&points, axl, volume, eval.dt, out);
             return;
         }
         if n_qp == 0 {
             out.hessian.fill(0.0);
         }
-        let weights = match coupling {
-            Coupling::Projection(p) => projected::element_hessian(&points, p, axl, volume, eval.dt, local, out),
-            Coupling::Tying(maps) => assumed_kernel::element_hessian(&points, maps, axl, volume, eval.dt, local, out),
-        };
+        let weights = coupling.element_hessian(&points, axl, volume, eval.dt, local, out);
         for (k, w) in weights.iter().enumerate() {
             add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
         }
@@ -350,13 +340,12 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 })
                 .collect();
             let volume = self.disc.volume.as_ref();
-            return match (maps, projection) {
-                (Some(maps), _) => assumed_kernel::element_value(&points, node_r, maps, self.disc.axl, volume),
-                (None, Some(projection)) => {
-                    projected::element_value(&points, node_r, projection, self.disc.axl, volume)
-                }
+            let coupling = match (maps, projection) {
+                (Some(maps), _) => Coupling::Tying(maps),
+                (None, Some(projection)) => Coupling::Projection(projection),
                 (None, None) => unreachable!("checked above"),
             };
+            return coupling.element_value(&points, node_r, self.disc.axl, volume);
         }
         let mut value = 0.0;
         for g in 0..self.disc.rest.points_per_element {
@@ -455,15 +444,6 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             out.clear_below_block_diagonal();
         }
     }
-}
-
-/// How the points of an element are coupled by its strain interpolation.
-#[derive(Debug, Clone, Copy)]
-enum Coupling<'a> {
-    /// The stabilised projection.
-    Projection(&'a StrainProjection),
-    /// The tying maps of the quadrature points (assumed strains).
-    Tying(&'a [TyingMap]),
 }
 
 /// The nearest positive semi-definite matrix: negative eigenvalues clamped to zero.

@@ -12,9 +12,9 @@
 //! - [`strain_space`]: the rest-frame strain vector and the density's constant Hessian `D` (num-dual);
 //! - [`kernel`]: the fast exact energy, gradient and Hessian of a quadrature point w.r.t. its compact
 //!   locals; [`element`]: the constant map from locals to element unknowns;
-//! - [`projection`], [`projected`]: the stabilised strain projection against locking and its element
-//!   kernel; [`assumed`], [`assumed_kernel`]: assumed covariant strains at tying points (MITC6-style)
-//!   and their element kernel;
+//! - [`projection`], [`projected`]: the stabilised strain projection against locking and its part of
+//!   the element kernel; [`assumed`], [`assumed_kernel`]: assumed covariant strains at tying points
+//!   (MITC6-style) and theirs; [`coupled`]: the element kernel both share;
 //! - [`oracle`]: the same energy composed directly, for tests (finite differences, dual oracles);
 //! - [`volume`]: the optional nonlinear membrane volume term.
 //!
@@ -35,6 +35,7 @@
 
 pub mod assumed;
 pub mod assumed_kernel;
+pub mod coupled;
 pub mod density;
 pub mod element;
 pub mod error;

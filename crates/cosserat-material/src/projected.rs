@@ -1,5 +1,6 @@
-//! The element kernel of the stabilised strain projection ([`crate::projection`]): energy, gradient
-//! and exact Hessian of an element whose points' strains are `s̃_p = s_p − B (s_p − s̄)`.
+//! The stabilised strain projection's part of the coupled element kernel ([`crate::coupled`]): the
+//! stresses and the first-order Hessian of an element whose points' strains are
+//! `s̃_p = s_p − B (s_p − s̄)` ([`crate::projection`]), and the point types of both coupled kernels.
 //!
 //! **Derivation.** With `σ̃_p = D_p s̃_p` the energy is `Σ_p w_p ½ s̃_p · σ̃_p`. Since `B` is symmetric
 //! and `s̄` the weighted mean, `∂E/∂s_q = w_q σ̂_q` with `σ̂_q = σ̃_q − B (σ̃_q − σ̄)` and `σ̄` the
@@ -8,16 +9,10 @@
 //! the points: with `G_p` the Jacobian of `s_p` with respect to the element's unknowns,
 //! `G̃_p = G_p − B (G_p − Ḡ)`, it is `Σ_p w_p G̃_pᵀ D_p G̃_p`, formed here in element unknowns.
 
-use crate::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper};
-use crate::kernel::{
-    LocalDerivatives, PointInput, PointShape, add_second_order_terms, gradient_from_stress, point_strains,
-    strain_jacobian, strain_vector, stress_of,
-};
+use crate::kernel::{PointInput, PointShape, strain_vector};
 use crate::model::AxlVariant;
-use crate::parameters::Moduli;
 use crate::projection::StrainProjection;
 use crate::strain_space::{DensityMatrix, StrainVector};
-use crate::volume::{volume_density, volume_hessian};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// One point of an element as the projected kernels need it.
@@ -82,36 +77,13 @@ pub fn element_strains<const NU: usize, const NR: usize>(
     strains
 }
 
-/// The energy of an element (weighted sum over its points, J), plus the nonlinear volume term.
-pub fn element_value<const NU: usize, const NR: usize>(
-    points: &[ValuePoint<'_, NU, NR>],
-    node_r: [&Matrix3<f64>; NR],
-    projection: &StrainProjection,
-    variant: AxlVariant,
-    volume: Option<&Moduli>,
-) -> f64 {
-    let strains = element_strains(points, node_r, Some(projection), variant);
-    points
-        .iter()
-        .zip(&strains)
-        .map(|(p, s)| {
-            let mut psi = 0.5 * s.dot(&p.density.mul_vector(s));
-            if let Some(m) = volume {
-                psi += volume_density(&p.f_hat, m);
-            }
-            p.shape.weight * psi
-        })
-        .sum()
-}
-
-/// The projected strains' stresses `σ̂_p` and the element energy (J, strain-quadratic part).
-fn stresses<const NU: usize, const NR: usize>(
+/// The derivatives `σ̂_q` of the element's strain-quadratic energy with respect to its points' raw
+/// `strains`, and that energy (J).
+pub(crate) fn stresses<const NU: usize, const NR: usize>(
     points: &[ElementPoint<'_, NU, NR>],
+    mut strains: Vec<StrainVector>,
     projection: &StrainProjection,
-    variant: AxlVariant,
-) -> (f64, Vec<StrainVector>, Vec<[Matrix3<f64>; 2]>) {
-    let (mut strains, xs): (Vec<StrainVector>, Vec<[Matrix3<f64>; 2]>) =
-        points.iter().map(|p| point_strains(p.shape, &p.input, variant)).unzip();
+) -> (f64, Vec<StrainVector>) {
     let weights = || points.iter().map(|p| p.shape.weight);
     project(&mut strains, weights(), projection);
     let mut value = 0.0;
@@ -122,80 +94,7 @@ fn stresses<const NU: usize, const NR: usize>(
         sigma.push(sg);
     }
     project(&mut sigma, weights(), projection);
-    (value, sigma, xs)
-}
-
-/// Energy and gradient of an element with respect to its unknowns (`out.hessian` is not touched).
-pub fn element_gradient<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
-    points: &[ElementPoint<'_, NU, NR>],
-    projection: &StrainProjection,
-    variant: AxlVariant,
-    volume: Option<&Moduli>,
-    dt: f64,
-    out: &mut ElementDerivatives<NE>,
-) {
-    let (value, sigma, xs) = stresses(points, projection, variant);
-    out.value = value;
-    out.gradient.fill(0.0);
-    for ((p, sg), x) in points.iter().zip(&sigma).zip(xs) {
-        let st = stress_of(p.shape, &p.input, x, sg, variant);
-        let mut g: nalgebra::SVector<f64, NL> = gradient_from_stress(p.shape, &p.input, &st);
-        if let Some(m) = volume {
-            let (v, gv, _) = volume_hessian(&p.input.f_hat, m);
-            out.value += p.shape.weight * v;
-            let mut gl = g.fixed_rows_mut::<6>(0);
-            gl += gv;
-        }
-        accumulate_gradient(p.shape, &g, dt, p.shape.weight, &mut out.gradient);
-    }
-}
-
-/// Energy, gradient and the upper block triangle of the exact Hessian of an element (blocks below the
-/// block diagonal are not written). Returns the weights `Σ_p w_p R U_k,p` of the nodal rotations'
-/// second derivatives, to be added once per node (see `kernel::point_hessian_deferred_into`).
-pub fn element_hessian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
-    points: &[ElementPoint<'_, NU, NR>],
-    projection: &StrainProjection,
-    variant: AxlVariant,
-    volume: Option<&Moduli>,
-    dt: f64,
-    local: &mut LocalDerivatives<NL>,
-    out: &mut ElementDerivatives<NE>,
-) -> [Matrix3<f64>; NR] {
-    const { assert!(NL == 6 + 3 * NR && NE == 3 * (NU + NR), "inconsistent element sizes") };
-    let (value, sigma, xs) = stresses(points, projection, variant);
-    out.value = 0.0;
-    out.gradient.fill(0.0);
-    let mut node_weights = [Matrix3::zeros(); NR];
-    let mut jacobians: Vec<SMatrix<f64, NE, 12>> = Vec::with_capacity(points.len());
-    for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
-        let st = stress_of(p.shape, &p.input, x, sg, variant);
-        local.value = 0.0;
-        local.gradient = gradient_from_stress(p.shape, &p.input, &st);
-        local.hessian.fill(0.0);
-        add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
-        if let Some(m) = volume {
-            let (v, gv, hv) = volume_hessian(&p.input.f_hat, m);
-            local.value += v;
-            let mut gl = local.gradient.fixed_rows_mut::<6>(0);
-            gl += gv;
-            let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
-            hl += hv;
-        }
-        for (sum, w) in node_weights.iter_mut().zip(&st.ru) {
-            *sum += w * p.shape.weight;
-        }
-        if n == 0 {
-            assign_upper(p.shape, local, dt, p.shape.weight, out);
-        } else {
-            accumulate_upper(p.shape, local, dt, p.shape.weight, out);
-        }
-        let (jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
-        jacobians.push(element_jacobian(p.shape, &jac_t, &qrt, dt));
-    }
-    out.value += value;
-    add_coupled_first_order(points, &jacobians, projection, &mut out.hessian);
-    node_weights
+    (value, sigma)
 }
 
 /// The transposed Jacobian of a point's 12 variable strains with respect to the element's unknowns
@@ -227,7 +126,7 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
 }
 
 /// Adds `Σ_p w_p G̃_pᵀ D_p G̃_p` to the upper block triangle of `h`.
-fn add_coupled_first_order<const NU: usize, const NR: usize, const NE: usize>(
+pub(crate) fn add_coupled_first_order<const NU: usize, const NR: usize, const NE: usize>(
     points: &[ElementPoint<'_, NU, NR>],
     jacobians: &[SMatrix<f64, NE, 12>],
     projection: &StrainProjection,

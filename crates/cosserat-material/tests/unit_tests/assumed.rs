@@ -6,7 +6,7 @@ use super::common::{self, rel_err};
 use cosserat_geometry::Real;
 use cosserat_geometry::rotation::RotationJet;
 use cosserat_material::assumed::{N_TIED, N_TYING, TyingMap};
-use cosserat_material::assumed_kernel::{element_gradient, element_hessian, element_value};
+use cosserat_material::coupled::Coupling;
 use cosserat_material::element::{ElementDerivatives, point_omega};
 use cosserat_material::kernel::{LocalDerivatives, PointInput, PointShape, add_node_second_derivatives};
 use cosserat_material::oracle::{PointContext, f_hat_of, local_strains};
@@ -122,9 +122,8 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
         let mut out = ElementDerivatives::<NE>::zeros();
         if with_hessian {
             let mut local = LocalDerivatives::<NL>::zeros();
-            let weights = element_hessian(
+            let weights = Coupling::Tying(&self.maps).element_hessian(
                 &points,
-                &self.maps,
                 AxlVariant::SkewPart,
                 None,
                 self.dt,
@@ -136,7 +135,13 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
             }
             out.fill_lower_from_upper();
         } else {
-            element_gradient::<NU, NR, NL, NE>(&points, &self.maps, AxlVariant::SkewPart, None, self.dt, &mut out);
+            Coupling::Tying(&self.maps).element_gradient::<NU, NR, NL, NE>(
+                &points,
+                AxlVariant::SkewPart,
+                None,
+                self.dt,
+                &mut out,
+            );
         }
         out
     }
@@ -156,10 +161,9 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
                 density: &d[p],
             })
             .collect();
-        element_value(
+        Coupling::Tying(&self.maps).element_value(
             &points,
             std::array::from_fn(|k| &node_r[k]),
-            &self.maps,
             AxlVariant::SkewPart,
             None,
         )

@@ -5,10 +5,11 @@
 use super::common::{self, rel_err};
 use cosserat_geometry::Real;
 use cosserat_geometry::rotation::RotationJet;
+use cosserat_material::coupled::Coupling;
 use cosserat_material::element::{ElementDerivatives, point_omega};
 use cosserat_material::kernel::{LocalDerivatives, PointInput, PointShape, add_node_second_derivatives};
 use cosserat_material::oracle::{PointContext, f_hat_of, local_strains};
-use cosserat_material::projected::{ElementPoint, ValuePoint, element_gradient, element_hessian, element_value};
+use cosserat_material::projected::{ElementPoint, ValuePoint};
 use cosserat_material::strain_space::{DensityMatrix, StrainVector, local_geometry, strain_hessian};
 use cosserat_material::{
     AxlVariant, MaterialParameters, ModelOptions, ShellModel, StrainProjection, TermSet, density::density,
@@ -113,9 +114,8 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
         let mut out = ElementDerivatives::<NE>::zeros();
         if with_hessian {
             let mut local = LocalDerivatives::<NL>::zeros();
-            let weights = element_hessian(
+            let weights = Coupling::Projection(&self.projection).element_hessian(
                 &points,
-                &self.projection,
                 AxlVariant::SkewPart,
                 None,
                 self.dt,
@@ -127,9 +127,8 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
             }
             out.fill_lower_from_upper();
         } else {
-            element_gradient::<NU, NR, NL, NE>(
+            Coupling::Projection(&self.projection).element_gradient::<NU, NR, NL, NE>(
                 &points,
-                &self.projection,
                 AxlVariant::SkewPart,
                 None,
                 self.dt,
@@ -154,10 +153,9 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
                 density: &d[p],
             })
             .collect();
-        element_value(
+        Coupling::Projection(&self.projection).element_value(
             &points,
             std::array::from_fn(|k| &node_r[k]),
-            &self.projection,
             AxlVariant::SkewPart,
             None,
         )

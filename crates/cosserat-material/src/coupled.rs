@@ -1,0 +1,183 @@
+//! The element kernel of the strain treatments that couple an element's points: the stabilised
+//! projection ([`crate::projected`]) and the assumed strains ([`crate::assumed_kernel`]). Both replace
+//! the points' strains by linear combinations of the element's raw point strains, so the energy's
+//! derivative with respect to each raw point strain is a stress `σ̂_q` that the point kernel turns into
+//! the gradient and the second-order terms as it would `D s_q`; only `σ̂` and the first-order
+//! (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` differ between the treatments, and they live in their
+//! modules.
+
+use crate::assumed::TyingMap;
+use crate::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper};
+use crate::kernel::{
+    LocalDerivatives, add_second_order_terms, gradient_from_stress, point_strains, strain_jacobian, stress_of,
+};
+use crate::model::AxlVariant;
+use crate::parameters::Moduli;
+use crate::projected::{ElementPoint, ValuePoint, element_jacobian};
+use crate::projection::StrainProjection;
+use crate::strain_space::StrainVector;
+use crate::volume::{volume_density, volume_hessian};
+use crate::{assumed_kernel, projected};
+use nalgebra::{Matrix3, SMatrix, SVector};
+
+/// How an element's points' strains are combined.
+#[derive(Debug, Clone, Copy)]
+pub enum Coupling<'a> {
+    /// The stabilised projection: `s̃_p = s_p − B (s_p − s̄)` over the element's quadrature points.
+    Projection(&'a StrainProjection),
+    /// The assumed strains: the quadrature points' tying maps; the element's points are its
+    /// quadrature points followed by its tying points (weight zero).
+    Tying(&'a [TyingMap]),
+}
+
+impl Coupling<'_> {
+    /// The strains the energy is a density of, at each of the element's points.
+    pub fn element_strains<const NU: usize, const NR: usize>(
+        self,
+        points: &[ValuePoint<'_, NU, NR>],
+        node_r: [&Matrix3<f64>; NR],
+        variant: AxlVariant,
+    ) -> Vec<StrainVector> {
+        match self {
+            Self::Projection(p) => projected::element_strains(points, node_r, Some(p), variant),
+            Self::Tying(maps) => assumed_kernel::element_strains(points, node_r, maps, variant),
+        }
+    }
+
+    /// The energy of an element (weighted sum over its points, J), plus the nonlinear volume term.
+    pub fn element_value<const NU: usize, const NR: usize>(
+        self,
+        points: &[ValuePoint<'_, NU, NR>],
+        node_r: [&Matrix3<f64>; NR],
+        variant: AxlVariant,
+        volume: Option<&Moduli>,
+    ) -> f64 {
+        let strains = self.element_strains(points, node_r, variant);
+        points
+            .iter()
+            .zip(&strains)
+            .map(|(p, s)| {
+                let mut psi = 0.5 * s.dot(&p.density.mul_vector(s));
+                if let Some(m) = volume {
+                    psi += volume_density(&p.f_hat, m);
+                }
+                p.shape.weight * psi
+            })
+            .sum()
+    }
+
+    /// Energy and gradient of an element with respect to its unknowns (`out.hessian` is not touched).
+    pub fn element_gradient<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+        self,
+        points: &[ElementPoint<'_, NU, NR>],
+        variant: AxlVariant,
+        volume: Option<&Moduli>,
+        dt: f64,
+        out: &mut ElementDerivatives<NE>,
+    ) {
+        let (value, sigma, xs) = self.stresses(points, variant);
+        out.value = value;
+        out.gradient.fill(0.0);
+        for ((p, sg), x) in points.iter().zip(&sigma).zip(xs) {
+            let st = stress_of(p.shape, &p.input, x, sg, variant);
+            let mut g: SVector<f64, NL> = gradient_from_stress(p.shape, &p.input, &st);
+            if let Some(m) = volume.filter(|_| p.shape.weight > 0.0) {
+                let (v, gv, _) = volume_hessian(&p.input.f_hat, m);
+                out.value += p.shape.weight * v;
+                let mut gl = g.fixed_rows_mut::<6>(0);
+                gl += gv * self.volume_factor(p);
+            }
+            accumulate_gradient(p.shape, &g, dt, self.stress_weight(p), &mut out.gradient);
+        }
+    }
+
+    /// Energy, gradient and the upper block triangle of the exact Hessian of an element (blocks below
+    /// the block diagonal are not written). Returns the weights of the nodal rotations' second
+    /// derivatives, to be added once per node (see `kernel::point_hessian_deferred_into`).
+    pub fn element_hessian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+        self,
+        points: &[ElementPoint<'_, NU, NR>],
+        variant: AxlVariant,
+        volume: Option<&Moduli>,
+        dt: f64,
+        local: &mut LocalDerivatives<NL>,
+        out: &mut ElementDerivatives<NE>,
+    ) -> [Matrix3<f64>; NR] {
+        const { assert!(NL == 6 + 3 * NR && NE == 3 * (NU + NR), "inconsistent element sizes") };
+        let (value, sigma, xs) = self.stresses(points, variant);
+        out.value = 0.0;
+        out.gradient.fill(0.0);
+        let mut node_weights = [Matrix3::zeros(); NR];
+        let mut jacobians: Vec<SMatrix<f64, NE, 12>> = Vec::with_capacity(points.len());
+        for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
+            let st = stress_of(p.shape, &p.input, x, sg, variant);
+            local.value = 0.0;
+            local.gradient = gradient_from_stress(p.shape, &p.input, &st);
+            local.hessian.fill(0.0);
+            add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
+            if let Some(m) = volume.filter(|_| p.shape.weight > 0.0) {
+                let f = self.volume_factor(p);
+                let (v, gv, hv) = volume_hessian(&p.input.f_hat, m);
+                local.value += f * v;
+                let mut gl = local.gradient.fixed_rows_mut::<6>(0);
+                gl += gv * f;
+                let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
+                hl += hv * f;
+            }
+            let weight = self.stress_weight(p);
+            for (sum, w) in node_weights.iter_mut().zip(&st.ru) {
+                *sum += w * weight;
+            }
+            if n == 0 {
+                assign_upper(p.shape, local, dt, weight, out);
+            } else {
+                accumulate_upper(p.shape, local, dt, weight, out);
+            }
+            let (jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
+            jacobians.push(element_jacobian(p.shape, &jac_t, &qrt, dt));
+        }
+        out.value += value;
+        match self {
+            Self::Projection(projection) => {
+                projected::add_coupled_first_order(points, &jacobians, projection, &mut out.hessian);
+            }
+            Self::Tying(maps) => assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &mut out.hessian),
+        }
+        node_weights
+    }
+
+    /// The derivatives `σ̂_q` of the element's strain-quadratic energy with respect to the raw strains of
+    /// its points, that energy (J) and the points' rotation gradients.
+    fn stresses<const NU: usize, const NR: usize>(
+        self,
+        points: &[ElementPoint<'_, NU, NR>],
+        variant: AxlVariant,
+    ) -> (f64, Vec<StrainVector>, Vec<[Matrix3<f64>; 2]>) {
+        let (strains, xs): (Vec<StrainVector>, Vec<[Matrix3<f64>; 2]>) =
+            points.iter().map(|p| point_strains(p.shape, &p.input, variant)).unzip();
+        let (value, sigma) = match self {
+            Self::Projection(projection) => projected::stresses(points, strains, projection),
+            Self::Tying(maps) => assumed_kernel::stresses(points, &strains, maps),
+        };
+        (value, sigma, xs)
+    }
+
+    /// The weight the point kernel's output is accumulated with: the projection's stresses are per
+    /// unit weight, the assumed strains' carry their quadrature weights (a tying point has none of
+    /// its own).
+    fn stress_weight<const NU: usize, const NR: usize>(self, p: &ElementPoint<'_, NU, NR>) -> f64 {
+        match self {
+            Self::Projection(_) => p.shape.weight,
+            Self::Tying(_) => 1.0,
+        }
+    }
+
+    /// The factor of a point's volume term before it is accumulated with [`Self::stress_weight`]: its
+    /// quadrature weight in all.
+    fn volume_factor<const NU: usize, const NR: usize>(self, p: &ElementPoint<'_, NU, NR>) -> f64 {
+        match self {
+            Self::Projection(_) => 1.0,
+            Self::Tying(_) => p.shape.weight,
+        }
+    }
+}
