@@ -5,15 +5,16 @@
 //! **Derivation.** With `σ̃_p = D_p s̃_p` the energy is `Σ_p w_p ½ s̃_p · σ̃_p`. Since `B` is symmetric
 //! and `s̄` the weighted mean, `∂E/∂s_q = w_q σ̂_q` with `σ̂_q = σ̃_q − B (σ̃_q − σ̄)` and `σ̄` the
 //! weighted mean of the `σ̃_p`. So the gradient and the second-order terms of each point's strain map
-//! are today's point kernel with `σ̂_q` in place of `D s_q`. The first-order (Gauss-Newton) part couples
-//! the points: with `G_p` the Jacobian of `s_p` with respect to the element's unknowns,
-//! `G̃_p = G_p − B (G_p − Ḡ)`, it is `Σ_p w_p G̃_pᵀ D_p G̃_p`, formed here in element unknowns.
+//! are the paper's point kernel with `σ̂_q` in place of `D s_q`. The first-order (Gauss-Newton) part
+//! couples the points: with `G_p` the Jacobian of `s_p` with respect to the element's unknowns,
+//! `G̃_p = G_p − B (G_p − Ḡ)`, it is `Σ_p w_p G̃_pᵀ D_p G̃_p`, split by `ProjectedFirstOrder` into a
+//! point-local product and one element-level product of rank six.
 
 use crate::kernel::{PointInput, PointShape, strain_vector};
 use crate::model::AxlVariant;
 use crate::projection::StrainProjection;
-use crate::strain_space::{DensityMatrix, StrainVector};
-use nalgebra::{Matrix3, SMatrix, Vector3};
+use crate::strain_space::{DensityMatrix, StrainVector, VARIABLE_STRAINS};
+use nalgebra::{Matrix3, Matrix6, SMatrix, Vector3};
 
 /// One point of an element as the projected kernels need it.
 #[derive(Debug, Clone, Copy)]
@@ -125,26 +126,80 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
     g
 }
 
-/// Adds `Σ_p w_p G̃_pᵀ D_p G̃_p` to the upper block triangle of `h`.
-pub(crate) fn add_coupled_first_order<const NU: usize, const NR: usize, const NE: usize>(
-    points: &[ElementPoint<'_, NU, NR>],
-    jacobians: &[SMatrix<f64, NE, 12>],
-    projection: &StrainProjection,
-    h: &mut SMatrix<f64, NE, NE>,
-) {
-    let mut bar = SMatrix::<f64, NE, 12>::zeros();
-    let mut total = 0.0;
-    for (p, g) in points.iter().zip(jacobians) {
-        bar += g * p.shape.weight;
-        total += p.shape.weight;
+/// The first-order (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` of a projected element's Hessian,
+/// gathered point by point. With `G̃_p = P G_p + B Ḡ` (`P = I − B`) it splits into
+///
+/// `Σ_p w_p G_pᵀ (P D_p P) G_p  +  X Ĝᵀ + Ĝ Xᵀ  +  Ĝ D̄ Ĝᵀ`,
+///
+/// with `Ĝ = B Ḡ` (the six columns of `Ê` that `B` touches), `X = Σ_p w_p G_pᵀ (P D_p)` on those
+/// columns and `D̄ = Σ_p w_p D_p` on their block. The first sum is a point-local product, formed in
+/// each point's locals like the paper's kernel with the density `P D_p P`
+/// ([`StrainProjection::kept_density`]); the rest is one element-level product of rank six, where
+/// forming every `G̃_p` would cost a 27 × 27 × 12 product per point.
+///
+/// Where all points share one density (every flat element), `X = (Σ_p w_p G_p)ᵀ (P D)` and
+/// `D̄ = W D` follow from the sum of the Jacobians at the end, and each point adds only its Jacobian.
+pub(crate) struct ProjectedFirstOrder<'a, const NE: usize> {
+    shared: Option<&'a DensityMatrix>,
+    g_sum: SMatrix<f64, NE, 12>,
+    x: SMatrix<f64, NE, 6>,
+    d_bar: Matrix6<f64>,
+    total: f64,
+}
+
+impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
+    /// An empty sum; `shared` is the density of every point, if they share one.
+    pub(crate) fn new(shared: Option<&'a DensityMatrix>) -> Self {
+        Self {
+            shared,
+            g_sum: SMatrix::zeros(),
+            x: SMatrix::zeros(),
+            d_bar: Matrix6::zeros(),
+            total: 0.0,
+        }
     }
-    if total > 0.0 {
-        bar /= total;
+
+    /// Adds a point of weight `w`, density `d` and transposed element Jacobian `g` (row = unknown,
+    /// column = variable strain).
+    pub(crate) fn add(&mut self, g: &SMatrix<f64, NE, 12>, d: &DensityMatrix, projection: &StrainProjection, w: f64) {
+        self.g_sum.zip_apply(g, |s, x| *s += w * x);
+        self.total += w;
+        if self.shared.is_none() {
+            self.x += g * kept_columns(d, projection) * w;
+            self.d_bar += d.matrix().fixed_view::<6, 6>(0, 0) * w;
+        }
     }
-    for (p, g) in points.iter().zip(jacobians) {
-        let gt = g - projection.removed_columns(&(g - bar));
-        add_first_order(p.density, &gt, p.shape.weight, h);
+
+    /// Adds the element-level part to the upper block triangle of `h`.
+    pub(crate) fn finish(mut self, projection: &StrainProjection, h: &mut SMatrix<f64, NE, NE>) {
+        if let Some(d) = self.shared {
+            self.x = self.g_sum * kept_columns(d, projection);
+            self.d_bar = d.matrix().fixed_view::<6, 6>(0, 0) * self.total;
+        }
+        let g_bar = if self.total > 0.0 {
+            self.g_sum / self.total
+        } else {
+            self.g_sum
+        };
+        let g_hat = g_bar.fixed_columns::<6>(0) * projection.removed_block();
+        let y = self.x + g_hat * self.d_bar * 0.5;
+        let m = y * g_hat.transpose();
+        for c in 0..NE {
+            for r in 0..3 * (c / 3) + 3 {
+                h[(r, c)] += m[(r, c)] + m[(c, r)];
+            }
+        }
     }
+}
+
+/// `P D` on the variable strains (rows) and the strain entries 0–5 (columns), `P = I − B`.
+fn kept_columns(d: &DensityMatrix, projection: &StrainProjection) -> SMatrix<f64, 12, 6> {
+    let keep = Matrix6::identity() - projection.removed_block();
+    let m = d.matrix();
+    let mut pd = SMatrix::<f64, 12, 6>::from_fn(|r, c| m[(VARIABLE_STRAINS[r], c)]);
+    let top = keep * pd.fixed_rows::<6>(0);
+    pd.fixed_rows_mut::<6>(0).copy_from(&top);
+    pd
 }
 
 /// Adds `w G̃ᵀ D G̃` to the upper block triangle of `h`, for the transposed Jacobian `G̃` of a point's

@@ -106,23 +106,20 @@ impl StrainProjection {
         out
     }
 
-    /// `B` applied to the strain columns of a transposed Jacobian (column `s` = gradient of strain
-    /// entry `s`, for the 12 variable strains): columns 0–5 are combined as [`Self::removed`] combines
-    /// entries, the others become zero.
-    pub fn removed_columns<const N: usize>(&self, m: &nalgebra::SMatrix<f64, N, 12>) -> nalgebra::SMatrix<f64, N, 12> {
-        let mut out = nalgebra::SMatrix::<f64, N, 12>::zeros();
-        let (bm, bd, bs) = (1.0 - self.membrane, 1.0 - self.drilling, 1.0 - self.shear);
-        for r in 0..N {
-            let v = |c: usize| m[(r, c)];
-            out[(r, 0)] = bm * v(0);
-            out[(r, 4)] = bm * v(4);
-            let sym = 0.5 * (v(1) + v(3));
-            let skw = 0.5 * (v(3) - v(1));
-            out[(r, 1)] = bm * sym - bd * skw;
-            out[(r, 3)] = bm * sym + bd * skw;
-            out[(r, 2)] = bs * v(2);
-            out[(r, 5)] = bs * v(5);
-        }
+    /// The block of `B` on the strain entries 0–5 (the variable columns of `Ê`), outside which `B` is
+    /// zero.
+    pub fn removed_block(&self) -> nalgebra::Matrix6<f64> {
+        nalgebra::Matrix6::from_fn(|r, c| self.removed(&StrainVector::from_fn(|i, _| f64::from(u8::from(i == c))))[r])
+    }
+
+    /// `P D P` with `P = I − B`: the density of the projected strains' point-local part.
+    pub fn kept_density(&self, d: &crate::strain_space::StrainMatrix) -> crate::strain_space::StrainMatrix {
+        let p = nalgebra::Matrix6::identity() - self.removed_block();
+        let mut out = *d;
+        let rows = p * d.fixed_rows::<6>(0);
+        out.fixed_rows_mut::<6>(0).copy_from(&rows);
+        let cols = out.fixed_columns::<6>(0) * p;
+        out.fixed_columns_mut::<6>(0).copy_from(&cols);
         out
     }
 }
