@@ -165,6 +165,18 @@ fn follower_pressure_on_an_open_surface_assembles_the_symmetric_part() {
     );
 }
 
+/// The flat Tri6 (0,0), (2,0), (0,1) of area 1: corners, then the mid-edge nodes.
+fn flat_triangle() -> [Vector3<f64>; 6] {
+    [
+        Vector3::new(0.0, 0.0, 0.0),
+        Vector3::new(2.0, 0.0, 0.0),
+        Vector3::new(0.0, 1.0, 0.0),
+        Vector3::new(1.0, 0.0, 0.0),
+        Vector3::new(1.0, 0.5, 0.0),
+        Vector3::new(0.0, 0.5, 0.0),
+    ]
+}
+
 /// Consistent weights: the areas of a sphere (icosphere level 3, Tri6 with mid-edge nodes on the sphere)
 /// sum to 4π within the discretisation error, the vector areas of a closed surface sum to zero, and a
 /// flat Tri6 gives its corners nothing and its mid-edge nodes a third of the area each.
@@ -186,14 +198,7 @@ fn consistent_area_weights() {
         .sum();
     assert!((flux - 4.0 * std::f64::consts::PI).abs() < 1e-2, "{flux}");
     let flat = vec![vec![0, 1, 2, 3, 4, 5]];
-    let nodes = [
-        Vector3::new(0.0, 0.0, 0.0),
-        Vector3::new(2.0, 0.0, 0.0),
-        Vector3::new(0.0, 1.0, 0.0),
-        Vector3::new(1.0, 0.0, 0.0),
-        Vector3::new(1.0, 0.5, 0.0),
-        Vector3::new(0.0, 0.5, 0.0),
-    ];
+    let nodes = flat_triangle();
     let w = area_weights(&flat, &|i| nodes[i]);
     for (i, wi) in w {
         let expected = if i < 3 { 0.0 } else { 1.0 / 3.0 };
@@ -207,14 +212,7 @@ fn consistent_area_weights() {
 /// integrates them exactly; the constant profile gives the unprofiled weights.
 #[test]
 fn profiled_area_weights_integrate_the_profile() {
-    let nodes = [
-        Vector3::new(0.0, 0.0, 0.0),
-        Vector3::new(2.0, 0.0, 0.0),
-        Vector3::new(0.0, 1.0, 0.0),
-        Vector3::new(1.0, 0.0, 0.0),
-        Vector3::new(1.0, 0.5, 0.0),
-        Vector3::new(0.0, 0.5, 0.0),
-    ];
+    let nodes = flat_triangle();
     type Case<'a> = (&'a dyn Fn(&Vector3<f64>) -> f64, f64, f64);
     let cases: [Case; 2] = [(&|p| p.x, 2.0 / 3.0, 2.0 / 3.0), (&|p| p.x * p.x, 2.0 / 3.0, 4.0 / 5.0)];
     for element in [vec![0, 1, 2], vec![0, 1, 2, 3, 4, 5]] {
