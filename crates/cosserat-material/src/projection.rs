@@ -109,7 +109,20 @@ impl StrainProjection {
     /// The block of `B` on the strain entries 0–5 (the variable columns of `Ê`), outside which `B` is
     /// zero.
     pub fn removed_block(&self) -> nalgebra::Matrix6<f64> {
-        nalgebra::Matrix6::from_fn(|r, c| self.removed(&StrainVector::from_fn(|i, _| f64::from(u8::from(i == c))))[r])
+        let (bm, bd, bs) = (1.0 - self.membrane, 1.0 - self.drilling, 1.0 - self.shear);
+        // Entries 1 and 3 are the off-diagonal tangential pair: their symmetric part is scaled by
+        // `bm`, their skew part by `bd` (as in `removed`).
+        let (same, cross) = (0.5 * (bm + bd), 0.5 * (bm - bd));
+        let mut b = nalgebra::Matrix6::zeros();
+        b[(0, 0)] = bm;
+        b[(4, 4)] = bm;
+        b[(2, 2)] = bs;
+        b[(5, 5)] = bs;
+        b[(1, 1)] = same;
+        b[(3, 3)] = same;
+        b[(1, 3)] = cross;
+        b[(3, 1)] = cross;
+        b
     }
 
     /// `P D P` with `P = I − B`: the density of the projected strains' point-local part.
@@ -146,5 +159,17 @@ mod tests {
         };
         let v = StrainVector::from_fn(|i, _| i as f64 + 1.0);
         assert_eq!(one.removed(&v), StrainVector::zeros());
+        // The block is `removed` on the entries 0–5, and `removed` is zero outside them.
+        let block = p.removed_block();
+        for r in 0..18 {
+            for c in 0..18 {
+                let expected = if r < 6 && c < 6 { block[(r, c)] } else { 0.0 };
+                assert!(
+                    (b[(r, c)] - expected).abs() < 1e-15,
+                    "B[{r}, {c}] = {} vs {expected}",
+                    b[(r, c)]
+                );
+            }
+        }
     }
 }
