@@ -9,14 +9,13 @@
 use crate::assumed::TyingMap;
 use crate::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper};
 use crate::kernel::{
-    LocalDerivatives, add_second_order_terms, gradient_from_stress, local_hessian_from_strains, point_strains,
-    strain_jacobian, stress_of,
+    LocalDerivatives, add_second_order_terms, gradient_from_stress, point_strains, strain_jacobian, stress_of,
 };
 use crate::model::AxlVariant;
 use crate::parameters::Moduli;
 use crate::projected::{ElementPoint, ProjectedFirstOrder, ValuePoint, element_jacobian};
 use crate::projection::StrainProjection;
-use crate::strain_space::{DensityMatrix, StrainVector};
+use crate::strain_space::StrainVector;
 use crate::volume::{volume_density, volume_hessian};
 use crate::{assumed_kernel, projected};
 use nalgebra::{Matrix3, SMatrix, SVector};
@@ -109,32 +108,29 @@ impl Coupling<'_> {
         out.value = 0.0;
         out.gradient.fill(0.0);
         let mut node_weights = [Matrix3::zeros(); NR];
-        // Flat elements share one density: their projected density is formed once.
+        // Flat elements share one density.
         let shared = points
             .first()
             .map(|p| p.density)
             .filter(|d| points.iter().all(|p| std::ptr::eq(p.density, *d)));
-        let kept_shared = match self {
-            Self::Projection(projection) => shared.map(|d| DensityMatrix::new(projection.kept_density(d.matrix()))),
+        let mut projected = match self {
+            Self::Projection(projection) => Some(ProjectedFirstOrder::<NE>::new(projection, shared, dt)),
             Self::Tying(_) => None,
         };
-        let mut projected = ProjectedFirstOrder::<NE>::new(shared);
         let mut jacobians: Vec<SMatrix<f64, NE, 12>> = Vec::new();
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
             let st = stress_of(p.shape, &p.input, x, sg, variant);
-            let (jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
+            let (mut jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
             local.value = 0.0;
             local.gradient = gradient_from_stress(p.shape, &p.input, &st);
-            match self {
-                // The point-local part of the first-order term (see `ProjectedFirstOrder`).
-                Self::Projection(projection) => match &kept_shared {
-                    Some(kept) => local_hessian_from_strains(&jac_t, &qrt, kept, &mut local.hessian),
-                    None => {
-                        let kept = DensityMatrix::new(projection.kept_density(p.density.matrix()));
-                        local_hessian_from_strains(&jac_t, &qrt, &kept, &mut local.hessian);
-                    }
-                },
-                Self::Tying(_) => local.hessian.fill(0.0),
+            // The first-order term: point-local for the projection, gathered for the tying maps (see
+            // `ProjectedFirstOrder`, `assumed_kernel`).
+            match &mut projected {
+                Some(projected) => projected.add_point(p.shape, &mut jac_t, &qrt, p.density, &mut local.hessian),
+                None => {
+                    local.hessian.fill(0.0);
+                    jacobians.push(element_jacobian(p.shape, &jac_t, &qrt, dt));
+                }
             }
             add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
             if let Some(m) = volume.filter(|_| p.shape.weight > 0.0) {
@@ -155,16 +151,14 @@ impl Coupling<'_> {
             } else {
                 accumulate_upper(p.shape, local, dt, weight, out);
             }
-            let g = element_jacobian(p.shape, &jac_t, &qrt, dt);
-            match self {
-                Self::Projection(projection) => projected.add(&g, p.density, projection, p.shape.weight),
-                Self::Tying(_) => jacobians.push(g),
-            }
         }
         out.value += value;
-        match self {
-            Self::Projection(projection) => projected.finish(projection, &mut out.hessian),
-            Self::Tying(maps) => assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &mut out.hessian),
+        match (projected, self) {
+            (Some(projected), _) => projected.finish(&mut out.hessian),
+            (None, Self::Tying(maps)) => {
+                assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &mut out.hessian);
+            }
+            (None, Self::Projection(_)) => unreachable!("a projection has its first-order sum"),
         }
         node_weights
     }

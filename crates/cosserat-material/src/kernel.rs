@@ -21,7 +21,7 @@
 //! pass (the latter is kept as the test oracle, see `oracle`).
 
 use crate::model::AxlVariant;
-use crate::strain_space::{DensityMatrix, StrainVector};
+use crate::strain_space::{DensityMatrix, Entry, StrainVector};
 use cosserat_geometry::rotation::{RotationJet, axl, axl_upper, skew};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -322,7 +322,8 @@ pub(crate) fn gradient_from_stress<const NU: usize, const NR: usize, const NL: u
 /// The `F̂_γ` columns of `J` are `QᵀRᵀ` on the rows of `Ê_γ` and zero elsewhere, so `D J` needs a
 /// 3-column product for them, and the `F̂` rows of `Jᵀ (D J)` are `RQ (D J)` restricted to the rows of
 /// `Ê_γ`. Only the rotation columns are dense. `D J` runs over the nonzero entries of `D` (see
-/// [`DensityMatrix`]).
+/// [`DensityMatrix`]), given as `entries` (positions in [`crate::strain_space::VARIABLE_STRAINS`]), so that
+/// a caller can scale them on the fly.
 ///
 /// Both `J` and `D J` are held transposed, so that every product here is a sum of scaled contiguous
 /// columns: each entry of the result is a short sum of independent products that the compiler keeps
@@ -332,15 +333,26 @@ pub(crate) fn gradient_from_stress<const NU: usize, const NR: usize, const NL: u
 pub(crate) fn local_hessian_from_strains<const NL: usize>(
     jac_t: &SMatrix<f64, NL, 12>,
     qrt: &Matrix3<f64>,
-    d: &DensityMatrix,
+    entries: impl IntoIterator<Item = Entry>,
     h: &mut SMatrix<f64, NL, NL>,
 ) {
-    // Column `r` of `dj_t` is row `r` of `D J`.
+    let dj_t = density_times_jacobian(jac_t, qrt, entries);
+    hessian_from_density_jacobian(jac_t, qrt, &dj_t, h);
+}
+
+/// `D J` in the locals, transposed (column `r` is row `r` of `D J`), for the `jac_t`, `qrt` and
+/// `entries` of [`local_hessian_from_strains`].
+#[inline]
+pub(crate) fn density_times_jacobian<const NL: usize>(
+    jac_t: &SMatrix<f64, NL, 12>,
+    qrt: &Matrix3<f64>,
+    entries: impl IntoIterator<Item = Entry>,
+) -> SMatrix<f64, NL, 12> {
     let mut dj_t = SMatrix::<f64, NL, 12>::zeros();
     {
         let js = jac_t.as_slice();
         let ds = dj_t.as_mut_slice();
-        for e in d.variable_entries() {
+        for e in entries {
             let (r, b, v) = (e.row as usize, e.col as usize, e.value);
             let dst = &mut ds[r * NL..(r + 1) * NL];
             if b < 6 {
@@ -355,6 +367,17 @@ pub(crate) fn local_hessian_from_strains<const NL: usize>(
             }
         }
     }
+    dj_t
+}
+
+/// `Jᵀ (D J)` into every entry of `h`, from `D J` ([`density_times_jacobian`]).
+#[inline]
+pub(crate) fn hessian_from_density_jacobian<const NL: usize>(
+    jac_t: &SMatrix<f64, NL, 12>,
+    qrt: &Matrix3<f64>,
+    dj_t: &SMatrix<f64, NL, 12>,
+    h: &mut SMatrix<f64, NL, NL>,
+) {
     // Every entry of `h` is written below. Columns `3γ + a` (and by symmetry rows): `Jᵀ D J` on the `F̂`
     // side is `RQ` applied to the rows of `Ê_γ` of `D J`.
     for gamma in 0..2 {
@@ -453,7 +476,7 @@ pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: u
     out.value = st.value;
     out.gradient = gradient_from_stress(shape, input, &st);
     let (jac_t, qrt) = strain_jacobian(shape, input, &st, variant);
-    local_hessian_from_strains(&jac_t, &qrt, d, &mut out.hessian);
+    local_hessian_from_strains(&jac_t, &qrt, d.variable_entries().iter().copied(), &mut out.hessian);
     add_second_order_terms(shape, input, &st, &mut out.hessian);
     st.ru
 }

@@ -8,9 +8,12 @@
 //! are the paper's point kernel with `σ̂_q` in place of `D s_q`. The first-order (Gauss-Newton) part
 //! couples the points: with `G_p` the Jacobian of `s_p` with respect to the element's unknowns,
 //! `G̃_p = G_p − B (G_p − Ḡ)`, it is `Σ_p w_p G̃_pᵀ D_p G̃_p`, split by `ProjectedFirstOrder` into a
-//! point-local product and one element-level product of rank six.
+//! point-local product and one element-level product of rank at most twelve.
 
-use crate::kernel::{PointInput, PointShape, strain_vector};
+use crate::kernel::{
+    PointInput, PointShape, density_times_jacobian, hessian_from_density_jacobian, local_hessian_from_strains,
+    strain_vector,
+};
 use crate::model::AxlVariant;
 use crate::projection::StrainProjection;
 use crate::strain_space::{DensityMatrix, StrainVector, VARIABLE_STRAINS};
@@ -129,29 +132,57 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
 /// The first-order (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` of a projected element's Hessian,
 /// gathered point by point. With `G̃_p = P G_p + B Ḡ` (`P = I − B`) it splits into
 ///
-/// `Σ_p w_p G_pᵀ (P D_p P) G_p  +  X Ĝᵀ + Ĝ Xᵀ  +  Ĝ D̄ Ĝᵀ`,
+/// `Σ_p w_p (P G_p)ᵀ D_p (P G_p)  +  X Ĝᵀ + Ĝ Xᵀ  +  Ĝ D̄ Ĝᵀ`,
 ///
-/// with `Ĝ = B Ḡ` (the six columns of `Ê` that `B` touches), `X = Σ_p w_p G_pᵀ (P D_p)` on those
+/// with `Ĝ = B Ḡ` (the six columns of `Ê` that `B` touches), `X = Σ_p w_p G_pᵀ P D_p` on those
 /// columns and `D̄ = Σ_p w_p D_p` on their block. The first sum is a point-local product, formed in
-/// each point's locals like the paper's kernel with the density `P D_p P`
-/// ([`StrainProjection::kept_density`]); the rest is one element-level product of rank six, where
-/// forming every `G̃_p` would cost a 27 × 27 × 12 product per point.
+/// each point's locals like the paper's kernel ([`Self::add_point`]); the rest is one element-level
+/// product of rank at most twelve, where forming every `G̃_p` would cost a 27 × 27 × 12 product per
+/// point.
 ///
-/// Where all points share one density (every flat element), `X = (Σ_p w_p G_p)ᵀ (P D)` and
-/// `D̄ = W D` follow from the sum of the Jacobians at the end, and each point adds only its Jacobian.
+/// Where `P` is diagonal (the default constants) it scales the rows of the point's strain Jacobian in
+/// its locals, so the kernel's own product `D (P J)` gives both the point-local part and, mapped to
+/// the element's unknowns, the point's share of `X`; no density is formed. Where `P` couples the
+/// tangential pair, the point-local part reads the formed density `P D_p P` and `X` is gathered in
+/// the element's unknowns. Where the points share one density (every flat element), `X` and `D̄`
+/// follow from `Σ_p w_p G_p` at the end instead, and if that density does not couple `Ê` to `Γ` the
+/// three element-level products are one, `W Ḡ₆ (D − P D P) Ḡ₆ᵀ` ([`Self::finish`]).
 pub(crate) struct ProjectedFirstOrder<'a, const NE: usize> {
+    projection: &'a StrainProjection,
+    kept: Kept,
     shared: Option<&'a DensityMatrix>,
+    dt: f64,
+    /// `Σ_p w_p G_p`, transposed (row = unknown, column = variable strain).
     g_sum: SMatrix<f64, NE, 12>,
     x: SMatrix<f64, NE, 6>,
     d_bar: Matrix6<f64>,
     total: f64,
 }
 
+/// How `P` enters the point-local part.
+enum Kept {
+    /// `P` is diagonal, with these factors on the strain entries 0–5.
+    Diagonal([f64; 6]),
+    /// `P` couples the tangential pair and the points share one density: `P D P`, formed once.
+    SharedDensity(Box<DensityMatrix>),
+    /// `P` couples the tangential pair: `P D_p P` is formed at each point.
+    PointDensities,
+}
+
 impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
-    /// An empty sum; `shared` is the density of every point, if they share one.
-    pub(crate) fn new(shared: Option<&'a DensityMatrix>) -> Self {
+    /// An empty sum; `shared` is the density of every point, if they share one, and `dt` the factor of
+    /// the displacement unknowns in `F̂`.
+    pub(crate) fn new(projection: &'a StrainProjection, shared: Option<&'a DensityMatrix>, dt: f64) -> Self {
+        let kept = match (projection.kept_diagonal(), shared) {
+            (Some(p), _) => Kept::Diagonal(p),
+            (None, Some(d)) => Kept::SharedDensity(Box::new(DensityMatrix::new(projection.kept_density(d.matrix())))),
+            (None, None) => Kept::PointDensities,
+        };
         Self {
+            projection,
+            kept,
             shared,
+            dt,
             g_sum: SMatrix::zeros(),
             x: SMatrix::zeros(),
             d_bar: Matrix6::zeros(),
@@ -159,35 +190,178 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
         }
     }
 
-    /// Adds a point of weight `w`, density `d` and transposed element Jacobian `g` (row = unknown,
-    /// column = variable strain).
-    pub(crate) fn add(&mut self, g: &SMatrix<f64, NE, 12>, d: &DensityMatrix, projection: &StrainProjection, w: f64) {
-        self.g_sum.zip_apply(g, |s, x| *s += w * x);
+    /// Adds a point: writes its point-local part `(P J)ᵀ D (P J)` in its locals to `h` (every entry)
+    /// and gathers its share of the element-level part; `jac_t` and `qrt` are the transposed Jacobian
+    /// of its variable strains and `QᵀRᵀ` (see [`local_hessian_from_strains`]). Where `P` is diagonal,
+    /// `jac_t` is left scaled by it (`P J`), which saves a copy per point.
+    pub(crate) fn add_point<const NU: usize, const NR: usize, const NL: usize>(
+        &mut self,
+        shape: &PointShape<NU, NR>,
+        jac_t: &mut SMatrix<f64, NL, 12>,
+        qrt: &Matrix3<f64>,
+        d: &DensityMatrix,
+        h: &mut SMatrix<f64, NL, NL>,
+    ) {
+        let w = shape.weight;
         self.total += w;
         if self.shared.is_none() {
-            self.x += g * kept_columns(d, projection) * w;
-            self.d_bar += d.matrix().fixed_view::<6, 6>(0, 0) * w;
+            let m = d.matrix();
+            for k in 0..6 {
+                for j in 0..6 {
+                    self.d_bar[(j, k)] += w * m[(j, k)];
+                }
+            }
+        }
+        match &self.kept {
+            &Kept::Diagonal(p) => {
+                self.add_jacobian_sum(shape, jac_t, qrt, w);
+                // `P J`: the rows of `Ê_γ` scaled, the same factors for both γ.
+                let pj = jac_t;
+                for (s, f) in p.iter().enumerate() {
+                    pj.column_mut(s).scale_mut(*f);
+                }
+                let pq = Matrix3::from_fn(|a, c| p[a] * qrt[(a, c)]);
+                let dj_t = density_times_jacobian(pj, &pq, d.variable_entries().iter().copied());
+                hessian_from_density_jacobian(pj, &pq, &dj_t, h);
+                if self.shared.is_none() {
+                    // `X += w Gᵀ P D`: the columns 0–5 of `(D P J)ᵀ` mapped to the element's unknowns.
+                    map_to_element(shape, &dj_t.fixed_columns::<6>(0), w * self.dt, w, &mut self.x);
+                }
+            }
+            Kept::SharedDensity(kept) => {
+                local_hessian_from_strains(jac_t, qrt, kept.variable_entries().iter().copied(), h);
+                self.add_jacobian_sum(shape, jac_t, qrt, w);
+            }
+            Kept::PointDensities => {
+                let kept = DensityMatrix::new(self.projection.kept_density(d.matrix()));
+                local_hessian_from_strains(jac_t, qrt, kept.variable_entries().iter().copied(), h);
+                let g = element_jacobian::<NU, NR, NL, NE>(shape, jac_t, qrt, self.dt);
+                self.x += g * kept_columns(d, self.projection) * w;
+                self.g_sum.zip_apply(&g, |s, x| *s += w * x);
+            }
+        }
+    }
+
+    /// `Σ_p w_p G_p += w G` for the point's Jacobian in the element's unknowns (see
+    /// [`element_jacobian`]), without forming it.
+    fn add_jacobian_sum<const NU: usize, const NR: usize, const NL: usize>(
+        &mut self,
+        shape: &PointShape<NU, NR>,
+        jac_t: &SMatrix<f64, NL, 12>,
+        qrt: &Matrix3<f64>,
+        w: f64,
+    ) {
+        for i in 0..NU {
+            for gamma in 0..2 {
+                let b = w * self.dt * shape.disp_grad[(gamma, i)];
+                for c in 0..3 {
+                    for a in 0..3 {
+                        self.g_sum[(3 * i + c, 3 * gamma + a)] += qrt[(a, c)] * b;
+                    }
+                }
+            }
+        }
+        for s in 0..12 {
+            for r in 0..3 * NR {
+                self.g_sum[(3 * NU + r, s)] += w * jac_t[(6 + r, s)];
+            }
         }
     }
 
     /// Adds the element-level part to the upper block triangle of `h`.
-    pub(crate) fn finish(mut self, projection: &StrainProjection, h: &mut SMatrix<f64, NE, NE>) {
-        if let Some(d) = self.shared {
-            self.x = self.g_sum * kept_columns(d, projection);
-            self.d_bar = d.matrix().fixed_view::<6, 6>(0, 0) * self.total;
+    pub(crate) fn finish(self, h: &mut SMatrix<f64, NE, NE>) {
+        let inv_total = if self.total > 0.0 { 1.0 / self.total } else { 1.0 };
+        let b = self.projection.removed_block();
+        let g6 = self.g_sum.fixed_columns::<6>(0).into_owned();
+        if let Some(d) = self.shared.filter(|d| membrane_decoupled(d)) {
+            // A shared density without coupling of `Ê` to `Γ` (flat elements): `X = W Ḡ₆ P D` and
+            // `D̄ = W D`, so the three products are one, `W Ḡ₆ (P D B + B D P + B D B) Ḡ₆ᵀ`, and with
+            // `B = I − P` the middle factor is `D − P D P`.
+            let dm = d.matrix().fixed_view::<6, 6>(0, 0);
+            let s = match &self.kept {
+                Kept::Diagonal(p) => Matrix6::from_fn(|j, k| dm[(j, k)] * (1.0 - p[j] * p[k]) * inv_total),
+                _ => {
+                    let p = Matrix6::identity() - b;
+                    (dm - p * dm * p) * inv_total
+                }
+            };
+            add_upper_products::<NE, 6>(h, &[(&columns_times(&g6, &s), &g6)]);
+            return;
         }
-        let g_bar = if self.total > 0.0 {
-            self.g_sum / self.total
-        } else {
-            self.g_sum
+        let (x, d_bar) = match self.shared {
+            Some(d) => (
+                self.g_sum * kept_columns(d, self.projection),
+                d.matrix().fixed_view::<6, 6>(0, 0) * self.total,
+            ),
+            None => (self.x, self.d_bar),
         };
-        let g_hat = g_bar.fixed_columns::<6>(0) * projection.removed_block();
-        let y = self.x + g_hat * self.d_bar * 0.5;
-        let m = y * g_hat.transpose();
-        for c in 0..NE {
-            for r in 0..3 * (c / 3) + 3 {
-                h[(r, c)] += m[(r, c)] + m[(c, r)];
+        // `Ĝ = B Ḡ`, `Y = X + ½ Ĝ D̄`, and `Y Ĝᵀ + Ĝ Yᵀ`.
+        let g_hat = columns_times(&g6, &(b * inv_total));
+        let y = x + columns_times(&g_hat, &(d_bar * 0.5));
+        add_upper_products::<NE, 12>(h, &[(&y, &g_hat), (&g_hat, &y)]);
+    }
+}
+
+/// Whether the variable block of `d` couples no entry of `Ê` to one of `Γ`.
+fn membrane_decoupled(d: &DensityMatrix) -> bool {
+    d.variable_entries().iter().all(|e| (e.row < 6) == (e.col < 6))
+}
+
+/// `a m` for a 6 × 6 matrix `m`, as sums of scaled contiguous columns over the nonzero entries of `m`.
+fn columns_times<const NE: usize>(a: &SMatrix<f64, NE, 6>, m: &Matrix6<f64>) -> SMatrix<f64, NE, 6> {
+    let mut out = SMatrix::<f64, NE, 6>::zeros();
+    for k in 0..6 {
+        for j in 0..6 {
+            let f = m[(j, k)];
+            if f != 0.0 {
+                let src = &a.as_slice()[j * NE..(j + 1) * NE];
+                for (o, x) in out.as_mut_slice()[k * NE..(k + 1) * NE].iter_mut().zip(src) {
+                    *o += f * x;
+                }
             }
+        }
+    }
+    out
+}
+
+/// `h += Σ A Bᵀ` over the `pairs` on the upper block triangle of `h`: entry `(r, c)` is the dot product
+/// of row `r` of `[A₁ A₂ …]` with row `c` of `[B₁ B₂ …]`, `K` = 6 × the number of pairs long, which
+/// the compiler keeps in vector registers.
+fn add_upper_products<const NE: usize, const K: usize>(
+    h: &mut SMatrix<f64, NE, NE>,
+    pairs: &[(&SMatrix<f64, NE, 6>, &SMatrix<f64, NE, 6>)],
+) {
+    let left: [[f64; K]; NE] = std::array::from_fn(|r| std::array::from_fn(|j| pairs[j / 6].0[(r, j % 6)]));
+    let right: [[f64; K]; NE] = std::array::from_fn(|r| std::array::from_fn(|j| pairs[j / 6].1[(r, j % 6)]));
+    for (c, dst) in h.as_mut_slice().chunks_exact_mut(NE).enumerate() {
+        let rc = &right[c];
+        for (o, lr) in dst[..3 * (c / 3) + 3].iter_mut().zip(&left) {
+            *o += lr.iter().zip(rc).map(|(a, b)| a * b).sum::<f64>();
+        }
+    }
+}
+
+/// `out += Mᵀ v` for a matrix `v` in a point's locals (row = local) and the map `M` of the element's
+/// unknowns to the locals: `F̂_γ = Σ_i ∂N_i/∂t_γ x_i` with the factor `f_disp` (`w Δt`), the rotation
+/// locals one to one with the factor `f_rot` (`w`).
+fn map_to_element<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const C: usize, S>(
+    shape: &PointShape<NU, NR>,
+    v: &nalgebra::Matrix<f64, nalgebra::Const<NL>, nalgebra::Const<C>, S>,
+    f_disp: f64,
+    f_rot: f64,
+    out: &mut SMatrix<f64, NE, C>,
+) where
+    S: nalgebra::storage::Storage<f64, nalgebra::Const<NL>, nalgebra::Const<C>>,
+{
+    for k in 0..C {
+        for i in 0..NU {
+            let (b0, b1) = (f_disp * shape.disp_grad[(0, i)], f_disp * shape.disp_grad[(1, i)]);
+            for c in 0..3 {
+                out[(3 * i + c, k)] += b0 * v[(c, k)] + b1 * v[(3 + c, k)];
+            }
+        }
+        for r in 0..3 * NR {
+            out[(3 * NU + r, k)] += f_rot * v[(6 + r, k)];
         }
     }
 }

@@ -125,6 +125,14 @@ impl StrainProjection {
         b
     }
 
+    /// The diagonal of `P = I − B` on the strain entries 0–5 when `P` is diagonal there (equal membrane
+    /// and drilling factors, as with the default constants), so that `P D P` is `D` with its entries
+    /// scaled; `None` when `P` couples the off-diagonal tangential pair.
+    pub fn kept_diagonal(&self) -> Option<[f64; 6]> {
+        let b = self.removed_block();
+        (b[(1, 3)] == 0.0).then(|| std::array::from_fn(|i| 1.0 - b[(i, i)]))
+    }
+
     /// `P D P` with `P = I − B`: the density of the projected strains' point-local part.
     pub fn kept_density(&self, d: &crate::strain_space::StrainMatrix) -> crate::strain_space::StrainMatrix {
         let p = nalgebra::Matrix6::identity() - self.removed_block();
@@ -171,5 +179,12 @@ mod tests {
                 );
             }
         }
+        // `P` is diagonal only where membrane and drilling share their factor.
+        assert_eq!(p.kept_diagonal(), None);
+        let equal = StrainProjection { drilling: 0.3, ..p };
+        let keep = nalgebra::Matrix6::identity() - equal.removed_block();
+        let diagonal = equal.kept_diagonal().expect("equal factors give a diagonal P");
+        assert_eq!(keep, nalgebra::Matrix6::from_diagonal(&diagonal.into()));
+        assert_eq!(diagonal, [0.3, 0.3, 0.1, 0.3, 0.3, 0.1].map(|a: f64| 1.0 - (1.0 - a)));
     }
 }

@@ -30,6 +30,8 @@ fn material() -> MaterialParameters {
 struct Element<const NU: usize, const NR: usize> {
     shapes: [PointShape<NU, NR>; N_POINTS],
     b_world: [Matrix3<f64>; N_POINTS],
+    /// Whether the points share one density matrix (flat elements, or [`Element::with_shared_density`]).
+    shared_density: bool,
     offsets: [StrainVector; N_POINTS],
     q_points: [Quaternion<f64>; N_POINTS],
     q_nodes: [Quaternion<f64>; NR],
@@ -66,7 +68,20 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
             },
             terms: TermSet::select(&ModelOptions::new(ShellModel::Shell), &moduli, curved).unwrap(),
             shapes,
+            shared_density: !curved,
         }
+    }
+
+    /// The same element with the frame and curvature of its first point at every point, so that its
+    /// points share one density (which couples `Ê` to `Γ` where the element is curved).
+    fn with_shared_density(mut self) -> Self {
+        let (frame, b) = (self.shapes[0].frame, self.b_world[0]);
+        for (shape, b_world) in self.shapes.iter_mut().zip(&mut self.b_world) {
+            shape.frame = frame;
+            *b_world = b;
+        }
+        self.shared_density = true;
+        self
     }
 
     fn densities(&self) -> Vec<DensityMatrix> {
@@ -92,6 +107,7 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
     fn fast<const NL: usize, const NE: usize>(&self, u: &[f64], with_hessian: bool) -> ElementDerivatives<NE> {
         let (x, omega) = self.split(u);
         let d = self.densities();
+        let shared = self.shared_density;
         let node_jets: Vec<RotationJet> = (0..NR)
             .map(|k| RotationJet::of_update(&self.q_nodes[k], &omega[k], self.dt))
             .collect();
@@ -108,7 +124,8 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
                     node_jets,
                     offset: &self.offsets[p],
                 },
-                density: &d[p],
+                // Points with equal densities share one, as in an assembled shell.
+                density: if shared { &d[0] } else { &d[p] },
             })
             .collect();
         let mut out = ElementDerivatives::<NE>::zeros();
@@ -217,8 +234,17 @@ impl<const NU: usize, const NR: usize> Element<NU, NR> {
     }
 }
 
-fn check<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(seed: u64, curved: bool) {
-    let el = Element::<NU, NR>::random(seed, curved);
+fn check<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    seed: u64,
+    curved: bool,
+    shared_density: bool,
+    projection: StrainProjection,
+) {
+    let mut el = Element::<NU, NR>::random(seed, curved);
+    if shared_density {
+        el = el.with_shared_density();
+    }
+    el.projection = projection;
     let mut rng = common::rng(seed + 100);
     let u: Vec<f64> = (0..NE)
         .map(|i| common::vec3(&mut rng, if i < 3 * NU { 0.2 } else { 3.0 })[0])
@@ -262,10 +288,26 @@ fn check<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(see
 
 #[test]
 fn projected_element_matches_the_dual_oracle_and_central_differences() {
-    common::with_big_stack(|| {
-        check::<6, 3, 15, 27>(41, false);
-        check::<6, 3, 15, 27>(42, true);
-        check::<3, 3, 15, 18>(43, true);
+    // Equal membrane and drilling factors make `P` diagonal (the default constants, whose densities
+    // are scaled on the fly); unequal ones couple the tangential pair (formed densities).
+    let diagonal = StrainProjection {
+        membrane: 0.3,
+        drilling: 0.3,
+        shear: 0.1,
+    };
+    let coupled = StrainProjection {
+        drilling: 0.6,
+        ..diagonal
+    };
+    common::with_big_stack(move || {
+        // Flat (one shared density without coupling of `Ê` to `Γ`), curved with a density per point,
+        // and curved with one shared density.
+        for projection in [diagonal, coupled] {
+            check::<6, 3, 15, 27>(41, false, false, projection);
+            check::<6, 3, 15, 27>(42, true, false, projection);
+            check::<6, 3, 15, 27>(45, true, true, projection);
+            check::<3, 3, 15, 18>(43, true, false, projection);
+        }
     });
 }
 
