@@ -76,3 +76,18 @@ pub fn with_big_stack(f: impl FnOnce() + Send + 'static) {
         .join()
         .unwrap();
 }
+
+/// The largest difference of `got` and `expected` in the scale of the rows and columns of `got`
+/// (velocity and angular-velocity blocks differ by orders of magnitude), so that a wrong small block
+/// cannot hide behind a large one.
+pub fn scaled_max_error<const N: usize>(got: &SMatrix<f64, N, N>, expected: &SMatrix<f64, N, N>) -> f64 {
+    let row_max: Vec<f64> = (0..N).map(|i| got.row(i).amax()).collect();
+    let mut e: f64 = 0.0;
+    for i in 0..N {
+        for j in 0..N {
+            let scale = (row_max[i] * row_max[j]).sqrt().max(1e-300);
+            e = e.max((got[(i, j)] - expected[(i, j)]).abs() / scale);
+        }
+    }
+    e
+}

@@ -284,16 +284,7 @@ fn check_element_finite_differences<const NU: usize, const NR: usize, const NL: 
             let col = (shifted(step) - shifted(-step)) / (2.0 * step);
             fd_hess.set_column(i, &col);
         }
-        // Entries are compared in the scale of their rows and columns (velocity and angular-velocity
-        // blocks differ by orders of magnitude), so a wrong small block cannot hide behind a large one.
-        let row_max: Vec<f64> = (0..NE).map(|i| got.hessian.row(i).amax()).collect();
-        let mut eh: f64 = 0.0;
-        for i in 0..NE {
-            for j in 0..NE {
-                let scale = (row_max[i] * row_max[j]).sqrt().max(1e-300);
-                eh = eh.max((got.hessian[(i, j)] - fd_hess[(i, j)]).abs() / scale);
-            }
-        }
+        let eh = common::scaled_max_error(&got.hessian, &fd_hess);
         assert!(eh < 1e-6, "hessian vs central differences: {eh:e}");
         assert!(rel_err(&got.hessian, &got.hessian.transpose()) < 1e-13);
     }

@@ -1,5 +1,6 @@
 mod assumed;
 mod common;
+mod coupled_element;
 mod curved_terms;
 mod density;
 mod kernel;
