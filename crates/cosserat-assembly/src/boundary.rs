@@ -25,18 +25,22 @@ pub struct PositionPenalty {
     pub stiffness: f64,
 }
 
-impl PositionPenalty {
+impl DiagonalPenalty for PositionPenalty {
+    fn term_name(&self) -> String {
+        format!("position_penalty[{}]", self.label)
+    }
+
     fn evaluate(
         &self,
         eval: &Evaluation<'_>,
-        mut sink: impl FnMut(usize, Vector3<f64>, [f64; 3]),
+        sink: &mut dyn FnMut(usize, Vector3<f64>, [f64; 3]),
     ) -> Result<f64, AssemblyError> {
         let (k, dt) = (self.stiffness, eval.dt);
         let mask = Vector3::from_fn(|c, _| if self.active[c] { 1.0 } else { 0.0 });
         let mut total = 0.0;
         for (n, &i) in self.nodes.iter().enumerate() {
             let d = (eval.state.x[i] + eval.layout.velocity(eval.u, i) * dt - self.targets[n]).component_mul(&mask);
-            total += finite(0.5 * k * d.norm_squared(), &|| self.name(), "node", i)?;
+            total += finite(0.5 * k * d.norm_squared(), &|| self.term_name(), "node", i)?;
             sink(
                 eval.layout.disp_block(i),
                 d * (k * dt),
@@ -44,33 +48,6 @@ impl PositionPenalty {
             );
         }
         Ok(total)
-    }
-}
-
-impl PotentialTerm for PositionPenalty {
-    fn name(&self) -> String {
-        format!("position_penalty[{}]", self.label)
-    }
-
-    fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
-        self.evaluate(eval, |_, _, _| {})
-    }
-
-    fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
-        self.evaluate(eval, |b, g, _| add3(grad, b, &g))
-    }
-
-    fn hessian(
-        &self,
-        eval: &Evaluation<'_>,
-        grad: &mut [f64],
-        pattern: &SparsityPattern,
-        values: &mut [f64],
-    ) -> Result<f64, AssemblyError> {
-        self.evaluate(eval, |b, g, h| {
-            add3(grad, b, &g);
-            add_diagonal(pattern, values, b, h);
-        })
     }
 }
 
@@ -180,11 +157,15 @@ pub struct AngularVelocityPenalty {
     pub stiffness: f64,
 }
 
-impl AngularVelocityPenalty {
+impl DiagonalPenalty for AngularVelocityPenalty {
+    fn term_name(&self) -> String {
+        format!("angular_velocity_penalty[{}]", self.label)
+    }
+
     fn evaluate(
         &self,
         eval: &Evaluation<'_>,
-        mut sink: impl FnMut(usize, Vector3<f64>, [f64; 3]),
+        sink: &mut dyn FnMut(usize, Vector3<f64>, [f64; 3]),
     ) -> Result<f64, AssemblyError> {
         let mask = Vector3::from_fn(|c, _| if self.active[c] { 1.0 } else { 0.0 });
         let mut total = 0.0;
@@ -192,7 +173,7 @@ impl AngularVelocityPenalty {
             let d = (eval.layout.omega(eval.u, k) - self.target).component_mul(&mask);
             total += finite(
                 0.5 * self.stiffness * d.norm_squared(),
-                &|| self.name(),
+                &|| self.term_name(),
                 "rotation node",
                 k,
             )?;
@@ -210,17 +191,31 @@ impl AngularVelocityPenalty {
     }
 }
 
-impl PotentialTerm for AngularVelocityPenalty {
+/// A penalty whose Hessian is diagonal: per node it reports its block of unknowns, its gradient there
+/// and the diagonal of its Hessian, from which the [`PotentialTerm`] methods follow.
+trait DiagonalPenalty: Send + Sync + 'static {
+    /// The term's name in summaries and errors.
+    fn term_name(&self) -> String;
+
+    /// The energy, with each node's block, gradient and Hessian diagonal passed to `sink`.
+    fn evaluate(
+        &self,
+        eval: &Evaluation<'_>,
+        sink: &mut dyn FnMut(usize, Vector3<f64>, [f64; 3]),
+    ) -> Result<f64, AssemblyError>;
+}
+
+impl<P: DiagonalPenalty> PotentialTerm for P {
     fn name(&self) -> String {
-        format!("angular_velocity_penalty[{}]", self.label)
+        self.term_name()
     }
 
     fn value(&self, eval: &Evaluation<'_>) -> Result<f64, AssemblyError> {
-        self.evaluate(eval, |_, _, _| {})
+        self.evaluate(eval, &mut |_, _, _| {})
     }
 
     fn gradient(&self, eval: &Evaluation<'_>, grad: &mut [f64]) -> Result<f64, AssemblyError> {
-        self.evaluate(eval, |b, g, _| add3(grad, b, &g))
+        self.evaluate(eval, &mut |b, g, _| add3(grad, b, &g))
     }
 
     fn hessian(
@@ -230,7 +225,7 @@ impl PotentialTerm for AngularVelocityPenalty {
         pattern: &SparsityPattern,
         values: &mut [f64],
     ) -> Result<f64, AssemblyError> {
-        self.evaluate(eval, |b, g, h| {
+        self.evaluate(eval, &mut |b, g, h| {
             add3(grad, b, &g);
             add_diagonal(pattern, values, b, h);
         })
