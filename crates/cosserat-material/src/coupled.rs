@@ -20,6 +20,17 @@ use crate::volume::{volume_density, volume_hessian};
 use crate::{assumed_kernel, projected};
 use nalgebra::{Matrix3, SMatrix, SVector};
 
+/// The first-order (Gauss-Newton) part of a coupled element's Hessian while its points are visited.
+// One lives on the stack per element evaluation; boxing the larger variant would allocate in the
+// element loop.
+#[allow(clippy::large_enum_variant)]
+enum FirstOrder<'a, const NE: usize> {
+    /// The projection's point-local products and element-level sums.
+    Projected(ProjectedFirstOrder<'a, NE>),
+    /// The tying maps and the points' Jacobians in the element's unknowns, combined at the end.
+    Tied(&'a [TyingMap], Vec<SMatrix<f64, NE, 12>>),
+}
+
 /// How an element's points' strains are combined.
 #[derive(Debug, Clone, Copy)]
 pub enum Coupling<'a> {
@@ -113,11 +124,12 @@ impl Coupling<'_> {
             .first()
             .map(|p| p.density)
             .filter(|d| points.iter().all(|p| std::ptr::eq(p.density, *d)));
-        let mut projected = match self {
-            Self::Projection(projection) => Some(ProjectedFirstOrder::<NE>::new(projection, shared, dt)),
-            Self::Tying(_) => None,
+        let mut first_order = match self {
+            Self::Projection(projection) => {
+                FirstOrder::Projected(ProjectedFirstOrder::<NE>::new(projection, shared, dt))
+            }
+            Self::Tying(maps) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
         };
-        let mut jacobians: Vec<SMatrix<f64, NE, 12>> = Vec::new();
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
             let st = stress_of(p.shape, &p.input, x, sg, variant);
             let (mut jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
@@ -125,9 +137,11 @@ impl Coupling<'_> {
             local.gradient = gradient_from_stress(p.shape, &p.input, &st);
             // The first-order term: point-local for the projection, gathered for the tying maps (see
             // `ProjectedFirstOrder`, `assumed_kernel`).
-            match &mut projected {
-                Some(projected) => projected.add_point(p.shape, &mut jac_t, &qrt, p.density, &mut local.hessian),
-                None => {
+            match &mut first_order {
+                FirstOrder::Projected(projected) => {
+                    projected.add_point(p.shape, &mut jac_t, &qrt, p.density, &mut local.hessian);
+                }
+                FirstOrder::Tied(_, jacobians) => {
                     local.hessian.fill(0.0);
                     jacobians.push(element_jacobian(p.shape, &jac_t, &qrt, dt));
                 }
@@ -153,12 +167,11 @@ impl Coupling<'_> {
             }
         }
         out.value += value;
-        match (projected, self) {
-            (Some(projected), _) => projected.finish(&mut out.hessian),
-            (None, Self::Tying(maps)) => {
+        match first_order {
+            FirstOrder::Projected(projected) => projected.finish(&mut out.hessian),
+            FirstOrder::Tied(maps, jacobians) => {
                 assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &mut out.hessian);
             }
-            (None, Self::Projection(_)) => unreachable!("a projection has its first-order sum"),
         }
         node_weights
     }
