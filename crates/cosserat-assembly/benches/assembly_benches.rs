@@ -48,6 +48,10 @@ fn system(pair: ElementPair, model: ShellModel, interpolation: StrainInterpolati
     sys
 }
 
+/// Quads along and across the bench's meshes (two triangles each).
+const NX: usize = 40;
+const NY: usize = 8;
+
 /// A system with a state to evaluate at and the buffers its derivatives are written to.
 struct Fixture {
     sys: System,
@@ -95,10 +99,10 @@ fn bench(c: &mut Criterion) {
             let fixture = RefCell::new(None::<Fixture>);
             let with_fixture = |f: &mut dyn FnMut(&mut Fixture)| {
                 let mut slot = fixture.borrow_mut();
-                f(slot.get_or_insert_with(|| Fixture::new(system(pair, model, interpolation, 40, 8))));
+                f(slot.get_or_insert_with(|| Fixture::new(system(pair, model, interpolation, NX, NY))));
             };
             // The throughput is known without the system: two Tri3 triangles per quad either way.
-            group.throughput(Throughput::Elements(2 * 40 * 8));
+            group.throughput(Throughput::Elements((2 * NX * NY) as u64));
             let id = format!("{label}_{m}");
             group.bench_function(BenchmarkId::new("energy", &id), |b| {
                 with_fixture(&mut |x| b.iter(|| black_box(x.sys.potential.value(&x.u).unwrap())));

@@ -110,23 +110,37 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
     dt: f64,
 ) -> SMatrix<f64, NE, 12> {
     let mut g = SMatrix::<f64, NE, 12>::zeros();
-    // ∂Ê_γ,a/∂v_i,c = (QᵀRᵀ)_ac Δt ∂N_i/∂t_γ.
+    add_element_jacobian(shape, jac_t, qrt, dt, 1.0, &mut g);
+    g
+}
+
+/// `out += G` for the transposed Jacobian `G` of a point's variable strains with respect to the
+/// element's unknowns, with its displacement rows scaled by `f_disp` (`Δt`, times a weight) and its
+/// rotation rows by `f_rot` (the weight): `∂Ê_γ,a/∂v_i,c = (QᵀRᵀ)_ac Δt ∂N_i/∂t_γ`, and the rotation
+/// rows are those of `jac_t`.
+fn add_element_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    jac_t: &SMatrix<f64, NL, 12>,
+    qrt: &Matrix3<f64>,
+    f_disp: f64,
+    f_rot: f64,
+    out: &mut SMatrix<f64, NE, 12>,
+) {
     for i in 0..NU {
         for gamma in 0..2 {
-            let b = dt * shape.disp_grad[(gamma, i)];
+            let b = f_disp * shape.disp_grad[(gamma, i)];
             for c in 0..3 {
                 for a in 0..3 {
-                    g[(3 * i + c, 3 * gamma + a)] = qrt[(a, c)] * b;
+                    out[(3 * i + c, 3 * gamma + a)] += qrt[(a, c)] * b;
                 }
             }
         }
     }
-    for r in 0..3 * NR {
-        for s in 0..12 {
-            g[(3 * NU + r, s)] = jac_t[(6 + r, s)];
+    for s in 0..12 {
+        for r in 0..3 * NR {
+            out[(3 * NU + r, s)] += f_rot * jac_t[(6 + r, s)];
         }
     }
-    g
 }
 
 /// The first-order (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` of a projected element's Hessian,
@@ -212,9 +226,9 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
                 }
             }
         }
+        add_element_jacobian(shape, jac_t, qrt, w * self.dt, w, &mut self.g_sum);
         match &self.kept {
-            &Kept::Diagonal(p) => {
-                self.add_jacobian_sum(shape, jac_t, qrt, w);
+            Kept::Diagonal(p) => {
                 // `P J`: the rows of `Ê_γ` scaled, the same factors for both γ.
                 let pj = jac_t;
                 for (s, f) in p.iter().enumerate() {
@@ -230,40 +244,12 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
             }
             Kept::SharedDensity(kept) => {
                 local_hessian_from_strains(jac_t, qrt, kept.variable_entries().iter().copied(), h);
-                self.add_jacobian_sum(shape, jac_t, qrt, w);
             }
             Kept::PointDensities => {
                 let kept = DensityMatrix::new(self.projection.kept_density(d.matrix()));
                 local_hessian_from_strains(jac_t, qrt, kept.variable_entries().iter().copied(), h);
                 let g = element_jacobian::<NU, NR, NL, NE>(shape, jac_t, qrt, self.dt);
                 self.x += g * kept_columns(d, self.projection) * w;
-                self.g_sum.zip_apply(&g, |s, x| *s += w * x);
-            }
-        }
-    }
-
-    /// `Σ_p w_p G_p += w G` for the point's Jacobian in the element's unknowns (see
-    /// [`element_jacobian`]), without forming it.
-    fn add_jacobian_sum<const NU: usize, const NR: usize, const NL: usize>(
-        &mut self,
-        shape: &PointShape<NU, NR>,
-        jac_t: &SMatrix<f64, NL, 12>,
-        qrt: &Matrix3<f64>,
-        w: f64,
-    ) {
-        for i in 0..NU {
-            for gamma in 0..2 {
-                let b = w * self.dt * shape.disp_grad[(gamma, i)];
-                for c in 0..3 {
-                    for a in 0..3 {
-                        self.g_sum[(3 * i + c, 3 * gamma + a)] += qrt[(a, c)] * b;
-                    }
-                }
-            }
-        }
-        for s in 0..12 {
-            for r in 0..3 * NR {
-                self.g_sum[(3 * NU + r, s)] += w * jac_t[(6 + r, s)];
             }
         }
     }

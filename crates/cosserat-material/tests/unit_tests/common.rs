@@ -1,6 +1,7 @@
 //! Random inputs for the kernel tests (seeded).
 
 use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
+use cosserat_material::MaterialParameters;
 use cosserat_material::kernel::PointShape;
 use cosserat_material::strain_space::{StrainVector, strain_offset};
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
@@ -90,4 +91,12 @@ pub fn scaled_max_error<const N: usize>(got: &SMatrix<f64, N, N>, expected: &SMa
         }
     }
     e
+}
+
+/// A material with every curvature coefficient and the micropolar coupling active.
+pub fn material() -> MaterialParameters {
+    let mut m = MaterialParameters::new(0.01, 1e6, 0.3, 1000.0, 0.02);
+    m.curvature_coefficients = [1.0, 0.7, 0.2];
+    m.mu_c_factor = 0.8;
+    m
 }

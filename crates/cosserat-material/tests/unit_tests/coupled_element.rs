@@ -14,18 +14,10 @@ use cosserat_material::kernel::{LocalDerivatives, PointInput, PointShape, add_no
 use cosserat_material::oracle::{PointContext, f_hat_of, local_strains};
 use cosserat_material::projected::{ElementPoint, ValuePoint};
 use cosserat_material::strain_space::{DensityMatrix, StrainVector, local_geometry, strain_hessian};
-use cosserat_material::{AxlVariant, MaterialParameters, ModelOptions, ShellModel, TermSet};
+use cosserat_material::{AxlVariant, ModelOptions, ShellModel, TermSet};
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
 use num_dual::Dual2SVec64;
 use rand_chacha::ChaCha8Rng;
-
-/// A material with every curvature coefficient and the micropolar coupling active.
-pub fn material() -> MaterialParameters {
-    let mut m = MaterialParameters::new(0.01, 1e6, 0.3, 1000.0, 0.02);
-    m.curvature_coefficients = [1.0, 0.7, 0.2];
-    m.mu_c_factor = 0.8;
-    m
-}
 
 /// Each point's strains `(Ê, Γ̂)`.
 pub type PointStrains<T> = Vec<(Matrix3<T>, Matrix3<T>)>;
@@ -60,7 +52,7 @@ impl<const NU: usize, const NR: usize> CoupledElement<NU, NR> {
             })
             .collect();
         let offsets = shapes.iter().map(|s| common::offset(rng, &s.frame)).collect();
-        let moduli = material().moduli().unwrap();
+        let moduli = common::material().moduli().unwrap();
         Self {
             b_world,
             offsets,
@@ -88,7 +80,7 @@ impl<const NU: usize, const NR: usize> CoupledElement<NU, NR> {
 
     /// The density Hessian of each point.
     pub fn densities(&self) -> Vec<DensityMatrix> {
-        let moduli = material().moduli().unwrap();
+        let moduli = common::material().moduli().unwrap();
         self.shapes
             .iter()
             .zip(&self.b_world)
@@ -173,7 +165,7 @@ impl<const NU: usize, const NR: usize> CoupledElement<NU, NR> {
     /// The oracle's part common to the couplings: each point's strains `(Ê, Γ̂)` composed directly from
     /// the unknowns, and its geometry.
     pub fn oracle_strains<T: Real>(&self, u: &[T]) -> (PointStrains<T>, Vec<PointGeometry>) {
-        let moduli = material().moduli().unwrap();
+        let moduli = common::material().moduli().unwrap();
         let x: [Vector3<T>; NU] = std::array::from_fn(|i| {
             self.x_start[i].cast::<T>() + Vector3::new(u[3 * i], u[3 * i + 1], u[3 * i + 2]) * T::from(self.dt)
         });
@@ -208,7 +200,7 @@ impl<const NU: usize, const NR: usize> CoupledElement<NU, NR> {
 
     /// The energy density of the strains `(e, g)` at a point of geometry `geom`, term by term.
     pub fn oracle_density<T: Real>(&self, e: &Matrix3<T>, g: &Matrix3<T>, geom: &PointGeometry) -> T {
-        density(&self.terms, e, g, geom, &material().moduli().unwrap())
+        density(&self.terms, e, g, geom, &common::material().moduli().unwrap())
     }
 }
 

@@ -7,17 +7,10 @@ use cosserat_material::element::{ElementDerivatives, accumulate_upper, point_ome
 use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
 use cosserat_material::oracle::{PointContext, element_point_energy, local_energy};
 use cosserat_material::strain_space::{DensityMatrix, StrainVector, local_geometry, strain_hessian, strain_offset};
-use cosserat_material::{AxlVariant, CurvedTerms, MaterialParameters, ModelOptions, ShellModel, TermSet};
+use cosserat_material::{AxlVariant, CurvedTerms, ModelOptions, ShellModel, TermSet};
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
 use num_dual::Dual2SVec64;
 use rand_chacha::ChaCha8Rng;
-
-fn material() -> MaterialParameters {
-    let mut m = MaterialParameters::new(0.01, 1e6, 0.3, 1000.0, 0.02);
-    m.curvature_coefficients = [1.0, 0.7, 0.2];
-    m.mu_c_factor = 0.8;
-    m
-}
 
 /// A random point with its state: the inputs of both the kernel and the oracle.
 #[derive(Clone, Copy)]
@@ -61,7 +54,7 @@ impl<const NU: usize, const NR: usize> Case<NU, NR> {
 }
 
 fn terms_for(options: &ModelOptions, curved: bool) -> TermSet {
-    TermSet::select(options, &material().moduli().unwrap(), curved).unwrap()
+    TermSet::select(options, &common::material().moduli().unwrap(), curved).unwrap()
 }
 
 /// Fast kernel: local derivatives at the case's state, from the Hessian path and from the
@@ -71,7 +64,7 @@ fn fast<const NU: usize, const NR: usize, const NL: usize>(
     terms: &TermSet,
     axl: AxlVariant,
 ) -> (cosserat_material::kernel::LocalDerivatives<NL>, (f64, SVector<f64, NL>)) {
-    let moduli = material().moduli().unwrap();
+    let moduli = common::material().moduli().unwrap();
     let geom = local_geometry(&case.shape.frame, &case.b_world);
     let d = DensityMatrix::new(strain_hessian(terms, &geom, &moduli));
     let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
@@ -95,7 +88,7 @@ fn check_against_dual_oracle<const NU: usize, const NR: usize, const NL: usize>(
     curved: bool,
 ) {
     let mut rng = common::rng(seed);
-    let moduli = material().moduli().unwrap();
+    let moduli = common::material().moduli().unwrap();
     for _ in 0..4 {
         let case = Case::<NU, NR>::random(&mut rng, curved);
         let terms = terms_for(&options, curved);
@@ -200,7 +193,7 @@ fn element_energy<const NU: usize, const NR: usize>(
     axl: AxlVariant,
     unknowns: &[f64],
 ) -> f64 {
-    let moduli = material().moduli().unwrap();
+    let moduli = common::material().moduli().unwrap();
     let geom = local_geometry(&case.shape.frame, &case.b_world);
     let ctx = PointContext {
         shape: &case.shape,
@@ -315,7 +308,7 @@ fn rest_case<const NU: usize, const NR: usize>(
 #[test]
 fn rest_state_and_rigid_motions_have_zero_energy_and_gradient_for_the_curved_shell() {
     let mut rng = common::rng(21);
-    let moduli = material().moduli().unwrap();
+    let moduli = common::material().moduli().unwrap();
     let terms = terms_for(&shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
     for _ in 0..5 {
         let (shape, b, offset) = rest_case::<6, 3>(&mut rng);
@@ -355,7 +348,7 @@ fn rest_state_and_rigid_motions_have_zero_energy_and_gradient_for_the_curved_she
 #[test]
 fn energy_is_frame_indifferent() {
     let mut rng = common::rng(31);
-    let moduli = material().moduli().unwrap();
+    let moduli = common::material().moduli().unwrap();
     for curved in [false, true] {
         let options = if curved {
             shell(CurvedTerms::Supplement, AxlVariant::SkewPart)
@@ -402,7 +395,7 @@ fn energy_is_frame_indifferent() {
 fn sparse_density_products_equal_the_dense_ones() {
     use cosserat_material::strain_space::VARIABLE_STRAINS;
     let mut rng = common::rng(31);
-    let moduli = material().moduli().unwrap();
+    let moduli = common::material().moduli().unwrap();
     let plate = terms_for(&ModelOptions::new(ShellModel::Plate), false);
     let curved = terms_for(&shell(CurvedTerms::Supplement, AxlVariant::SkewPart), true);
     for (terms, is_curved) in [(&plate, false), (&curved, true), (&curved, true)] {
