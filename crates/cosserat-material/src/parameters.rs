@@ -145,6 +145,19 @@ pub struct ContinuumParameters {
 }
 
 impl ContinuumParameters {
+    /// Parameters with the given required values, `μ_c = μ` and `(b₁, b₂, b₃) = (1, 1, 0)` (the
+    /// shell's defaults, [`MaterialParameters::new`]).
+    pub fn new(youngs_modulus: f64, poisson_ratio: f64, density: f64, length_scale: f64) -> Self {
+        Self {
+            youngs_modulus,
+            poisson_ratio,
+            density,
+            mu_c_factor: 1.0,
+            length_scale,
+            curvature_coefficients: [1.0, 1.0, 0.0],
+        }
+    }
+
     /// Checks every parameter.
     ///
     /// # Errors

@@ -17,7 +17,7 @@ use cosserat_solver::{
 };
 use cosserat_volume::measure::{fit_circle, hausdorff_distance};
 use cosserat_volume::mesh::{SlabGrid, slab};
-use cosserat_volume::{MicropolarMaterial, VolumeInput, build_volume_system};
+use cosserat_volume::{ContinuumParameters, MicropolarModuli, Slab, VolumeInput, build_volume_system};
 use nalgebra::{Matrix3, Vector2, Vector3};
 use std::time::Instant;
 
@@ -26,8 +26,8 @@ const WIDTH: f64 = 0.125;
 const KAPPA: f64 = std::f64::consts::PI;
 const LEVELS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 
-fn material(lc: f64) -> MicropolarMaterial {
-    MicropolarMaterial::new(1e6, 0.3, 1000.0, lc)
+fn material(lc: f64) -> ContinuumParameters {
+    ContinuumParameters::new(1e6, 0.3, 1000.0, lc)
 }
 
 /// Newton settings with block-Jacobi CG steps and the reference's forcing sequence.
@@ -226,7 +226,7 @@ fn pin_centre(potential: &mut IncrementalPotential, rest: &[Vector3<f64>], tol: 
 fn lotus(n: usize, t_end: f64) {
     let dt = 0.01;
     let steps = (t_end / dt).round() as usize;
-    let mut mat = MicropolarMaterial::new(0.5e6, 0.3, 3000.0, 1.0);
+    let mut mat = ContinuumParameters::new(0.5e6, 0.3, 3000.0, 1.0);
     mat.mu_c_factor = 1.0;
     let grid = slab([1.0, 1.0, 0.01], [n, n, 1]).unwrap();
     let input = VolumeInput {
@@ -347,7 +347,7 @@ fn kernel_cost() {
         Vector3::new(0.05, 0.0289, 0.0816),
     ];
     let point = tet4_point(&x_rest).unwrap();
-    let moduli = material(0.05).moduli().unwrap();
+    let moduli = MicropolarModuli::of(&material(0.05)).unwrap();
     let d = strain_hessian(&moduli);
     let q = |v: Vector3<f64>| quaternion_from_matrix(&exp_map(&v));
     let qp = q(Vector3::new(0.1, 0.2, -0.3));
@@ -447,7 +447,11 @@ fn main() {
         ] {
             let (grid, out) = volume_coil(h, cells, 0.1, false);
             let rest_mid = grid.mid_surface(&grid.mesh.nodes);
-            let k_th = material(0.1).slab_curvature_under_rest_curvature(h, KAPPA);
+            let k_th = Slab {
+                material: material(0.1),
+                thickness: h,
+            }
+            .curvature_under_rest_curvature(KAPPA);
             let (k_fit, dist) = measure(&out.mid_surface, &rest_mid, k_th);
             println!(
                 "h {h} cells {cells:?}: k/κ {:.5} th {:.5} rel {:+.2e} dist {dist:.2e} it {} {:.1}s",
@@ -471,7 +475,11 @@ fn main() {
             for (nx, ny) in [(16, 2), (32, 4), (64, 8)] {
                 let (grid, out) = volume_coil(h, [nx, ny, 1], lc, false);
                 let rest_mid = grid.mid_surface(&grid.mesh.nodes);
-                let k_th = material(lc).slab_curvature_under_rest_curvature(h, KAPPA);
+                let k_th = Slab {
+                    material: material(lc),
+                    thickness: h,
+                }
+                .curvature_under_rest_curvature(KAPPA);
                 let (k_fit, dist) = measure(&out.mid_surface, &rest_mid, k_th);
                 println!(
                     "| {lc} | {h} | {nx}×{ny}×1 | {} | {:.5} | {:.5} | {:+.2e} | {:.2e} | {} | {:.2} |",

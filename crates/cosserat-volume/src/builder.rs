@@ -7,13 +7,14 @@
 
 use crate::density::strain_hessian;
 use crate::error::{BuildError, MeshError};
-use crate::material::{MicropolarMaterial, MicropolarModuli};
+use crate::material::MicropolarModuli;
 use crate::mesh::TetMesh;
 use crate::term::{RestCurvature, Tet4Volume, VolumeDiscretization};
 use crate::tet4::{VolumePoint, tet4_point};
 use cosserat_assembly::{
     DofLayout, IncrementalPotential, NodalMasses, PotentialParts, SystemOptions, SystemState, TermHandle,
 };
+use cosserat_material::ContinuumParameters;
 use nalgebra::Vector3;
 
 /// A micropolar solid to build.
@@ -22,7 +23,7 @@ pub struct VolumeInput {
     /// The rest mesh.
     pub mesh: TetMesh,
     /// The material.
-    pub material: MicropolarMaterial,
+    pub material: ContinuumParameters,
     /// Mass-proportional damping `d` on translations \[1/s\]. Finite and non-negative.
     pub damping: f64,
     /// Rotational inertia density `ρ_θ` \[kg/m\]: nodal rotational inertia `ρ_θ V/4` per adjacent element
@@ -66,7 +67,7 @@ impl VolumeSystem {
 ///   the Hessian is singular at rest) and `L_c > 0` with `b₁, b₂ > 0` (otherwise rotation fields whose
 ///   element means vanish, or whose gradient is purely skew or purely symmetric, are not penalised).
 pub fn build_volume_system(input: &VolumeInput, options: &SystemOptions) -> Result<VolumeSystem, BuildError> {
-    let moduli = input.material.moduli()?;
+    let moduli = MicropolarModuli::of(&input.material)?;
     check_input(input, options, &moduli)?;
     let mesh = &input.mesh;
     mesh.validate()?;

@@ -29,14 +29,14 @@
 //! solver (Newton with block-Jacobi CG steps) lets it fall freely, `v = g Δt`:
 //! ```
 //! use cosserat_assembly::SystemOptions;
-//! use cosserat_volume::{MicropolarMaterial, VolumeInput, build_volume_system, mesh};
+//! use cosserat_volume::{ContinuumParameters, VolumeInput, build_volume_system, mesh};
 //! use nalgebra::Vector3;
 //!
 //! let grid = mesh::slab([0.2, 0.05, 0.01], [4, 1, 1]).unwrap();
 //! assert_eq!(grid.mesh.n_elements(), 24);
 //! let input = VolumeInput {
 //!     mesh: grid.mesh,
-//!     material: MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.05),
+//!     material: ContinuumParameters::new(1e6, 0.3, 1000.0, 0.05),
 //!     damping: 0.0,
 //!     angular_inertia_density: 0.0,
 //! };
@@ -78,7 +78,8 @@ pub mod term;
 pub mod tet4;
 
 pub use builder::{VolumeInput, VolumeSystem, build_volume_system};
+pub use cosserat_material::ContinuumParameters;
 pub use error::{BuildError, MaterialError, MeshError};
-pub use material::{MicropolarMaterial, MicropolarModuli};
+pub use material::{MicropolarModuli, Slab};
 pub use mesh::{SlabGrid, TetMesh};
 pub use term::{RestCurvature, Tet4Volume, VolumeTerm};

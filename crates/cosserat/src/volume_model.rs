@@ -21,7 +21,7 @@ use cosserat_scene::spec::{FieldFunction, SceneSpec, ShellSpec, Timing};
 use cosserat_solver::ScriptError;
 use cosserat_volume::grid::PlanarGrid;
 use cosserat_volume::mesh::slab;
-use cosserat_volume::{MicropolarMaterial, RestCurvature, VolumeInput, build_volume_system};
+use cosserat_volume::{RestCurvature, VolumeInput, build_volume_system};
 use nalgebra::{Matrix3, Quaternion, Vector3};
 
 /// The rest fields of a volumetric scene, evaluated at the element centroids.
@@ -74,12 +74,9 @@ pub fn build(spec: &SceneSpec, layers: usize, options: &SystemOptions) -> Result
     let mut slab_grid = slab([lx, ly, p.thickness], [nx, ny, layers]).map_err(|e| setup(shell, e))?;
     let center = grid.center();
     slab_grid.mesh.nodes.iter_mut().for_each(|x| *x += center);
-    let mut material = MicropolarMaterial::new(p.youngs_modulus, p.poisson_ratio, p.density, p.length_scale);
-    material.mu_c_factor = p.mu_c_factor;
-    material.curvature_coefficients = p.curvature_coefficients;
     let input = VolumeInput {
         mesh: slab_grid.mesh.clone(),
-        material,
+        material: p.continuum(),
         damping: shell.damping,
         angular_inertia_density: shell.angular_inertia_density,
     };

@@ -8,7 +8,7 @@ use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
 use cosserat_solver::{QuasiStaticSettings, solve_quasi_static};
 use cosserat_volume::measure::fit_circle;
 use cosserat_volume::mesh::slab;
-use cosserat_volume::{MicropolarMaterial, VolumeInput, build_volume_system};
+use cosserat_volume::{ContinuumParameters, VolumeInput, build_volume_system};
 use nalgebra::{Matrix3, Vector2, Vector3};
 
 /// Slab length along x and width along y \[m\].
@@ -18,8 +18,8 @@ pub const WIDTH: f64 = 0.125;
 pub const KAPPA: f64 = std::f64::consts::PI;
 const LEVELS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 
-pub fn material(lc: f64) -> MicropolarMaterial {
-    MicropolarMaterial::new(1e6, 0.3, 1000.0, lc)
+pub fn material(lc: f64) -> ContinuumParameters {
+    ContinuumParameters::new(1e6, 0.3, 1000.0, lc)
 }
 
 /// `Γ_rest,21 = λ κ`: rotation about y accumulating along x.

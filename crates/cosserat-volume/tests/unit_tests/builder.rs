@@ -4,10 +4,10 @@
 use super::common::{dense, material, small_system};
 use cosserat_assembly::SystemOptions;
 use cosserat_volume::mesh::{TetMesh, slab};
-use cosserat_volume::{BuildError, MeshError, MicropolarMaterial, VolumeInput, build_volume_system};
+use cosserat_volume::{BuildError, ContinuumParameters, MeshError, VolumeInput, build_volume_system};
 use nalgebra::{DMatrix, Vector3};
 
-fn input(material: MicropolarMaterial, angular_inertia_density: f64) -> VolumeInput {
+fn input(material: ContinuumParameters, angular_inertia_density: f64) -> VolumeInput {
     VolumeInput {
         mesh: slab([0.1, 0.04, 0.02], [2, 1, 1]).unwrap().mesh,
         material,
@@ -92,7 +92,7 @@ fn rotations_need_mu_c_and_l_c_unless_there_is_rotational_inertia() {
 
 /// Eigenvalues of the rotation block of the Hessian at rest (no rotational inertia), relative to the
 /// largest.
-fn relative_rotation_spectrum(m: MicropolarMaterial) -> Vec<f64> {
+fn relative_rotation_spectrum(m: ContinuumParameters) -> Vec<f64> {
     // Build with rotational inertia (accepted for any moduli), then remove it.
     let mut sys = build_volume_system(&input(m, 1.0), &options(true)).unwrap();
     let inertia = sys.potential.parts.inertia.as_mut().unwrap();

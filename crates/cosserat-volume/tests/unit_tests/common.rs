@@ -1,7 +1,7 @@
 //! Seeded random data for the tests.
 
 use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
-use cosserat_volume::MicropolarMaterial;
+use cosserat_volume::ContinuumParameters;
 use nalgebra::{Matrix3, Quaternion, Vector3};
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
@@ -34,8 +34,8 @@ pub fn tet(rng: &mut ChaCha8Rng) -> [Vector3<f64>; 4] {
 }
 
 /// A material exercising every modulus (μ_c ≠ μ, all three curvature coefficients).
-pub fn material() -> MicropolarMaterial {
-    let mut m = MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.05);
+pub fn material() -> ContinuumParameters {
+    let mut m = ContinuumParameters::new(1e6, 0.3, 1000.0, 0.05);
     m.mu_c_factor = 0.7;
     m.curvature_coefficients = [1.0, 0.6, 0.3];
     m
@@ -49,7 +49,7 @@ pub fn amax(v: &[f64]) -> f64 {
 /// A small slab system (1 dm × 4 cm × 2 cm) with gravity.
 pub fn small_system(
     cells: [usize; 3],
-    material: MicropolarMaterial,
+    material: ContinuumParameters,
     dynamic: bool,
     angular_inertia_density: f64,
 ) -> cosserat_volume::VolumeSystem {

@@ -30,7 +30,7 @@ pub fn random_case(seed: u64) -> Case {
     let mut r = rng(seed);
     let x_rest = tet(&mut r);
     let point = tet4_point(&x_rest).unwrap();
-    let moduli = material().moduli().unwrap();
+    let moduli = MicropolarModuli::of(&material()).unwrap();
     Case {
         point,
         x_start: x_rest.map(|x| x + vec3(&mut r, 0.01)),
@@ -200,7 +200,7 @@ fn energy_and_gradient_vanish_at_rest_and_under_rigid_motion() {
     let mut r = rng(3);
     let x_rest = tet(&mut r);
     let point = tet4_point(&x_rest).unwrap();
-    let moduli = material().moduli().unwrap();
+    let moduli = MicropolarModuli::of(&material()).unwrap();
     let d = strain_hessian(&moduli);
     // Stress scale of the element: μ times volume over length.
     let scale = moduli.mu * point.weight / 0.1;

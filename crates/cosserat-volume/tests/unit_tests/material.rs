@@ -1,11 +1,11 @@
 //! Validation and derived moduli of the micropolar material.
 
 use cosserat_material::MaterialParameters;
-use cosserat_volume::{MaterialError, MicropolarMaterial};
+use cosserat_volume::{ContinuumParameters, MaterialError, MicropolarModuli, Slab};
 
 #[test]
 fn moduli_follow_from_young_and_poisson() {
-    let m = MicropolarMaterial::new(2.6e6, 0.3, 1000.0, 0.1).moduli().unwrap();
+    let m = MicropolarModuli::of(&ContinuumParameters::new(2.6e6, 0.3, 1000.0, 0.1)).unwrap();
     assert!((m.mu - 1e6).abs() < 1e-6);
     // λ = E ν / ((1 + ν)(1 − 2ν)) = 2.6e6 · 0.3 / (1.3 · 0.4) = 1.5e6.
     assert!((m.lambda - 1.5e6).abs() < 1e-6);
@@ -15,8 +15,8 @@ fn moduli_follow_from_young_and_poisson() {
 
 #[test]
 fn invalid_parameters_are_named() {
-    let base = MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.1);
-    type Spoil = fn(&mut MicropolarMaterial);
+    let base = ContinuumParameters::new(1e6, 0.3, 1000.0, 0.1);
+    type Spoil = fn(&mut ContinuumParameters);
     let cases: [(&str, Spoil); 6] = [
         ("poisson_ratio", |m| m.poisson_ratio = 0.5),
         ("youngs_modulus", |m| m.youngs_modulus = f64::NAN),
@@ -28,7 +28,7 @@ fn invalid_parameters_are_named() {
     for (field, spoil) in cases {
         let mut m = base;
         spoil(&mut m);
-        match m.moduli() {
+        match MicropolarModuli::of(&m) {
             Err(MaterialError::InvalidParameter { name, .. }) => assert_eq!(name, field),
             other => panic!("{field}: expected an error, got {other:?}"),
         }
@@ -38,7 +38,7 @@ fn invalid_parameters_are_named() {
 #[test]
 fn invalid_parameters_are_rejected_as_for_the_shell() {
     // The same bad value of a shared parameter gets the same error from both models' materials.
-    let volume = MicropolarMaterial::new(1e6, 0.3, 1000.0, 0.1);
+    let volume = ContinuumParameters::new(1e6, 0.3, 1000.0, 0.1);
     let shell = MaterialParameters::new(0.01, 1e6, 0.3, 1000.0, 0.1);
     let cases: [(f64, f64, f64, f64); 4] = [
         (-1e6, 0.3, 1000.0, 0.1),
@@ -47,22 +47,27 @@ fn invalid_parameters_are_rejected_as_for_the_shell() {
         (1e6, 0.3, 1000.0, -0.1),
     ];
     for (e, nu, rho, l) in cases {
-        let v = MicropolarMaterial::new(e, nu, rho, l).moduli().unwrap_err();
+        let v = MicropolarModuli::of(&ContinuumParameters::new(e, nu, rho, l)).unwrap_err();
         let s = MaterialParameters::new(shell.thickness, e, nu, rho, l).moduli().unwrap_err();
         // The message names the field, the value and the reason (`PartialEq` would fail on NaN).
         assert_eq!(v.to_string(), s.to_string());
     }
-    assert!(volume.moduli().is_ok() && shell.moduli().is_ok());
+    assert!(MicropolarModuli::of(&volume).is_ok() && shell.moduli().is_ok());
+    // The shell's continuum part is the volume's material with the same defaults.
+    assert_eq!(shell.continuum(), volume);
 }
 
 #[test]
 fn slab_curvature_under_rest_curvature_is_the_stiffness_weighted_mean() {
     // E = 1e6, ν = 0.25, h = 0.02, L_c = 0.1, b₁ + b₂ = 2: D = 1e6·8e-6/(12·0.9375) = 0.71111…,
     // C = 0.02 · 4e5 · 0.01 · 2 = 160, k/κ = C/(C + D).
-    let m = MicropolarMaterial::new(1e6, 0.25, 1000.0, 0.1);
+    let slab = Slab {
+        material: ContinuumParameters::new(1e6, 0.25, 1000.0, 0.1),
+        thickness: 0.02,
+    };
     let d = 1e6 * 8e-6 / (12.0 * 0.9375);
-    assert!((m.plate_bending_stiffness(0.02) - d).abs() < 1e-12);
-    assert!((m.curvature_stiffness(0.02) - 160.0).abs() < 1e-9);
-    let k = m.slab_curvature_under_rest_curvature(0.02, 3.0);
+    assert!((slab.plate_bending_stiffness() - d).abs() < 1e-12);
+    assert!((slab.curvature_stiffness() - 160.0).abs() < 1e-9);
+    let k = slab.curvature_under_rest_curvature(3.0);
     assert!((k - 3.0 * 160.0 / (160.0 + d)).abs() < 1e-12);
 }

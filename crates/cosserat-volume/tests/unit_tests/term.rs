@@ -4,6 +4,7 @@
 use super::common::{amax, dense, material, perturb_state, rng, small_system, vec3};
 use cosserat_assembly::{AssemblyError, Parallelism};
 use cosserat_geometry::rotation::quaternion_update;
+use cosserat_volume::MicropolarModuli;
 use cosserat_volume::density::curvature_density;
 use nalgebra::{Matrix3, Vector3};
 
@@ -83,7 +84,7 @@ fn rest_curvature_at_rest_costs_its_curvature_energy() {
     // At rest E = 0 and Γ = 0, so the energy is the volume times W_curv(−Γ_rest) (gravity does no work
     // at zero velocity).
     let e = sys.potential.value(&vec![0.0; n]).unwrap();
-    let expected = sys.volume() * curvature_density(&(-gamma), &m.moduli().unwrap());
+    let expected = sys.volume() * curvature_density(&(-gamma), &MicropolarModuli::of(&m).unwrap());
     assert!((e - expected).abs() < 1e-12 * expected, "{e} vs {expected}");
     sys.rest_curvature.clear();
     assert_eq!(sys.potential.value(&vec![0.0; n]).unwrap(), 0.0);
