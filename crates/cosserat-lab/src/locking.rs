@@ -9,7 +9,7 @@
 //! least 1e-7), because an absolute tolerance below the round-off floor cannot be met.
 
 use crate::plot::{Mark, Plot, Series};
-use crate::problem::Pair;
+use crate::problem::{Interpolation, Pair};
 use crate::reference::elastica_tip;
 use crate::runner::{Runner, run_described};
 use anyhow::Result;
@@ -28,8 +28,8 @@ pub const H_OVER_L: [f64; 5] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-5];
 pub struct Row {
     /// The element pair.
     pub pair: Pair,
-    /// `material.strain_interpolation` (`paper` is the default).
-    pub interpolation: &'static str,
+    /// The strain interpolation.
+    pub interpolation: Interpolation,
     /// Quads along the strip.
     pub nx: usize,
     /// Quads across the strip.
@@ -38,7 +38,7 @@ pub struct Row {
 
 impl Row {
     /// A row.
-    pub const fn new(pair: Pair, interpolation: &'static str, nx: usize, ny: usize) -> Self {
+    pub const fn new(pair: Pair, interpolation: Interpolation, nx: usize, ny: usize) -> Self {
         Self {
             pair,
             interpolation,
@@ -49,10 +49,10 @@ impl Row {
 
     /// `Tri6/Tri3` for the paper's interpolation, `Tri6/Tri3 regge` for another.
     pub fn label(&self) -> String {
-        if self.interpolation == "paper" {
+        if self.interpolation == Interpolation::Paper {
             self.pair.label().to_string()
         } else {
-            format!("{} {}", self.pair.label(), self.interpolation)
+            format!("{} {}", self.pair.label(), self.interpolation.name())
         }
     }
 }
@@ -60,16 +60,16 @@ impl Row {
 /// The rows of the study: the three pairs on coarse and fine meshes with the paper's interpolation, and
 /// the locking-free interpolations on the coarse Tri6/Tri3 mesh.
 pub const ROWS: [Row; 10] = [
-    Row::new(Pair::Tri3Tri3, "paper", 20, 2),
-    Row::new(Pair::Tri3Tri3, "paper", 320, 1),
-    Row::new(Pair::Tri3Tri3, "paper", 1280, 1),
-    Row::new(Pair::Tri6Tri3, "paper", 10, 1),
-    Row::new(Pair::Tri6Tri3, "paper", 20, 2),
-    Row::new(Pair::Tri6Tri3, "paper", 80, 8),
-    Row::new(Pair::Tri6Tri3, "regge", 20, 2),
-    Row::new(Pair::Tri6Tri3, "stabilized", 20, 2),
-    Row::new(Pair::Tri6Tri6, "paper", 20, 2),
-    Row::new(Pair::Tri6Tri6, "paper", 80, 8),
+    Row::new(Pair::Tri3Tri3, Interpolation::Paper, 20, 2),
+    Row::new(Pair::Tri3Tri3, Interpolation::Paper, 320, 1),
+    Row::new(Pair::Tri3Tri3, Interpolation::Paper, 1280, 1),
+    Row::new(Pair::Tri6Tri3, Interpolation::Paper, 10, 1),
+    Row::new(Pair::Tri6Tri3, Interpolation::Paper, 20, 2),
+    Row::new(Pair::Tri6Tri3, Interpolation::Paper, 80, 8),
+    Row::new(Pair::Tri6Tri3, Interpolation::Regge, 20, 2),
+    Row::new(Pair::Tri6Tri3, Interpolation::Stabilized, 20, 2),
+    Row::new(Pair::Tri6Tri6, Interpolation::Paper, 20, 2),
+    Row::new(Pair::Tri6Tri6, Interpolation::Paper, 80, 8),
 ];
 
 /// The accuracy the advice asks of a mesh: within 1 % of the elastica.
@@ -85,7 +85,7 @@ pub fn overrides(row: &Row, h_over_l: f64) -> Vec<String> {
         format!("material.thickness={h:e}"),
         format!("material.youngs_modulus={e:e}"),
         format!("material.length_scale={:e}", 1e-3 * h),
-        format!("material.strain_interpolation={}", row.interpolation),
+        row.interpolation.scene_override(),
         format!("solver.tolerance={tol:e}"),
         format!("mesh.nx={}", row.nx),
         format!("mesh.ny={}", row.ny),

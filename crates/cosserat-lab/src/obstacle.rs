@@ -4,6 +4,7 @@
 //! reference over unknowns and wall time.
 
 use crate::postprocess::ProbeTable;
+use crate::problem::Interpolation;
 use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
 use cosserat::RunDescription;
@@ -30,7 +31,7 @@ pub struct Benchmark {
 }
 
 /// The strain interpolations compared.
-pub const INTERPOLATIONS: [&str; 3] = ["paper", "stabilized", "regge"];
+pub const INTERPOLATIONS: [Interpolation; 3] = [Interpolation::Paper, Interpolation::Stabilized, Interpolation::Regge];
 
 fn hemisphere_ladder() -> Vec<(String, Vec<String>)> {
     [(16, 5), (32, 10), (64, 20), (128, 40)]
@@ -100,7 +101,7 @@ pub fn course() -> Vec<Benchmark> {
 #[derive(Debug, Clone)]
 pub struct CourseRun {
     /// One of [`INTERPOLATIONS`].
-    pub interpolation: &'static str,
+    pub interpolation: Interpolation,
     /// Mesh label.
     pub mesh: String,
     /// The outcome.
@@ -121,10 +122,10 @@ pub fn run_benchmark(b: &Benchmark, runner: &Runner, out: &Path, quick: bool) ->
                 continue;
             }
             let mut ov = overrides.clone();
-            ov.push(format!("material.strain_interpolation={interpolation}"));
+            ov.push(interpolation.scene_override());
             ov.push("output.frames=false".into());
-            let dir = out.join(b.name).join(format!("{interpolation}_{i}"));
-            eprintln!("{}: {interpolation} {mesh} ...", b.name);
+            let dir = out.join(b.name).join(format!("{}_{i}", interpolation.name()));
+            eprintln!("{}: {} {mesh} ...", b.name, interpolation.name());
             let outcome = run_described(runner, &RunDescription::new(b.scene, dir, &ov))?;
             let value = outcome
                 .probes
@@ -169,7 +170,7 @@ pub fn section(b: &Benchmark, runs: &[CourseRun]) -> Result<String> {
         writeln!(
             md,
             "| {} | {} | {} | {} | {} | {} | {:.2} s | {status} |",
-            r.interpolation,
+            r.interpolation.name(),
             r.mesh,
             s.map_or("–".into(), |s| (s.n_displacement_dofs + s.n_rotation_dofs)
                 .to_string()),
@@ -189,7 +190,8 @@ pub fn section(b: &Benchmark, runs: &[CourseRun]) -> Result<String> {
         };
         writeln!(
             md,
-            "\n{interpolation}: coarsest mesh within 2 %: {}; within 1 %: {}.",
+            "\n{}: coarsest mesh within 2 %: {}; within 1 %: {}.",
+            interpolation.name(),
             within(0.02),
             within(0.01)
         )?;

@@ -47,7 +47,7 @@ pub struct Plot {
     pub series: Vec<Series>,
 }
 
-const PALETTE: [RGBColor; 8] = [
+const PALETTE: [RGBColor; 10] = [
     RGBColor(0, 0, 0),
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -56,6 +56,8 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
     RGBColor(23, 190, 207),
+    RGBColor(227, 119, 194),
+    RGBColor(188, 189, 34),
 ];
 
 fn range(values: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {

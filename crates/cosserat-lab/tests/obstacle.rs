@@ -7,7 +7,7 @@
 use cosserat::RunDescription;
 use cosserat_lab::locking::Row;
 use cosserat_lab::obstacle::course;
-use cosserat_lab::problem::Pair;
+use cosserat_lab::problem::{Interpolation, Pair};
 use cosserat_lab::runner::{Runner, run_described};
 
 fn out(name: &str) -> std::path::PathBuf {
@@ -21,7 +21,7 @@ fn stabilized_pinched_hemisphere_is_within_two_percent_on_eight_bands() {
     let b = course().into_iter().find(|b| b.name == "pinched_hemisphere").unwrap();
     let (label, mut ov) = b.ladder[1].clone();
     assert!(label.contains("8 bands"), "{label}");
-    ov.push("material.strain_interpolation=stabilized".into());
+    ov.push(Interpolation::Stabilized.scene_override());
     ov.push("output.frames=false".into());
     let outcome = run_described(
         &Runner::InProcess,
@@ -38,7 +38,7 @@ fn stabilized_pinched_hemisphere_is_within_two_percent_on_eight_bands() {
 fn stabilized_thin_cantilever_is_within_one_percent_of_the_elastica() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
-    let row = Row::new(Pair::Tri6Tri3, "stabilized", 20, 2);
+    let row = Row::new(Pair::Tri6Tri3, Interpolation::Stabilized, 20, 2);
     let ov = cosserat_lab::locking::overrides(&row, 1e-3);
     let run = RunDescription::new(cosserat_lab::locking::SCENE, out("sze"), &ov);
     let outcome = run_described(&Runner::InProcess, &run).unwrap();
@@ -51,7 +51,7 @@ fn regge_thin_cantilever_is_within_one_percent_of_the_elastica() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
     for h_over_l in [1e-3, 1e-4] {
-        let row = Row::new(Pair::Tri6Tri3, "regge", 20, 2);
+        let row = Row::new(Pair::Tri6Tri3, Interpolation::Regge, 20, 2);
         let ov = cosserat_lab::locking::overrides(&row, h_over_l);
         let run = RunDescription::new(
             cosserat_lab::locking::SCENE,
