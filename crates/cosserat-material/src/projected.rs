@@ -117,14 +117,15 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
 /// `out += G` for the transposed Jacobian `G` of a point's variable strains with respect to the
 /// element's unknowns, with its displacement rows scaled by `f_disp` (`Δt`, times a weight) and its
 /// rotation rows by `f_rot` (the weight): `∂Ê_γ,a/∂v_i,c = (QᵀRᵀ)_ac Δt ∂N_i/∂t_γ`, and the rotation
-/// rows are those of `jac_t`.
-fn add_element_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+/// rows are those of `jac_t`. Only the first `C` strains are written: all twelve, or the six of `Ê`
+/// (the only ones the displacement rows have).
+fn add_element_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const C: usize>(
     shape: &PointShape<NU, NR>,
     jac_t: &SMatrix<f64, NL, 12>,
     qrt: &Matrix3<f64>,
     f_disp: f64,
     f_rot: f64,
-    out: &mut SMatrix<f64, NE, 12>,
+    out: &mut SMatrix<f64, NE, C>,
 ) {
     for i in 0..NU {
         for gamma in 0..2 {
@@ -136,7 +137,7 @@ fn add_element_jacobian<const NU: usize, const NR: usize, const NL: usize, const
             }
         }
     }
-    for s in 0..12 {
+    for s in 0..C {
         for r in 0..3 * NR {
             out[(3 * NU + r, s)] += f_rot * jac_t[(6 + r, s)];
         }
@@ -158,16 +159,17 @@ fn add_element_jacobian<const NU: usize, const NR: usize, const NL: usize, const
 /// its locals, so the kernel's own product `D (P J)` gives both the point-local part and, mapped to
 /// the element's unknowns, the point's share of `X`; no density is formed. Where `P` couples the
 /// tangential pair, the point-local part reads the formed density `P D_p P` and `X` is gathered in
-/// the element's unknowns. Where the points share one density (every flat element), `X` and `D̄`
-/// follow from `Σ_p w_p G_p` at the end instead, and if that density does not couple `Ê` to `Γ` the
-/// three element-level products are one, `W Ḡ₆ (D − P D P) Ḡ₆ᵀ` ([`Self::finish`]).
+/// the element's unknowns. Where the points share one density that does not couple `Ê` to `Γ` (every
+/// flat element), `X = W Ḡ₆ P D` and `D̄ = W D` follow from `Ḡ₆ = Σ_p w_p G_p / W` on the columns of
+/// `Ê`, and the three element-level products are one, `W Ḡ₆ (D − P D P) Ḡ₆ᵀ` ([`Self::finish`]).
 pub(crate) struct ProjectedFirstOrder<'a, const NE: usize> {
     projection: &'a StrainProjection,
     kept: Kept,
-    shared: Option<&'a DensityMatrix>,
+    /// The points' shared density, if it does not couple `Ê` to `Γ`: `X` and `D̄` follow from `Ḡ₆`.
+    decoupled: Option<&'a DensityMatrix>,
     dt: f64,
-    /// `Σ_p w_p G_p`, transposed (row = unknown, column = variable strain).
-    g_sum: SMatrix<f64, NE, 12>,
+    /// `Σ_p w_p G_p` on the columns of `Ê`, transposed (row = unknown, column = strain entry).
+    g_sum: SMatrix<f64, NE, 6>,
     x: SMatrix<f64, NE, 6>,
     d_bar: Matrix6<f64>,
     total: f64,
@@ -195,7 +197,7 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
         Self {
             projection,
             kept,
-            shared,
+            decoupled: shared.filter(|d| membrane_decoupled(d)),
             dt,
             g_sum: SMatrix::zeros(),
             x: SMatrix::zeros(),
@@ -218,7 +220,8 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
     ) {
         let w = shape.weight;
         self.total += w;
-        if self.shared.is_none() {
+        let gather = self.decoupled.is_none();
+        if gather {
             let m = d.matrix();
             for k in 0..6 {
                 for j in 0..6 {
@@ -230,14 +233,14 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
         match &self.kept {
             Kept::Diagonal(p) => {
                 // `P J`: the rows of `Ê_γ` scaled, the same factors for both γ.
-                let pj = jac_t;
+                let pj = &mut *jac_t;
                 for (s, f) in p.iter().enumerate() {
                     pj.column_mut(s).scale_mut(*f);
                 }
                 let pq = Matrix3::from_fn(|a, c| p[a] * qrt[(a, c)]);
                 let dj_t = density_times_jacobian(pj, &pq, d.variable_entries().iter().copied());
                 hessian_from_density_jacobian(pj, &pq, &dj_t, h);
-                if self.shared.is_none() {
+                if gather {
                     // `X += w Gᵀ P D`: the columns 0–5 of `(D P J)ᵀ` mapped to the element's unknowns.
                     map_to_element(shape, &dj_t.fixed_columns::<6>(0), w * self.dt, w, &mut self.x);
                 }
@@ -248,9 +251,11 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
             Kept::PointDensities => {
                 let kept = DensityMatrix::new(self.projection.kept_density(d.matrix()));
                 local_hessian_from_strains(jac_t, qrt, kept.variable_entries().iter().copied(), h);
-                let g = element_jacobian::<NU, NR, NL, NE>(shape, jac_t, qrt, self.dt);
-                self.x += g * kept_columns(d, self.projection) * w;
             }
+        }
+        if gather && !matches!(self.kept, Kept::Diagonal(_)) {
+            let g = element_jacobian::<NU, NR, NL, NE>(shape, jac_t, qrt, self.dt);
+            self.x += g * kept_columns(d, self.projection) * w;
         }
     }
 
@@ -258,8 +263,8 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
     pub(crate) fn finish(self, h: &mut SMatrix<f64, NE, NE>) {
         let inv_total = if self.total > 0.0 { 1.0 / self.total } else { 1.0 };
         let b = self.projection.removed_block();
-        let g6 = self.g_sum.fixed_columns::<6>(0).into_owned();
-        if let Some(d) = self.shared.filter(|d| membrane_decoupled(d)) {
+        let g6 = &self.g_sum;
+        if let Some(d) = self.decoupled {
             // A shared density without coupling of `Ê` to `Γ` (flat elements): `X = W Ḡ₆ P D` and
             // `D̄ = W D`, so the three products are one, `W Ḡ₆ (P D B + B D P + B D B) Ḡ₆ᵀ`, and with
             // `B = I − P` the middle factor is `D − P D P`.
@@ -271,19 +276,16 @@ impl<'a, const NE: usize> ProjectedFirstOrder<'a, NE> {
                     (dm - p * dm * p) * inv_total
                 }
             };
-            add_upper_products::<NE, 6>(h, &[(&columns_times(&g6, &s), &g6)]);
+            let mut gs = SMatrix::<f64, NE, 6>::zeros();
+            add_columns_times(g6, &s, &mut gs);
+            add_upper_products::<NE, 6>(h, &[(&gs, g6)]);
             return;
         }
-        let (x, d_bar) = match self.shared {
-            Some(d) => (
-                self.g_sum * kept_columns(d, self.projection),
-                d.matrix().fixed_view::<6, 6>(0, 0) * self.total,
-            ),
-            None => (self.x, self.d_bar),
-        };
         // `Ĝ = B Ḡ`, `Y = X + ½ Ĝ D̄`, and `Y Ĝᵀ + Ĝ Yᵀ`.
-        let g_hat = columns_times(&g6, &(b * inv_total));
-        let y = x + columns_times(&g_hat, &(d_bar * 0.5));
+        let mut g_hat = SMatrix::<f64, NE, 6>::zeros();
+        add_columns_times(g6, &(b * inv_total), &mut g_hat);
+        let mut y = self.x;
+        add_columns_times(&g_hat, &(self.d_bar * 0.5), &mut y);
         add_upper_products::<NE, 12>(h, &[(&y, &g_hat), (&g_hat, &y)]);
     }
 }
@@ -293,9 +295,9 @@ fn membrane_decoupled(d: &DensityMatrix) -> bool {
     d.variable_entries().iter().all(|e| (e.row < 6) == (e.col < 6))
 }
 
-/// `a m` for a 6 × 6 matrix `m`, as sums of scaled contiguous columns over the nonzero entries of `m`.
-fn columns_times<const NE: usize>(a: &SMatrix<f64, NE, 6>, m: &Matrix6<f64>) -> SMatrix<f64, NE, 6> {
-    let mut out = SMatrix::<f64, NE, 6>::zeros();
+/// `out += a m` for a 6 × 6 matrix `m`, as sums of scaled contiguous columns over the nonzero entries
+/// of `m`.
+fn add_columns_times<const NE: usize>(a: &SMatrix<f64, NE, 6>, m: &Matrix6<f64>, out: &mut SMatrix<f64, NE, 6>) {
     for k in 0..6 {
         for j in 0..6 {
             let f = m[(j, k)];
@@ -307,7 +309,6 @@ fn columns_times<const NE: usize>(a: &SMatrix<f64, NE, 6>, m: &Matrix6<f64>) -> 
             }
         }
     }
-    out
 }
 
 /// `h += Σ A Bᵀ` over the `pairs` on the upper block triangle of `h`: entry `(r, c)` is the dot product
