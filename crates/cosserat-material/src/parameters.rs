@@ -38,14 +38,22 @@ pub struct MaterialParameters {
 impl MaterialParameters {
     /// Parameters with the given required values, `μ_c = μ`, `(b₁, b₂, b₃) = (1, 1, 0)`, `κ_b = 1`.
     pub fn new(thickness: f64, youngs_modulus: f64, poisson_ratio: f64, density: f64, length_scale: f64) -> Self {
+        Self::with_continuum(
+            thickness,
+            ContinuumParameters::new(youngs_modulus, poisson_ratio, density, length_scale),
+        )
+    }
+
+    /// A shell of the given thickness made of `material`, with `κ_b = 1`.
+    pub fn with_continuum(thickness: f64, material: ContinuumParameters) -> Self {
         Self {
             thickness,
-            youngs_modulus,
-            poisson_ratio,
-            density,
-            mu_c_factor: 1.0,
-            length_scale,
-            curvature_coefficients: [1.0, 1.0, 0.0],
+            youngs_modulus: material.youngs_modulus,
+            poisson_ratio: material.poisson_ratio,
+            density: material.density,
+            mu_c_factor: material.mu_c_factor,
+            length_scale: material.length_scale,
+            curvature_coefficients: material.curvature_coefficients,
             bending_correction: 1.0,
         }
     }
@@ -146,7 +154,7 @@ pub struct ContinuumParameters {
 
 impl ContinuumParameters {
     /// Parameters with the given required values, `μ_c = μ` and `(b₁, b₂, b₃) = (1, 1, 0)` (the
-    /// shell's defaults, [`MaterialParameters::new`]).
+    /// defaults of both models: the paper's).
     pub fn new(youngs_modulus: f64, poisson_ratio: f64, density: f64, length_scale: f64) -> Self {
         Self {
             youngs_modulus,

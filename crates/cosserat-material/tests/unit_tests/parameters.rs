@@ -1,6 +1,8 @@
 //! Parameter validation: every bad value is rejected with its name, before any computation.
 
-use cosserat_material::{MaterialError, MaterialParameters, MembraneVolume, ModelOptions, ShellModel, TermSet};
+use cosserat_material::{
+    ContinuumParameters, MaterialError, MaterialParameters, MembraneVolume, ModelOptions, ShellModel, TermSet,
+};
 
 fn valid() -> MaterialParameters {
     MaterialParameters::new(1e-3, 1e6, 0.3, 1000.0, 1e-3)
@@ -119,4 +121,19 @@ fn active_terms_follow_model_material_and_rest_state() {
         TermSet::select(&nonlinear, &moduli, true),
         Err(MaterialError::Unsupported(_))
     ));
+}
+
+#[test]
+fn the_continuum_part_round_trips_and_shares_the_defaults() {
+    let mut p = MaterialParameters::new(0.01, 2e6, 0.25, 900.0, 0.3);
+    assert_eq!(p.continuum(), ContinuumParameters::new(2e6, 0.25, 900.0, 0.3));
+    p.mu_c_factor = 0.5;
+    p.curvature_coefficients = [2.0, 0.5, 0.1];
+    assert_eq!(MaterialParameters::with_continuum(p.thickness, p.continuum()), p);
+    // The one field the continuum does not carry keeps its default.
+    p.bending_correction = 0.8;
+    assert_eq!(
+        MaterialParameters::with_continuum(p.thickness, p.continuum()).bending_correction,
+        1.0
+    );
 }

@@ -10,11 +10,7 @@ use nalgebra::{Matrix3, Vector3};
 #[test]
 fn density_is_the_shell_supplements_w_mp_plus_w_curv() {
     let m = material();
-    let mut shell =
-        cosserat_material::MaterialParameters::new(0.01, m.youngs_modulus, m.poisson_ratio, m.density, m.length_scale);
-    shell.mu_c_factor = m.mu_c_factor;
-    shell.curvature_coefficients = m.curvature_coefficients;
-    let shell = shell.moduli().unwrap();
+    let shell = cosserat_material::MaterialParameters::with_continuum(0.01, m).moduli().unwrap();
     let moduli = MicropolarModuli::of(&m).unwrap();
     let mut r = rng(1);
     for _ in 0..5 {
