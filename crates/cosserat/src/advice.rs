@@ -1,10 +1,12 @@
 //! Warnings about settings a scene can run with but whose results physics or the discretisation
-//! limits: the combinations `cargo xtask stability` found (docs/stability.md), each with its remedy.
+//! limits: the combinations `cargo xtask stability` found (docs/stability.md) and the stabilised
+//! projection's softness in the plane (docs/model-notes.md), each with its remedy.
 //!
 //! The checks look only at the scene (material, thickness, mesh), before anything is built, so a user
 //! sees them before a long run. They never stop a run: a scene may mean it (a locking study, say).
 
 use cosserat_assembly::ElementPair;
+use cosserat_material::StrainInterpolation;
 use cosserat_scene::spec::{ModelKind, SceneSpec, ShellSpec};
 
 /// Element length over thickness above which linear (Tri3) displacements lock in bending: measured on
@@ -41,6 +43,18 @@ fn advise_shell(shell: &ShellSpec) -> Vec<String> {
     let Some(length) = median_edge_length(&shell.mesh.corners.nodes, &shell.mesh.corners.elements) else {
         return out;
     };
+    if let Some(beta) = stabilized_membrane_share(shell, length) {
+        out.push(format!(
+            "shell `{}`: the stabilised projection keeps {:.1} % of the membrane-strain variation inside \
+             elements of {length:.3e} m at h = {:.3e} m, so in-plane bending and membrane-dominated regions \
+             are too flexible on this mesh, by up to 1/β (a strip one element wide bent in its plane, \
+             β = 1/101: 101 times; docs/model-notes.md). Remedy: material.strain_interpolation = \"paper\" or \"regge\" where \
+             the shell carries in-plane loads, or compare with a finer mesh",
+            shell.name,
+            100.0 * beta,
+            m.thickness
+        ));
+    }
     let ratio = length / m.thickness;
     let (limit, element) = match shell.pair {
         ElementPair::Tri3Tri3 => (TRI3_LOCKING_RATIO, "tri3"),
@@ -61,6 +75,22 @@ fn advise_shell(shell: &ShellSpec) -> Vec<String> {
         ));
     }
     out
+}
+
+/// Below this share `β` of the membrane-strain variation inside an element that the stabilised
+/// projection keeps, in-plane bending on a coarse mesh is more than about twice too flexible (a strip
+/// of one element across carries it by that variation alone).
+const STABILIZED_MEMBRANE_SHARE: f64 = 0.5;
+
+/// The share `β = h² / (h² + c ℓ²)` of the membrane-strain variation the stabilised projection keeps
+/// on elements of length `length`, where it is below [`STABILIZED_MEMBRANE_SHARE`].
+fn stabilized_membrane_share(shell: &ShellSpec, length: f64) -> Option<f64> {
+    if shell.rest.interpolation != StrainInterpolation::Stabilized {
+        return None;
+    }
+    let h2 = shell.material.thickness * shell.material.thickness;
+    let beta = h2 / (h2 + shell.rest.stabilization.membrane * length * length);
+    (beta < STABILIZED_MEMBRANE_SHARE).then_some(beta)
 }
 
 /// Median edge length over the triangles of a corner mesh (`None` without elements).

@@ -1,5 +1,5 @@
-//! Warnings about settings physics limits: the drilling rotation without stiffness, and elements long
-//! against the thickness (locking).
+//! Warnings about settings physics limits: the drilling rotation without stiffness, elements long
+//! against the thickness (locking), and the stabilised projection on elements long against it.
 
 use cosserat::Simulation;
 use std::path::Path;
@@ -114,4 +114,19 @@ density = 1000.0
             .replace("ny = 1\n", "ny = 1\nelement = \"tri3\"\nrotation_element = \"tri3\"\n"),
     );
     assert_eq!(cosserat.len(), 1, "{cosserat:?}");
+}
+
+#[test]
+fn the_stabilised_projection_on_elements_longer_than_the_thickness_is_flagged() {
+    // 10 mm elements, h = 1 mm: β = 1/101 of the in-element membrane variation is kept.
+    let w = advice(&["material.strain_interpolation=stabilized"]);
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(w[0].contains("1.0 %") && w[0].contains("in-plane"), "{}", w[0]);
+    // Elements half the thickness keep four fifths: no warning.
+    let thick = advice(&[
+        "material.strain_interpolation=stabilized",
+        "material.thickness=0.02",
+        "material.length_scale=2e-5",
+    ]);
+    assert!(thick.is_empty(), "{thick:?}");
 }
