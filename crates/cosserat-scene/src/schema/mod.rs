@@ -500,7 +500,8 @@ pub enum AxlName {
 pub enum StrainInterpolationName {
     /// Every quadrature point's own strains (the paper's discretisation).
     Paper,
-    /// Element means plus scaled fluctuations of the membrane, drilling and shear strains.
+    /// Element means plus scaled fluctuations of the membrane, drilling and shear strains; on elements
+    /// longer than the thickness too flexible in in-plane bending (a run warns).
     Stabilized,
     /// Assumed covariant membrane, drilling and shear strains interpolated from tying points on the
     /// element edges and at its centroid (MITC6-style).
