@@ -52,7 +52,7 @@ impl Row {
         if self.interpolation == Interpolation::Paper {
             self.pair.label().to_string()
         } else {
-            format!("{} {}", self.pair.label(), self.interpolation.name())
+            format!("{} {}", self.pair.label(), self.interpolation.as_str())
         }
     }
 }

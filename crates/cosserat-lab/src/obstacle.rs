@@ -124,8 +124,8 @@ pub fn run_benchmark(b: &Benchmark, runner: &Runner, out: &Path, quick: bool) ->
             let mut ov = overrides.clone();
             ov.push(interpolation.scene_override());
             ov.push("output.frames=false".into());
-            let dir = out.join(b.name).join(format!("{}_{i}", interpolation.name()));
-            eprintln!("{}: {} {mesh} ...", b.name, interpolation.name());
+            let dir = out.join(b.name).join(format!("{}_{i}", interpolation.as_str()));
+            eprintln!("{}: {} {mesh} ...", b.name, interpolation.as_str());
             let outcome = run_described(runner, &RunDescription::new(b.scene, dir, &ov))?;
             let value = outcome
                 .probes
@@ -170,7 +170,7 @@ pub fn section(b: &Benchmark, runs: &[CourseRun]) -> Result<String> {
         writeln!(
             md,
             "| {} | {} | {} | {} | {} | {} | {:.2} s | {status} |",
-            r.interpolation.name(),
+            r.interpolation.as_str(),
             r.mesh,
             s.map_or("–".into(), |s| (s.n_displacement_dofs + s.n_rotation_dofs)
                 .to_string()),
@@ -191,7 +191,7 @@ pub fn section(b: &Benchmark, runs: &[CourseRun]) -> Result<String> {
         writeln!(
             md,
             "\n{}: coarsest mesh within 2 %: {}; within 1 %: {}.",
-            interpolation.name(),
+            interpolation.as_str(),
             within(0.02),
             within(0.01)
         )?;

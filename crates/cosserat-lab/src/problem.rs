@@ -59,32 +59,9 @@ impl Pair {
     }
 }
 
-/// A strain interpolation of the shell element (`material.strain_interpolation`, docs/model-notes.md).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Interpolation {
-    /// Every quadrature point's own strains (the paper's discretisation, the default).
-    Paper,
-    /// Element means plus scaled fluctuations of the membrane, drilling and shear strains.
-    Stabilized,
-    /// Membrane strains in the linear Regge space.
-    Regge,
-}
-
-impl Interpolation {
-    /// The scene's name of the interpolation.
-    pub fn name(self) -> &'static str {
-        match self {
-            Interpolation::Paper => "paper",
-            Interpolation::Stabilized => "stabilized",
-            Interpolation::Regge => "regge",
-        }
-    }
-
-    /// The scene override selecting it.
-    pub fn scene_override(self) -> String {
-        format!("material.strain_interpolation={}", self.name())
-    }
-}
+/// A strain interpolation of the shell element (`material.strain_interpolation`, docs/model-notes.md),
+/// by its scene name.
+pub use cosserat::scene::schema::StrainInterpolationName as Interpolation;
 
 /// One mesh of a refinement ladder.
 #[derive(Debug, Clone, PartialEq)]

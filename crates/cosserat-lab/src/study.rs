@@ -74,7 +74,7 @@ impl Discretisation {
     pub fn label(self) -> String {
         match self.interpolation {
             Interpolation::Paper => self.pair.label().to_string(),
-            other => format!("{} {}", self.pair.label(), other.name()),
+            other => format!("{} {}", self.pair.label(), other.as_str()),
         }
     }
 

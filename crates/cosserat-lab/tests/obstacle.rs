@@ -89,7 +89,7 @@ fn in_plane_bending_of_a_strip_one_element_wide_matches_the_beam() {
             "output.frames=false".into(),
         ];
         ov.extend(Pair::Tri6Tri3.overrides());
-        let run = RunDescription::new(scene, out(&format!("in_plane_{}", interpolation.name())), &ov);
+        let run = RunDescription::new(scene, out(&format!("in_plane_{}", interpolation.as_str())), &ov);
         let outcome = run_described(&Runner::InProcess, &run).unwrap();
         assert!(outcome.is_ok(), "{}", outcome.reason());
         let uy = outcome.probes.as_ref().unwrap().last("tip.uy").unwrap();
@@ -97,7 +97,7 @@ fn in_plane_bending_of_a_strip_one_element_wide_matches_the_beam() {
         assert!(
             error.abs() <= 0.005,
             "{}: tip deflection {uy:e} against {expected:e} ({:+.2} %)",
-            interpolation.name(),
+            interpolation.as_str(),
             100.0 * error
         );
     }

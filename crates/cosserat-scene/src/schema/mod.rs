@@ -511,6 +511,23 @@ pub enum StrainInterpolationName {
     Regge,
 }
 
+impl StrainInterpolationName {
+    /// The name in the scene file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StrainInterpolationName::Paper => "paper",
+            StrainInterpolationName::Stabilized => "stabilized",
+            StrainInterpolationName::Assumed => "assumed",
+            StrainInterpolationName::Regge => "regge",
+        }
+    }
+
+    /// The override (`--set`) that selects it.
+    pub fn scene_override(self) -> String {
+        format!("material.strain_interpolation={}", self.as_str())
+    }
+}
+
 /// Rest-curvature source names.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
