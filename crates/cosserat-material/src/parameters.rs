@@ -98,10 +98,11 @@ impl MaterialParameters {
     pub fn moduli(&self) -> Result<Moduli, MaterialError> {
         self.validate()?;
         let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
-        let mu = e / (2.0 * (1.0 + nu));
+        let continuum = self.continuum();
+        let mu = continuum.shear_modulus();
         Ok(Moduli {
             mu,
-            lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            lambda: continuum.lame_lambda(),
             mu_c: self.mu_c_factor * mu,
             // λμ/(λ + 2μ) written without λ, so it stays exact near ν = 0.5.
             plane_lambda: e * nu / (2.0 * (1.0 - nu * nu)),
@@ -125,10 +126,16 @@ impl MaterialParameters {
     /// `cΓ = κ e₁ ⊗ e₁` and `Γ = κ e₂ ⊗ e₁`, so the bending term gives `κ_b h³/12 (μ + λμ/(λ+2μ)) κ² = ½ κ_b D κ²`
     /// and the curvature term `h μ L_c² (b₁ + b₂) κ²/2`; the energy per area is `½ B κ²`.
     pub fn strip_bending_stiffness(&self) -> f64 {
-        let mu = self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio));
+        self.bending_correction * self.plate_bending_stiffness() + self.curvature_stiffness()
+    }
+
+    /// The curvature stiffness per unit width of a strip bent about its width axis,
+    /// `C = h μ L_c² (b₁ + b₂)` \[N·m\]: a uniform `Γ = k e₂ ⊗ e₁` has `|sym Γ|² = |skew Γ|² = k²/2`, so
+    /// the curvature energy per unit area is `½ C k²`.
+    pub fn curvature_stiffness(&self) -> f64 {
+        let mu = self.continuum().shear_modulus();
         let [b1, b2, _] = self.curvature_coefficients;
-        self.bending_correction * self.plate_bending_stiffness()
-            + self.thickness * mu * self.length_scale * self.length_scale * (b1 + b2)
+        self.thickness * mu * self.length_scale * self.length_scale * (b1 + b2)
     }
 }
 
@@ -164,6 +171,18 @@ impl ContinuumParameters {
             length_scale,
             curvature_coefficients: [1.0, 1.0, 0.0],
         }
+    }
+
+    /// The shear modulus `μ = E / (2 (1 + ν))` \[Pa\].
+    pub fn shear_modulus(&self) -> f64 {
+        self.youngs_modulus / (2.0 * (1.0 + self.poisson_ratio))
+    }
+
+    /// Lamé's first parameter `λ = E ν / ((1 + ν)(1 − 2ν))` \[Pa\] (infinite at `ν = 0.5`, which
+    /// validation rejects).
+    pub fn lame_lambda(&self) -> f64 {
+        let (e, nu) = (self.youngs_modulus, self.poisson_ratio);
+        e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu))
     }
 
     /// Checks every parameter.

@@ -8,7 +8,7 @@
 //! scale.
 
 use crate::error::MaterialError;
-use cosserat_material::ContinuumParameters;
+use cosserat_material::{ContinuumParameters, MaterialParameters};
 
 /// The moduli of the micropolar energy density (Löschner et al. 2023, eqs. 9–11 in the notation of
 /// the shell's supplement eqs. 6–7), derived from validated [`ContinuumParameters`].
@@ -34,11 +34,10 @@ impl MicropolarModuli {
     /// [`MaterialError::InvalidParameter`] naming the first offending field.
     pub fn of(material: &ContinuumParameters) -> Result<Self, MaterialError> {
         material.validate()?;
-        let (e, nu) = (material.youngs_modulus, material.poisson_ratio);
-        let mu = e / (2.0 * (1.0 + nu));
+        let mu = material.shear_modulus();
         Ok(Self {
             mu,
-            lambda: e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)),
+            lambda: material.lame_lambda(),
             mu_c: material.mu_c_factor * mu,
             length_scale: material.length_scale,
             curvature_coefficients: material.curvature_coefficients,
@@ -57,21 +56,22 @@ pub struct Slab {
 }
 
 impl Slab {
+    /// The shell of the slab's thickness and material, whose stiffnesses per unit width are the slab's.
+    fn as_shell(&self) -> MaterialParameters {
+        MaterialParameters::with_continuum(self.thickness, self.material)
+    }
+
     /// The bending stiffness per unit width in cylindrical bending that is prevented from anticlastic
     /// curvature (plane strain across the width), `D = E h³ / (12 (1 − ν²))` \[N·m\].
     pub fn plate_bending_stiffness(&self) -> f64 {
-        let (m, h) = (&self.material, self.thickness);
-        m.youngs_modulus * h * h * h / (12.0 * (1.0 - m.poisson_ratio * m.poisson_ratio))
+        self.as_shell().plate_bending_stiffness()
     }
 
     /// The curvature stiffness per unit width, `C = h μ L_c² (b₁ + b₂)` \[N·m\]: a uniform
     /// `Γ = k e_y ⊗ e_x` has `|sym Γ|² = |skew Γ|² = k²/2`, so the curvature energy per unit area is
     /// `½ C k²`.
     pub fn curvature_stiffness(&self) -> f64 {
-        let m = &self.material;
-        let mu = m.youngs_modulus / (2.0 * (1.0 + m.poisson_ratio));
-        let [b1, b2, _] = m.curvature_coefficients;
-        self.thickness * mu * m.length_scale * m.length_scale * (b1 + b2)
+        self.as_shell().curvature_stiffness()
     }
 
     /// The curvature the free slab takes under a uniform prescribed rest curvature
