@@ -282,6 +282,9 @@ pub struct SolverSpec {
     pub indefinite_hessian: IndefiniteHessian,
     /// Maximum number of time-step halvings of one step before the run stops.
     pub max_step_reductions: usize,
+    /// Keep the last factorisation while each Newton iteration cuts the residual by at least this
+    /// factor (chord steps, also into the next step); `None` factorises every iteration.
+    pub reuse_factorisation: Option<f64>,
 }
 
 /// Nodes of one shell selected by a region.

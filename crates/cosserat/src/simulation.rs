@@ -483,6 +483,7 @@ impl Simulation {
         s.newton.indefinite_hessian = self.solver.indefinite_hessian;
         s.newton.linear_solver.kind = self.solver.linear_solver;
         s.newton.linear_solver.domains = self.solver.domain_split;
+        s.newton.reuse_max_ratio = self.solver.reuse_factorisation;
         s
     }
 

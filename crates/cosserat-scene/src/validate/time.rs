@@ -222,6 +222,19 @@ impl Ctx<'_> {
             }
             (None, None) => d.tolerance,
         };
+        let reuse_factorisation = match s.reuse_factorisation {
+            Some(r) if !(r.is_finite() && (0.0..1.0).contains(&r)) => {
+                return Err(self.invalid(
+                    "solver.reuse_factorisation",
+                    format!(
+                        "must lie in [0, 1): the residual reduction per iteration below which the \
+                         factorisation is kept, 0 for none (got {r})"
+                    ),
+                ));
+            }
+            Some(0.0) => None,
+            r => r,
+        };
         let max_newton_iterations = s.max_newton_iterations.unwrap_or(d.max_newton_iterations);
         if max_newton_iterations == 0 {
             return Err(self.invalid("solver.max_newton_iterations", "must be at least 1"));
@@ -254,6 +267,7 @@ impl Ctx<'_> {
                 Some(IndefiniteHessianName::Factorise) => IndefiniteHessian::Factorise,
             },
             max_step_reductions: s.max_step_reductions.unwrap_or(d.max_step_reductions),
+            reuse_factorisation,
         })
     }
 
@@ -327,5 +341,6 @@ fn default_solver(time: &TimeSpec) -> SolverSpec {
         project_pd: false,
         indefinite_hessian: IndefiniteHessian::Shift,
         max_step_reductions: 8,
+        reuse_factorisation: None,
     }
 }

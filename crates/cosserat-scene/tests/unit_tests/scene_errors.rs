@@ -158,6 +158,11 @@ fn time_values_are_checked() {
         "override `solver.relative_tolerance=1e-6`: solver.relative_tolerance: give an absolute `tolerance` or a \
          `relative_tolerance`, not both"
     );
+    assert_eq!(
+        message(&[], &["solver.reuse_factorisation=1"]),
+        "override `solver.reuse_factorisation=1`: solver.reuse_factorisation: must lie in [0, 1): the residual \
+         reduction per iteration below which the factorisation is kept, 0 for none (got 1)"
+    );
 }
 
 #[test]

@@ -198,6 +198,22 @@ fn material_keys_belong_to_their_models() {
 }
 
 #[test]
+fn reusing_the_factorisation_is_off_by_default_and_zero_turns_it_off() {
+    assert_eq!(load(VOLUME, &[]).unwrap().solver.reuse_factorisation, None);
+    for (value, expected) in [("0.1", Some(0.1)), ("0", None), ("0.0", None)] {
+        let spec = load(
+            VOLUME,
+            &[(
+                "linear_solver = \"cg\"",
+                &format!("linear_solver = \"cg\"\nreuse_factorisation = {value}"),
+            )],
+        )
+        .unwrap();
+        assert_eq!(spec.solver.reuse_factorisation, expected, "{value}");
+    }
+}
+
+#[test]
 fn the_domain_split_is_named_in_the_solver_section() {
     assert_eq!(load(VOLUME, &[]).unwrap().solver.domain_split, DomainSplit::Auto);
     for (name, split) in [

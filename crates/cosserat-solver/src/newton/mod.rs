@@ -68,6 +68,9 @@ pub struct NewtonSolver {
     scratch: (Vec<f64>, Vec<f64>),
     /// Whether the next solve assembles the Hessian with its first gradient (see [`Self::solve`]).
     start_with_hessian: bool,
+    /// Whether the factors left by the last solve start the next one with a chord step: the last
+    /// solve converged with a step that kept reuse on ([`NewtonSettings::reuse_max_ratio`]).
+    carry_factors: bool,
     /// Position of each diagonal entry in the pattern's values.
     diagonal_slots: Vec<usize>,
     /// `D` of the shift `H + μ D` (see [`direction`]).
@@ -109,6 +112,9 @@ struct Run {
     /// Whether indefinite Hessians are shifted from now on in this solve
     /// ([`IndefiniteHessian::Adaptive`] after a shortened step along an unshifted direction).
     shift_from_now: bool,
+    /// Whether the next direction is a chord step with the current factors (the last step was full
+    /// and cut the residual by the factor of [`NewtonSettings::reuse_max_ratio`]).
+    reuse: bool,
 }
 
 impl Run {
@@ -151,6 +157,7 @@ impl NewtonSolver {
             weights: vec![1.0; n],
             scratch: (vec![0.0; n], vec![0.0; n]),
             start_with_hessian: true,
+            carry_factors: false,
             diagonal_slots: diagonal_slots(pattern),
             shift_scale: vec![0.0; n],
             x_extra: Vec::new(),
@@ -224,12 +231,16 @@ impl NewtonSolver {
             shifted: false,
             indefinite: false,
             shift_from_now: false,
+            reuse: self.carry_factors,
         };
         let result = self.minimise(problem, x, &mut run);
         // A solve that stopped where it started lets the next one evaluate the gradient alone first, so
         // that a state at rest does not pay for a Hessian; any other starts with the Hessian, whose
         // assembly brings the first gradient (one gradient evaluation less per solve).
         self.start_with_hessian = !(result.is_ok() && run.iterations == 0);
+        // Factors that still gave fast progress at the end of this solve start the next one (the next
+        // time step's Hessian differs from this one's by one step's change of the state).
+        self.carry_factors = result.is_ok() && run.reuse;
         match result {
             Ok((energy, convergence)) => {
                 let mut report = run.report;
@@ -252,7 +263,6 @@ impl NewtonSolver {
     ) -> Result<(f64, Convergence), NewtonError> {
         let s = self.settings;
         let mut at = self.start(problem, x, run)?;
-        let mut reuse = false;
         loop {
             if !at.gradient {
                 self.refresh(problem, x, &mut at, run)?;
@@ -277,22 +287,22 @@ impl NewtonSolver {
                 run.residuals.push(0.0);
                 return Ok((at.energy, run.test.record(Criterion::Residual)));
             }
-            let chord = reuse && !at.hessian;
+            let chord = run.reuse && !at.hessian;
             let slope = self.direction(problem, x, &mut at, chord, run)?;
             let step = self.step(problem, x, slope, &mut at, run)?;
             let retry_shifted = self.shift_after(&step, r, run);
             match step {
                 Step::Full { alpha } => {
                     // A full step with fast progress lets the next iteration keep the factorisation.
-                    reuse = alpha == 1.0
+                    run.reuse = alpha == 1.0
                         && s.linear_solver.kind != LinearSolverKind::Cg
                         && s.reuse_max_ratio.is_some_and(|ratio| run.last_residual() < ratio * r);
                 }
-                Step::Backtracked => reuse = false,
+                Step::Backtracked => run.reuse = false,
                 // The old factors gave a poor direction: retry this point with a fresh Newton step.
-                Step::Failed if chord => reuse = false,
+                Step::Failed if chord => run.reuse = false,
                 // The indefinite Hessian's own direction gave no step: retry this point shifted.
-                Step::Failed if retry_shifted => reuse = false,
+                Step::Failed if retry_shifted => run.reuse = false,
                 Step::Failed if run.test.stagnated(&run.residuals, run.decrement, true) => {
                     return Ok((at.energy, run.test.record(Criterion::Stagnated)));
                 }
@@ -341,7 +351,7 @@ impl NewtonSolver {
         x: &[f64],
         run: &mut Run,
     ) -> Result<Point, NewtonError> {
-        let hessian = self.start_with_hessian && self.settings.max_iterations > 0;
+        let hessian = self.start_with_hessian && !run.reuse && self.settings.max_iterations > 0;
         let energy = if hessian {
             self.eval_hessian(problem, x, 0, run)?
         } else {
@@ -362,8 +372,9 @@ impl NewtonSolver {
         })
     }
 
-    /// Brings the gradient (and, unless the iterations are used up, the Hessian) up to date at `x`
-    /// after a step accepted on its energy alone, and records the residual.
+    /// Brings the gradient (and, unless the iterations are used up or the next step is a chord step,
+    /// the Hessian) up to date at `x` after a step accepted on its energy alone, and records the
+    /// residual.
     fn refresh<P: NewtonProblem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -372,7 +383,9 @@ impl NewtonSolver {
         run: &mut Run,
     ) -> Result<(), NewtonError> {
         let k = run.iterations;
-        at.hessian = k < self.settings.max_iterations;
+        // A chord step needs the gradient alone; if the old factors fail, the direction assembles the
+        // Hessian then.
+        at.hessian = !run.reuse && k < self.settings.max_iterations;
         at.energy = if at.hessian {
             self.eval_hessian(problem, x, k + 1, run)?
         } else {
@@ -418,8 +431,18 @@ impl NewtonSolver {
         if !self.linear.pattern_matches(problem.hessian_pattern()) {
             return Err(NewtonError::PatternChanged);
         }
-        match problem.fixed_dofs() {
-            Some(mask) if mask.len() != n => return Err(mismatch("fixed-DOF mask", mask.len())),
+        let mask = problem.fixed_dofs();
+        if let Some(mask) = mask
+            && mask.len() != n
+        {
+            return Err(mismatch("fixed-DOF mask", mask.len()));
+        }
+        // Carried factors eliminate the unknowns that were fixed when they were computed.
+        let same_mask = mask.map_or(!self.has_fixed, |mask| mask == self.fixed.as_slice());
+        self.carry_factors &= same_mask
+            && self.settings.reuse_max_ratio.is_some()
+            && self.settings.linear_solver.kind != LinearSolverKind::Cg;
+        match mask {
             Some(mask) => {
                 self.fixed.copy_from_slice(mask);
                 self.has_fixed = mask.iter().any(|&f| f);

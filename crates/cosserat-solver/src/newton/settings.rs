@@ -54,8 +54,13 @@ pub struct NewtonSettings {
     /// Reuse the last factorisation (a chord step: gradient only, no Hessian assembly or numeric
     /// factorisation) while Newton converges fast: after a full step that cut the residual to below
     /// `reuse_max_ratio` times its previous value. A chord step that makes slower progress turns reuse
-    /// off until the next factorisation. Off by default (`None`); on large systems, where the
-    /// factorisation dominates, `Some(0.1)` trades a few cheap iterations for fewer factorisations.
+    /// off until the next factorisation, and one whose direction does not descend is replaced by a
+    /// fresh Newton step at the same point. Factors that still gave fast progress when a solve
+    /// converged start the next solve (the next time step) with a chord step, unless the fixed unknowns
+    /// changed. The converged states satisfy the same tolerance as without reuse; only the path there
+    /// differs. Off by default (`None`); on large systems, where the factorisation dominates,
+    /// `Some(0.1)` trades a few cheap iterations for fewer factorisations. The factors are not part of
+    /// a checkpoint: a resumed run starts with a fresh factorisation.
     /// Ignored with [`LinearSolverKind::Cg`](crate::LinearSolverKind::Cg), which has no factors to reuse.
     pub reuse_max_ratio: Option<f64>,
     /// Maximum number of step reductions in one line search, default 20.

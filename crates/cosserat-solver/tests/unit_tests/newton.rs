@@ -159,24 +159,9 @@ fn chained_rosenbrock_converges_with_a_tridiagonal_hessian() {
 fn stretched_chain() -> (SpringChain, Vec<f64>, Vec<f64>) {
     let stiffness = vec![10.0, 25.0, 40.0, 15.0, 30.0, 20.0, 35.0];
     let rest_length = vec![0.3, 0.5, 0.4, 0.6, 0.35, 0.45, 0.5];
-    let chain = SpringChain::new(stiffness.clone(), rest_length.clone());
+    let chain = SpringChain::new(stiffness, rest_length);
     let n_nodes = chain.n_nodes;
-    let a = [0.0, 0.0, 0.0];
-    let b: [f64; 3] = [3.0, 2.0, 1.5];
-    let span = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
-    // Equal tension T in all springs: d_i = l_i + T / k_i and Σ d_i = |B − A|.
-    let tension = (span - rest_length.iter().sum::<f64>()) / stiffness.iter().map(|k| 1.0 / k).sum::<f64>();
-    assert!(tension > 0.0);
-    let mut exact = vec![0.0; 3 * n_nodes];
-    let mut s = 0.0;
-    for node in 0..n_nodes {
-        for d in 0..3 {
-            exact[3 * node + d] = a[d] + (b[d] - a[d]) * s / span;
-        }
-        if node + 1 < n_nodes {
-            s += rest_length[node] + tension / stiffness[node];
-        }
-    }
+    let exact = chain_equilibrium(&chain, [3.0, 2.0, 1.5]);
     // Start: perturb the free nodes of the equilibrium transversally and axially.
     let mut start = exact.clone();
     let mut r = rng(12);
@@ -187,6 +172,26 @@ fn stretched_chain() -> (SpringChain, Vec<f64>, Vec<f64>) {
         }
     }
     (chain, start, exact)
+}
+
+/// The equilibrium of `chain` stretched from the origin to `b`: equal tension `T` in all springs,
+/// `d_i = l_i + T / k_i` and `Σ d_i = |b|`.
+fn chain_equilibrium(chain: &SpringChain, b: [f64; 3]) -> Vec<f64> {
+    let (stiffness, rest_length) = (&chain.stiffness, &chain.rest_length);
+    let span = (b[0] * b[0] + b[1] * b[1] + b[2] * b[2]).sqrt();
+    let tension = (span - rest_length.iter().sum::<f64>()) / stiffness.iter().map(|k| 1.0 / k).sum::<f64>();
+    assert!(tension > 0.0);
+    let mut exact = vec![0.0; 3 * chain.n_nodes];
+    let mut s = 0.0;
+    for node in 0..chain.n_nodes {
+        for d in 0..3 {
+            exact[3 * node + d] = b[d] * s / span;
+        }
+        if node + 1 < chain.n_nodes {
+            s += rest_length[node] + tension / stiffness[node];
+        }
+    }
+    exact
 }
 
 #[test]
@@ -627,4 +632,43 @@ fn chord_steps_reuse_the_factorisation_and_reach_the_same_equilibrium() {
         "{r_chord:?} vs {r_newton:?}"
     );
     assert_eq!(r_newton.chord_iterations, 0);
+}
+
+#[test]
+fn factors_that_converged_fast_start_the_next_solve_unless_the_fixed_unknowns_changed() {
+    let (mut chain, start, exact) = stretched_chain();
+    let settings = NewtonSettings {
+        tolerance: cosserat_solver::Tolerance::Absolute(1e-8),
+        reuse_max_ratio: Some(0.1),
+        ..reference_newton()
+    };
+    let mut solver = NewtonSolver::for_problem(&chain, settings).unwrap();
+    let mut x = start;
+    solver.solve(&mut chain, &mut x).unwrap();
+    let off = |x: &[f64], exact: &[f64]| x.iter().zip(exact).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+    // The softest mode has a stiffness of about 1 N/m: a residual of 1e-8 N bounds the error by 1e-8 m.
+    assert!(off(&x, &exact) < 1e-7);
+    let factorisations =
+        |r: &cosserat_solver::NewtonReport| r.factorisations.llt + r.factorisations.lblt + r.factorisations.lu;
+
+    // The next "time step": the far end moves by 1 %. The first solve's factors start this one.
+    let b = [3.03, 2.02, 1.515];
+    let last = 3 * (chain.n_nodes - 1);
+    x[last..].copy_from_slice(&b);
+    let moved = solver.solve(&mut chain, &mut x).unwrap();
+    assert!(off(&x, &chain_equilibrium(&chain, b)) < 1e-7);
+    assert_eq!(factorisations(&moved), 0, "{moved:?}");
+    assert!(moved.chord_iterations >= 1);
+
+    // A node fixed from now on: the carried factors treat it as free, so they may not be used, and it
+    // stays where it is.
+    let held = 3 * 3;
+    chain.fixed[held..held + 3].fill(true);
+    let pinned: Vec<f64> = x[held..held + 3].iter().map(|v| v + 0.05).collect();
+    x[held..held + 3].copy_from_slice(&pinned);
+    let b = [3.06, 2.04, 1.53];
+    x[last..].copy_from_slice(&b);
+    let report = solver.solve(&mut chain, &mut x).unwrap();
+    assert_eq!(&x[held..held + 3], pinned.as_slice());
+    assert!(factorisations(&report) >= 1, "{report:?}");
 }

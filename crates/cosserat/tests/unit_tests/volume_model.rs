@@ -132,6 +132,33 @@ fn cg_and_direct_solvers_curl_the_slab_alike() {
 }
 
 #[test]
+fn a_kept_factorisation_curls_the_slab_to_the_same_states_with_fewer_factorisations() {
+    let direct = ["solver.linear_solver=auto".to_string()];
+    let (fresh_out, fresh) = run(CURL, "curl_fresh_factors", &direct);
+    let kept = [direct[0].clone(), "solver.reuse_factorisation=0.1".into()];
+    let (kept_out, kept) = run(CURL, "curl_kept_factors", &kept);
+    assert_eq!((fresh.status, kept.status), (RunStatus::Ok, RunStatus::Ok));
+    let its = |s: &RunSummary| (s.avg_newton_iterations * s.n_steps as f64).round() as usize;
+    // Without reuse every iteration factorises; with it most iterations are chord steps.
+    assert_eq!(fresh.linear_solver.factorisations, its(&fresh));
+    assert!(
+        2 * kept.linear_solver.factorisations < its(&kept),
+        "{} factorisations in {} iterations",
+        kept.linear_solver.factorisations,
+        its(&kept)
+    );
+    // Both solve each step to a residual of 1e-9 N: the states agree far below the motion.
+    let (header, fresh_rows) = probe_rows(&fresh_out);
+    let (_, kept_rows) = probe_rows(&kept_out);
+    let z = column(&header, "edge.z");
+    for (f, k) in fresh_rows.iter().zip(&kept_rows) {
+        for (a, b) in f.iter().zip(k) {
+            assert!((a - b).abs() < 1e-6 * fresh_rows.last().unwrap()[z], "{a} vs {b}");
+        }
+    }
+}
+
+#[test]
 fn a_free_slab_falls_as_backward_euler_predicts() {
     let text = CURL
         .replace(
