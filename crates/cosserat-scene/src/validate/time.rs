@@ -233,6 +233,12 @@ impl Ctx<'_> {
                 ));
             }
             Some(0.0) => None,
+            Some(_) if matches!(time, TimeSpec::ArcLength { .. }) => {
+                return Err(self.invalid(
+                    "solver.reuse_factorisation",
+                    "not used in `arc_length` mode (the corrector factorises the tangent every iteration)",
+                ));
+            }
             r => r,
         };
         let max_newton_iterations = s.max_newton_iterations.unwrap_or(d.max_newton_iterations);

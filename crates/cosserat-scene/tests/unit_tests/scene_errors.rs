@@ -163,6 +163,14 @@ fn time_values_are_checked() {
         "override `solver.reuse_factorisation=1`: solver.reuse_factorisation: must lie in [0, 1): the residual \
          reduction per iteration below which the factorisation is kept, 0 for none (got 1)"
     );
+    assert_eq!(
+        message(
+            &[("dt = 0.01\n", "")],
+            &["time.mode=arc_length", "solver.reuse_factorisation=0.1"]
+        ),
+        "override `solver.reuse_factorisation=0.1`: solver.reuse_factorisation: not used in `arc_length` mode \
+         (the corrector factorises the tangent every iteration)"
+    );
 }
 
 #[test]
