@@ -1,5 +1,5 @@
-//! The command-line interface: `cosserat run <scene.toml>`, `cosserat resume <out dir>` and
-//! `cosserat render <out dir>`.
+//! The command-line interface: `cosserat run <scene.toml>`, `cosserat resume <out dir>`,
+//! `cosserat render <out dir>` and `cosserat intersections <out dir>`.
 //!
 //! Output on a terminal is a progress bar (step, time, Newton iterations, residual); otherwise plain
 //! lines about once a second. Ctrl-C (SIGINT) or SIGTERM stops the run after the current step; the
@@ -39,6 +39,16 @@ pub enum Command {
     Resume(ResumeArgs),
     /// Render frames of a finished run to PNG.
     Render(RenderArgs),
+    /// Test every written frame of a run for intersecting triangles (exact test over all triangles,
+    /// obstacles included); exit code 1 if any frame has an intersecting pair.
+    Intersections(IntersectionsArgs),
+}
+
+/// Arguments of `intersections`.
+#[derive(Debug, clap::Args)]
+pub struct IntersectionsArgs {
+    /// A run's output directory.
+    pub dir: PathBuf,
 }
 
 /// Arguments of `resume`.
@@ -127,6 +137,7 @@ pub fn run(cli: Cli) -> anyhow::Result<i32> {
         Command::Run(args) => run_scene(&args),
         Command::Resume(args) => resume_run(&args),
         Command::Render(args) => render(&args).map(|_| 0),
+        Command::Intersections(args) => report_intersections(&args),
     }
 }
 
@@ -344,6 +355,24 @@ impl Drop for Reporter {
             bar.finish_and_clear();
         }
     }
+}
+
+/// Prints the frames of a run with intersecting triangle pairs; returns 1 if there are any.
+///
+/// # Errors
+/// A missing or unreadable `run.pvd` or frame.
+pub fn report_intersections(args: &IntersectionsArgs) -> anyhow::Result<i32> {
+    let found = crate::intersections::intersections_in_frames(&args.dir)
+        .with_context(|| format!("testing the frames of {}", args.dir.display()))?;
+    for f in &found.crossing {
+        println!("frame {} (t = {}): {} intersecting pairs", f.index, f.time, f.pairs);
+    }
+    println!(
+        "{} of {} frames with intersecting triangle pairs",
+        found.crossing.len(),
+        found.frames
+    );
+    Ok(i32::from(!found.crossing.is_empty()))
 }
 
 /// Renders a frame of a run directory to PNG.

@@ -38,6 +38,7 @@ mod convergence;
 pub mod cosserat_model;
 pub mod error;
 pub mod frames;
+pub mod intersections;
 pub mod kl_model;
 pub mod memory;
 pub mod model;

@@ -77,17 +77,7 @@ pub(super) fn bunny_kl_check(r: &[RunResult]) -> Check {
             lines.push(format!("  - smallest contact gap reached: {:.4} mm.", 1e3 * g));
         }
         c.extend(std::mem::take(&mut lines));
-        let crossing = res.frame.as_ref().map(|f| {
-            let points: Vec<nalgebra::Vector3<f64>> = f.points.iter().map(|p| nalgebra::Vector3::from(*p)).collect();
-            cosserat::contact::intersecting_pairs(&f.triangles, &points).len()
-        });
-        c.expect(
-            format!(
-                "{}: no two triangles intersect in the last frame (exact test over all triangles, floor included)",
-                res.spec.variant
-            ),
-            crossing.map(|n| (n == 0, format!("{n} intersecting pairs"))),
-        );
+        super::contact::expect_no_intersections(&mut c, res, "floor included");
     }
     c
 }

@@ -6,9 +6,8 @@
 use super::check::{Check, within};
 use super::{Options, RunResult, RunSpec, quick_end, run};
 use crate::postprocess::{fit_circle, hausdorff, rest_positions};
-use cosserat::contact::intersecting_pairs;
+use cosserat::intersections::intersections_in_frames;
 use cosserat::io::{RunStatus, VtuFrame, read_pvd, read_pvd_frame};
-use nalgebra::Vector3;
 use std::f64::consts::PI;
 use std::path::Path;
 
@@ -62,56 +61,31 @@ pub(super) fn without_obstacles(f: &VtuFrame) -> VtuFrame {
 /// share of the step; and expects no intersection in any written frame.
 fn contact_report(c: &mut Check, res: &RunResult) {
     c.extend(contact_lines(res));
+    expect_no_intersections(c, res, "obstacles included");
+}
+
+/// Expects no intersecting pair of triangles in any frame the run wrote (exact test over all
+/// triangles of each frame; `what` says which surfaces the frames hold).
+pub(super) fn expect_no_intersections(c: &mut Check, res: &RunResult, what: &str) {
     c.expect(
         format!(
-            "{}: no two triangles intersect in any written frame (exact test over all triangles, obstacles included)",
+            "{}: no two triangles intersect in any written frame (exact test over all triangles, {what})",
             res.spec.variant
         ),
-        frame_intersections(&res.dir).map(|f| {
-            let text = match f.worst {
+        intersections_in_frames(&res.dir).ok().filter(|f| f.frames > 0).map(|f| {
+            let text = match f.worst() {
                 None => format!("{} frames, none with an intersecting pair", f.frames),
-                Some((t, n)) => format!(
-                    "{} of {} frames with intersecting pairs, at most {n} (t = {t:.4} s)",
-                    f.crossing, f.frames
+                Some(w) => format!(
+                    "{} of {} frames with intersecting pairs, at most {} (t = {:.4} s)",
+                    f.crossing.len(),
+                    f.frames,
+                    w.pairs,
+                    w.time
                 ),
             };
-            (f.crossing == 0, text)
+            (f.crossing.is_empty(), text)
         }),
     );
-}
-
-/// The exact intersection test over the written frames of a run.
-struct FrameIntersections {
-    /// Frames read.
-    frames: usize,
-    /// Frames with at least one intersecting pair of triangles.
-    crossing: usize,
-    /// The time and pair count of the frame with the most intersecting pairs.
-    worst: Option<(f64, usize)>,
-}
-
-/// Tests every frame of the run in `dir` (`None` if the run wrote none, or one cannot be read).
-fn frame_intersections(dir: &Path) -> Option<FrameIntersections> {
-    let pvd = dir.join("frames").join("run.pvd");
-    let n = read_pvd(&pvd).ok()?.len();
-    let mut found = FrameIntersections {
-        frames: 0,
-        crossing: 0,
-        worst: None,
-    };
-    for k in 0..n {
-        let f = read_pvd_frame(&pvd, k).ok()?;
-        let points: Vec<Vector3<f64>> = f.points.iter().map(|p| Vector3::from(*p)).collect();
-        let pairs = intersecting_pairs(&f.triangles, &points).len();
-        found.frames += 1;
-        if pairs > 0 {
-            found.crossing += 1;
-            if found.worst.is_none_or(|(_, most)| pairs > most) {
-                found.worst = Some((f.time, pairs));
-            }
-        }
-    }
-    (found.frames > 0).then_some(found)
 }
 
 fn contact_lines(res: &RunResult) -> Vec<String> {

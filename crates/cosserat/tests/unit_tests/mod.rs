@@ -1,5 +1,6 @@
 mod advice;
 mod contact;
+mod intersections;
 mod kl_model;
 mod memory;
 mod run;
