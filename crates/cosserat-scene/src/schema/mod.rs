@@ -247,10 +247,10 @@ pub struct SolverSection {
     pub max_step_reductions: Option<usize>,
     /// Keep the last factorisation of the Newton matrix, also into the next step, while each
     /// iteration cuts the residual by at least this factor (in (0, 1); default 0: factorise every
-    /// iteration; dynamic and quasi-static runs): chord steps cost a gradient and two triangular solves instead of a Hessian and a
-    /// factorisation. For large systems whose factorisation dominates a step; the tolerance is the
-    /// same, the iteration count grows (0.1 suits the volumetric Lotus slab,
-    /// docs/micropolar-volume.md).
+    /// iteration; dynamic and quasi-static runs): chord steps cost a gradient and two triangular
+    /// solves instead of a Hessian and a factorisation. For large systems whose factorisation
+    /// dominates a step; the tolerance is the same, the iteration count grows (0.1 suits the
+    /// volumetric Lotus slab, docs/micropolar-volume.md).
     pub reuse_factorisation: Option<f64>,
 }
 
