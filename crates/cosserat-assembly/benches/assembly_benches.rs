@@ -93,6 +93,11 @@ fn bench(c: &mut Criterion) {
         ),
         (ElementPair::Tri6Tri3, StrainInterpolation::Assumed, "tri6_tri3_assumed"),
         (ElementPair::Tri6Tri3, StrainInterpolation::Regge, "tri6_tri3_regge"),
+        (
+            ElementPair::Tri6Tri3,
+            StrainInterpolation::ReggeStabilized,
+            "tri6_tri3_regge_stabilized",
+        ),
     ] {
         for (model, m) in [(ShellModel::Plate, "plate"), (ShellModel::Shell, "shell")] {
             // Built on first use, so that a filtered run (a profiler's) builds only what it measures.

@@ -59,7 +59,7 @@ impl Row {
 
 /// The rows of the study: the three pairs on coarse and fine meshes with the paper's interpolation, and
 /// the locking-free interpolations on the coarse Tri6/Tri3 mesh.
-pub const ROWS: [Row; 10] = [
+pub const ROWS: [Row; 11] = [
     Row::new(Pair::Tri3Tri3, Interpolation::Paper, 20, 2),
     Row::new(Pair::Tri3Tri3, Interpolation::Paper, 320, 1),
     Row::new(Pair::Tri3Tri3, Interpolation::Paper, 1280, 1),
@@ -68,6 +68,7 @@ pub const ROWS: [Row; 10] = [
     Row::new(Pair::Tri6Tri3, Interpolation::Paper, 80, 8),
     Row::new(Pair::Tri6Tri3, Interpolation::Regge, 20, 2),
     Row::new(Pair::Tri6Tri3, Interpolation::Stabilized, 20, 2),
+    Row::new(Pair::Tri6Tri3, Interpolation::ReggeStabilized, 20, 2),
     Row::new(Pair::Tri6Tri6, Interpolation::Paper, 20, 2),
     Row::new(Pair::Tri6Tri6, Interpolation::Paper, 80, 8),
 ];

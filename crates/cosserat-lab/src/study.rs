@@ -52,13 +52,18 @@ pub struct Discretisation {
 
 impl Discretisation {
     /// Every pair with the paper's interpolation, and the paper's pair with the stabilised projection
-    /// (the locking-free option meant for it).
-    pub const ALL: [Discretisation; 4] = [
+    /// and with Regge membrane strains plus stabilised shear and drilling (the locking-free options
+    /// meant for it).
+    pub const ALL: [Discretisation; 5] = [
         Discretisation::paper(Pair::Tri3Tri3),
         Discretisation::paper(Pair::Tri6Tri3),
         Discretisation {
             pair: Pair::Tri6Tri3,
             interpolation: Interpolation::Stabilized,
+        },
+        Discretisation {
+            pair: Pair::Tri6Tri3,
+            interpolation: Interpolation::ReggeStabilized,
         },
         Discretisation::paper(Pair::Tri6Tri6),
     ];
@@ -90,6 +95,8 @@ impl Discretisation {
         match (self.interpolation, second_model) {
             (Interpolation::Paper, false) => self.pair.color(),
             (Interpolation::Paper, true) => self.pair.color() + 3,
+            (Interpolation::ReggeStabilized, false) => 9,
+            (Interpolation::ReggeStabilized, true) => 6,
             (_, false) => 7,
             (_, true) => 8,
         }

@@ -1,8 +1,10 @@
 //! Goals of the locking issue that the stabilised strain projection reaches, pinned on their named
 //! meshes (docs/validation.md has the whole ladders, every interpolation): the pinched hemisphere within
 //! 2 % on 8 bands, and the thin Sze 3.1 cantilever (h/L = 1e-3 and 1e-4) within 1 % of the elastica on
-//! 20 × 2 quads; the thin cantilever with Regge membrane strains; and in-plane bending of a strip one
-//! element wide. Each run takes a few seconds in release.
+//! 20 × 2 quads; the thin cantilever with Regge membrane strains; the goals that Regge membrane strains
+//! with stabilised shear and drilling reach (pinched cylinder within 5 % on 32 × 16 and 2 % on 64 × 32,
+//! Scordelis–Lo roof within 1 % on 16 × 16, the thin cantilever within 1 % at h/L = 1e-3 and 1e-4); and
+//! in-plane bending of a strip one element wide. Each run takes a few seconds in release.
 
 use cosserat::RunDescription;
 use cosserat_lab::locking::Row;
@@ -67,6 +69,58 @@ fn regge_thin_cantilever_is_within_one_percent_of_the_elastica() {
     }
 }
 
+/// The error of one obstacle-course benchmark on the ladder rung labelled `mesh`, with an interpolation.
+fn course_error(name: &str, mesh: &str, interpolation: Interpolation) -> f64 {
+    let b = course().into_iter().find(|b| b.name == name).unwrap();
+    let (_, mut ov) = b.ladder.iter().find(|(label, _)| label == mesh).unwrap().clone();
+    ov.push(interpolation.scene_override());
+    ov.push("output.frames=false".into());
+    let dir = out(&format!("{name}_{mesh}_{}", interpolation.as_str()));
+    let outcome = run_described(&Runner::InProcess, &RunDescription::new(b.scene, dir, &ov)).unwrap();
+    assert!(outcome.is_ok(), "{name} {mesh}: {}", outcome.reason());
+    (b.read)(outcome.probes.as_ref().unwrap()).unwrap() / b.reference - 1.0
+}
+
+#[test]
+fn regge_stabilized_meets_the_cylinder_and_roof_goals() {
+    let root = cosserat_lab::workspace_root();
+    std::env::set_current_dir(&root).unwrap();
+    for (name, mesh, within) in [
+        ("pinched_cylinder", "32×16", 0.05),
+        ("pinched_cylinder", "64×32", 0.02),
+        ("scordelis_lo_roof", "16×16", 0.01),
+    ] {
+        let error = course_error(name, mesh, Interpolation::ReggeStabilized);
+        assert!(
+            error.abs() <= within,
+            "{name} {mesh}: {:+.2} % (goal {} %)",
+            100.0 * error,
+            100.0 * within
+        );
+    }
+}
+
+#[test]
+fn regge_stabilized_thin_cantilever_is_within_one_percent_of_the_elastica() {
+    let root = cosserat_lab::workspace_root();
+    std::env::set_current_dir(&root).unwrap();
+    for h_over_l in [1e-3, 1e-4] {
+        let row = Row::new(Pair::Tri6Tri3, Interpolation::ReggeStabilized, 20, 2);
+        let ov = cosserat_lab::locking::overrides(&row, h_over_l);
+        let run = RunDescription::new(
+            cosserat_lab::locking::SCENE,
+            out(&format!("sze_regge_stabilized_{h_over_l:e}")),
+            &ov,
+        );
+        let outcome = run_described(&Runner::InProcess, &run).unwrap();
+        let ratio = cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
+        assert!(
+            (ratio - 1.0).abs() <= 0.01,
+            "h/L = {h_over_l:e}: tip deflection / elastica = {ratio}"
+        );
+    }
+}
+
 /// In-plane bending of a strip one element wide: the linear variation of the membrane strain across an
 /// element carries the whole load, so an interpolation that keeps it must give the beam's deflection
 /// on the coarsest mesh. Timoshenko's cantilever (ν = 0, shear factor 5/6):
@@ -80,7 +134,11 @@ fn in_plane_bending_of_a_strip_one_element_wide_matches_the_beam() {
     let scene = "scenes/validation/cantilever_small_load.toml";
     let (l, b, h, e, f): (f64, f64, f64, f64, f64) = (1.0, 0.1, 0.01, 1e9, 1.0);
     let expected = f * l.powi(3) / (3.0 * e * h * b.powi(3) / 12.0) + f * l / (5.0 / 6.0 * 0.5 * e * b * h);
-    for interpolation in [Interpolation::Paper, Interpolation::Regge] {
+    for interpolation in [
+        Interpolation::Paper,
+        Interpolation::Regge,
+        Interpolation::ReggeStabilized,
+    ] {
         let mut ov = vec![
             interpolation.scene_override(),
             "mesh.nx=10".into(),

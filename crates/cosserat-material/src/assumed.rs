@@ -357,6 +357,31 @@ pub fn tying_maps(
         .collect()
 }
 
+/// Replaces the transverse-shear and drilling parts of an element's maps by their stabilised element
+/// means, `s̃_q = s̄ + α (s_q − s̄)` with `s̄` the mean over the interior tying points (exact for the
+/// quadratic strains of the pair) and `α` per part
+/// ([`StrainInterpolation::ReggeStabilized`](crate::StrainInterpolation::ReggeStabilized)). The maps
+/// must keep both parts at their point values (as [`AssumedParts::MEMBRANE`] does); a constant strain
+/// is reproduced, so the patch tests hold.
+pub fn stabilize_shear_and_drilling(maps: &mut [TyingMap], alpha_shear: f64, alpha_drilling: f64) {
+    let (d01, d10) = (entry(0, 1), entry(1, 0));
+    let mut removed = SMatrix::<f64, TIED, TIED>::zeros();
+    for r in [entry(2, 0), entry(2, 1)] {
+        removed[(r, r)] = 1.0 - alpha_shear;
+    }
+    for (r, c, v) in [(d01, d01, 0.5), (d01, d10, -0.5), (d10, d01, -0.5), (d10, d10, 0.5)] {
+        removed[(r, c)] += v * (1.0 - alpha_drilling);
+    }
+    let n_interior = (N_TYING - FIRST_INTERIOR) as f64;
+    for m in maps.iter_mut() {
+        m.own -= removed;
+        for t in FIRST_INTERIOR..N_TYING {
+            let mut block = m.tied.fixed_columns_mut::<TIED>(TIED * t);
+            block += removed / n_interior;
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -512,6 +537,49 @@ mod tests {
                 };
                 let (got, want) = (moment(&assumed), moment(&covariant));
                 assert!((got - want).abs() < 1e-13, "edge {k}: {got} vs {want}");
+            }
+        }
+    }
+
+    /// The stabilised shear and drilling strains of a point are the mean over the interior tying points
+    /// plus `α` times the point's own deviation from it (means computed here from the strains, not the
+    /// maps); the membrane part keeps its Regge interpolant.
+    #[test]
+    fn stabilized_shear_and_drilling_are_the_mean_plus_a_scaled_fluctuation() {
+        let gt = Matrix2::new(1.2, 0.3, -0.1, 0.9);
+        let tp = tying_points();
+        let tying: [PointBasis; N_TYING] = std::array::from_fn(|t| basis(tp[t], gt));
+        // The quadrature points are the interior tying points (the pair's degree-2 rule).
+        let quad: Vec<PointBasis> = (FIRST_INTERIOR..N_TYING).map(|t| tying[t]).collect();
+        let strain = |t: usize, k: usize| ((7 * t + 3 * k) % 11) as f64 / 11.0 - 0.4 + 0.05 * (t * k) as f64;
+        let tied = nalgebra::SVector::<f64, N_TIED>::from_fn(|i, _| strain(i / TIED, i % TIED));
+        let regge = tying_maps(&tying, &quad, AssumedParts::MEMBRANE, MembraneTying::Moments);
+        let mut maps = regge.clone();
+        let (alpha_shear, alpha_drilling) = (0.3, 0.6);
+        stabilize_shear_and_drilling(&mut maps, alpha_shear, alpha_drilling);
+        let skew = |v: &[f64]| 0.5 * (v[entry(0, 1)] - v[entry(1, 0)]);
+        let sym = |v: &[f64]| 0.5 * (v[entry(0, 1)] + v[entry(1, 0)]);
+        let own = |q: usize| -> Vec<f64> { (0..TIED).map(|k| strain(FIRST_INTERIOR + q, k)).collect() };
+        let mean = |f: &dyn Fn(&[f64]) -> f64| (0..3).map(|q| f(&own(q))).sum::<f64>() / 3.0;
+        for q in 0..3 {
+            let s = own(q);
+            let sv = nalgebra::SVector::<f64, TIED>::from_column_slice(&s);
+            let got = maps[q].tied * tied + maps[q].own * sv;
+            let before = regge[q].tied * tied + regge[q].own * sv;
+            for r in [entry(2, 0), entry(2, 1)] {
+                let m = mean(&|v: &[f64]| v[r]);
+                let want = m + alpha_shear * (s[r] - m);
+                assert!((got[r] - want).abs() < 1e-14, "shear {r}: {} vs {want}", got[r]);
+            }
+            let m = mean(&skew);
+            let want = m + alpha_drilling * (skew(&s) - m);
+            assert!((skew(got.as_slice()) - want).abs() < 1e-14, "drilling");
+            for (g, b) in [
+                (got[0], before[0]),
+                (got[4], before[4]),
+                (sym(got.as_slice()), sym(before.as_slice())),
+            ] {
+                assert!((g - b).abs() < 1e-14, "membrane: {g} vs {b}");
             }
         }
     }

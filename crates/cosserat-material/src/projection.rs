@@ -35,6 +35,10 @@ pub enum StrainInterpolation {
     /// interior moments; drilling, transverse shear and curvature keep their point values
     /// ([`crate::assumed`]).
     Regge,
+    /// Regge membrane strains ([`Self::Regge`]) with the transverse-shear and drilling strains of
+    /// [`Self::Stabilized`] (element means plus fluctuations scaled by `√β`); curvature at the points
+    /// ([`crate::assumed::stabilize_shear_and_drilling`]).
+    ReggeStabilized,
 }
 
 /// The constants `c` of `β = h² / (h² + c h_e²)`, per strain part; `f64::INFINITY` keeps a part's

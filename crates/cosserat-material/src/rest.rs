@@ -8,7 +8,9 @@
 //! so a faceted (Tri3 or straight-edged Tri6) mesh of a curved surface still carries its curvature.
 //! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
 
-use crate::assumed::{AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, tying_maps, tying_points};
+use crate::assumed::{
+    AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, stabilize_shear_and_drilling, tying_maps, tying_points,
+};
 use crate::error::RestStateError;
 use crate::kernel::PointShape;
 use crate::model::{ModelOptions, ShellModel, TermSet};
@@ -141,7 +143,9 @@ where
     let n_qp = rule.n_points();
     let tying_scheme = match options.interpolation {
         StrainInterpolation::Assumed => Some((options.assumed_parts, MembraneTying::Centroid)),
-        StrainInterpolation::Regge => Some((AssumedParts::MEMBRANE, MembraneTying::Moments)),
+        StrainInterpolation::Regge | StrainInterpolation::ReggeStabilized => {
+            Some((AssumedParts::MEMBRANE, MembraneTying::Moments))
+        }
         StrainInterpolation::Paper | StrainInterpolation::Stabilized => None,
     };
     let tying: Vec<[f64; 2]> = if tying_scheme.is_some() {
@@ -175,8 +179,11 @@ where
     for e in 0..n_el {
         let nodes = disp.element_nodes(e);
         if options.interpolation == StrainInterpolation::Stabilized {
-            let size = (0..3).map(|i| (nodes[(i + 1) % 3] - nodes[i]).norm()).fold(0.0, f64::max);
-            projections.push(StrainProjection::new(&options.stabilization, moduli.thickness, size));
+            projections.push(StrainProjection::new(
+                &options.stabilization,
+                moduli.thickness,
+                longest_edge(&nodes),
+            ));
         }
         let mut area = 0.0;
         let mut bases = Vec::new();
@@ -198,7 +205,12 @@ where
         }
         if let Some((parts, interior)) = tying_scheme {
             let tied: [PointBasis; N_TYING] = std::array::from_fn(|t| bases[n_qp + t]);
-            tying_map_list.extend(tying_maps(&tied, &bases[..n_qp], parts, interior));
+            let mut maps = tying_maps(&tied, &bases[..n_qp], parts, interior);
+            if options.interpolation == StrainInterpolation::ReggeStabilized {
+                let alpha = StrainProjection::new(&options.stabilization, moduli.thickness, longest_edge(&nodes));
+                stabilize_shear_and_drilling(&mut maps, alpha.shear, alpha.drilling);
+            }
+            tying_map_list.extend(maps);
         }
         element_areas.push(area);
         for g in 0..n_points {
@@ -250,6 +262,12 @@ where
         projections,
         tying_maps: tying_map_list,
     })
+}
+
+/// The longest straight edge between an element's corners: the element size `h_e` of the stabilised
+/// interpolations.
+fn longest_edge<const NU: usize>(nodes: &[Vector3<f64>; NU]) -> f64 {
+    (0..3).map(|i| (nodes[(i + 1) % 3] - nodes[i]).norm()).fold(0.0, f64::max)
 }
 
 /// The shape data of a point of element `e` at reference coordinates `xi` with quadrature weight `w`,

@@ -51,6 +51,8 @@ fn curved_shells_rest_at_zero_energy_with_assumed_strains() {
             (StrainInterpolation::Assumed, true),
             (StrainInterpolation::Regge, false),
             (StrainInterpolation::Regge, true),
+            (StrainInterpolation::ReggeStabilized, false),
+            (StrainInterpolation::ReggeStabilized, true),
         ] {
             let mut sys = build(generated, ElementPair::Tri6Tri3, on_surface, interpolation);
             let u = vec![0.0; sys.potential.n_dofs()];
@@ -80,6 +82,7 @@ fn a_free_curved_patch_has_only_the_rigid_modes() {
         StrainInterpolation::Paper,
         StrainInterpolation::Assumed,
         StrainInterpolation::Regge,
+        StrainInterpolation::ReggeStabilized,
     ] {
         let h = rest_hessian(&mut build(&generated, ElementPair::Tri6Tri3, true, interpolation));
         let eigenvalues = h.symmetric_eigenvalues();

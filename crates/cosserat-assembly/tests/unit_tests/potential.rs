@@ -135,6 +135,12 @@ fn assembled_derivatives_match_finite_differences() {
     );
     check_derivatives_with(ElementPair::Tri6Tri3, ShellModel::Plate, 23, StrainInterpolation::Regge);
     check_derivatives_with(ElementPair::Tri6Tri3, ShellModel::Shell, 24, StrainInterpolation::Regge);
+    check_derivatives_with(
+        ElementPair::Tri6Tri3,
+        ShellModel::Shell,
+        25,
+        StrainInterpolation::ReggeStabilized,
+    );
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the
@@ -194,6 +200,7 @@ fn assembly_is_bit_identical_for_one_and_two_threads() {
         StrainInterpolation::Stabilized,
         StrainInterpolation::Assumed,
         StrainInterpolation::Regge,
+        StrainInterpolation::ReggeStabilized,
     ] {
         check_thread_counts(interpolation);
     }

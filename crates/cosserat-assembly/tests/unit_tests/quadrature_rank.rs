@@ -74,14 +74,18 @@ fn the_stabilized_projection_leaves_only_the_rigid_modes() {
     }
 }
 
-/// The assumed strains (MITC6-style and Regge) add no zero-energy mode: a free patch keeps exactly the six rigid modes with
+/// The assumed strains (MITC6-style, Regge, Regge with stabilised shear and drilling) add no zero-energy mode: a free patch keeps exactly the six rigid modes with
 /// the pair's default rule.
 #[test]
 fn the_assumed_strains_leave_only_the_rigid_modes() {
     for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3, ElementPair::Tri6Tri6] {
         for model in [ShellModel::Plate, ShellModel::Shell] {
             let degree = QuadratureRule::for_element_pair(pair.displacement(), pair.rotation()).degree();
-            for interpolation in [StrainInterpolation::Assumed, StrainInterpolation::Regge] {
+            for interpolation in [
+                StrainInterpolation::Assumed,
+                StrainInterpolation::Regge,
+                StrainInterpolation::ReggeStabilized,
+            ] {
                 let n = zero_modes_with(pair, model, degree, interpolation);
                 assert_eq!(n, 6, "{pair:?} {model:?} {interpolation:?}");
             }

@@ -516,6 +516,9 @@ pub enum StrainInterpolationName {
     /// Membrane strains interpolated into the linear Regge space by their edge-tangential and interior
     /// moments; drilling, shear and curvature strains at the points.
     Regge,
+    /// Regge membrane strains with stabilised element means of the shear and drilling strains (the
+    /// locking-free choice for thin and curved shells; docs/model-notes.md).
+    ReggeStabilized,
 }
 
 impl StrainInterpolationName {
@@ -526,6 +529,7 @@ impl StrainInterpolationName {
             StrainInterpolationName::Stabilized => "stabilized",
             StrainInterpolationName::Assumed => "assumed",
             StrainInterpolationName::Regge => "regge",
+            StrainInterpolationName::ReggeStabilized => "regge_stabilized",
         }
     }
 

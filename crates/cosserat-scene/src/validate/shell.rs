@@ -638,6 +638,7 @@ impl Ctx<'_> {
             Some(StrainInterpolationName::Stabilized) => StrainInterpolation::Stabilized,
             Some(StrainInterpolationName::Assumed) => StrainInterpolation::Assumed,
             Some(StrainInterpolationName::Regge) => StrainInterpolation::Regge,
+            Some(StrainInterpolationName::ReggeStabilized) => StrainInterpolation::ReggeStabilized,
         };
         if let Some(source) = m.curvature_source {
             rest.curvature.source = match source {
