@@ -56,6 +56,9 @@ fn advise_shell(shell: &ShellSpec) -> Vec<String> {
         ));
     }
     let ratio = length / m.thickness;
+    if frees_the_thin_limit(shell) {
+        return out;
+    }
     let (limit, element) = match shell.pair {
         ElementPair::Tri3Tri3 => (TRI3_LOCKING_RATIO, "tri3"),
         ElementPair::Tri6Tri3 | ElementPair::Tri6Tri6 => (TRI6_LOCKING_RATIO, "tri6"),
@@ -65,7 +68,10 @@ fn advise_shell(shell: &ShellSpec) -> Vec<String> {
             ElementPair::Tri3Tri3 => {
                 "use quadratic displacements (mesh.element = \"tri6\", the paper's Tri6/Tri3 pair)"
             }
-            _ => "refine the mesh towards elements of about ten thicknesses and compare with a finer mesh",
+            _ => {
+                "material.strain_interpolation = \"regge_stabilized\" (docs/model-notes.md), or refine the mesh \
+                 towards elements of about ten thicknesses and compare with a finer mesh"
+            }
         };
         out.push(format!(
             "shell `{}`: {element} elements {ratio:.3} times longer than the thickness (median edge {length:.3e} m, \
@@ -75,6 +81,17 @@ fn advise_shell(shell: &ShellSpec) -> Vec<String> {
         ));
     }
     out
+}
+
+/// Whether the shell's strain interpolation keeps the thin cantilever free on coarse quadratic meshes
+/// (Sze 3.1 on 20 × 2 quads within 0.1 % from h/L = 1e-3 down: docs/model-notes.md), so that the
+/// locking limits measured for the paper's interpolation do not apply.
+fn frees_the_thin_limit(shell: &ShellSpec) -> bool {
+    !matches!(shell.pair, ElementPair::Tri3Tri3)
+        && matches!(
+            shell.rest.interpolation,
+            StrainInterpolation::Stabilized | StrainInterpolation::ReggeStabilized
+        )
 }
 
 /// Below this share `β` of the membrane-strain variation inside an element that the stabilised

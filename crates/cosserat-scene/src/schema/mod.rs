@@ -516,8 +516,8 @@ pub enum StrainInterpolationName {
     /// Membrane strains interpolated into the linear Regge space by their edge-tangential and interior
     /// moments; drilling, shear and curvature strains at the points.
     Regge,
-    /// Regge membrane strains with stabilised element means of the shear and drilling strains (the
-    /// locking-free choice for thin and curved shells; docs/model-notes.md).
+    /// Regge membrane strains with stabilised element means of the shear and drilling strains (for thin
+    /// and curved shells on coarse meshes; docs/model-notes.md).
     ReggeStabilized,
 }
 
@@ -607,8 +607,9 @@ pub struct MaterialSection {
     pub membrane_volume: Option<MembraneVolumeName>,
     /// Axial vector (default `"skew_part"`).
     pub axl: Option<AxlName>,
-    /// How the quadrature points' strains enter the energy: `"paper"`, `"stabilized"`, `"assumed"` or
-    /// `"regge"` (default `"paper"`; docs/model-notes.md compares them on the locking benchmarks).
+    /// How the quadrature points' strains enter the energy: `"paper"`, `"stabilized"`, `"assumed"`,
+    /// `"regge"` or `"regge_stabilized"` (default `"paper"`; docs/model-notes.md compares them on the
+    /// locking benchmarks).
     pub strain_interpolation: Option<StrainInterpolationName>,
     /// Rest-curvature normal field (default `"auto"`).
     pub curvature_source: Option<CurvatureSourceName>,
