@@ -92,18 +92,18 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
     h: &mut SMatrix<f64, NE, NE>,
 ) {
     let first = points.len() - N_TYING;
-    // The tied strains' Jacobian, column `TIED t + k` = column `k` of tying point `t`'s.
-    let mut tied_jacobian = SMatrix::<f64, NE, N_TIED>::zeros();
-    for (t, g) in jacobians[first..].iter().enumerate() {
-        tied_jacobian
-            .fixed_columns_mut::<TIED>(TIED * t)
-            .copy_from(&g.fixed_columns::<TIED>(0));
-    }
     for ((p, g), m) in points.iter().zip(jacobians).zip(maps) {
+        // `Ê` columns of G̃_p: Σ_t J_t M_pt^T over the tying points t, plus the point's own through
+        // `K_p`. A tying point that the map does not use (the centroid under moment ties) costs nothing.
+        let mut tied = g.fixed_columns::<TIED>(0) * m.own.transpose();
+        for (t, jt) in jacobians[first..].iter().enumerate() {
+            let block = m.tied.fixed_columns::<TIED>(TIED * t);
+            if block.iter().any(|&x| x != 0.0) {
+                tied += jt.fixed_columns::<TIED>(0) * block.transpose();
+            }
+        }
         let mut gt = *g;
-        let own = g.fixed_columns::<TIED>(0) * m.own.transpose();
-        gt.fixed_columns_mut::<TIED>(0)
-            .copy_from(&(tied_jacobian * m.tied.transpose() + own));
+        gt.fixed_columns_mut::<TIED>(0).copy_from(&tied);
         add_first_order(p.density, &gt, p.shape.weight, h);
     }
 }

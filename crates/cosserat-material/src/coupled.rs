@@ -6,7 +6,7 @@
 //! (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` differ between the treatments, and they live in their
 //! modules.
 
-use crate::assumed::TyingMap;
+use crate::assumed::{N_TYING, TIED, TyingMap};
 use crate::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper};
 use crate::kernel::{
     LocalDerivatives, add_second_order_terms, gradient_from_stress, point_strains, strain_jacobian, stress_of,
@@ -130,7 +130,16 @@ impl Coupling<'_> {
             }
             Self::Tying(maps) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
         };
+        let unused = self.unused_points(points.len());
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
+            // A point no map reads has no stress, gradient or Hessian of its own (the centroid under
+            // moment ties): only its place in the Jacobian list is kept.
+            if unused.get(n).copied().unwrap_or(false) {
+                if let FirstOrder::Tied(_, jacobians) = &mut first_order {
+                    jacobians.push(SMatrix::zeros());
+                }
+                continue;
+            }
             let st = stress_of(p.shape, &p.input, x, sg, variant);
             let (mut jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
             local.value = 0.0;
@@ -174,6 +183,24 @@ impl Coupling<'_> {
             }
         }
         node_weights
+    }
+
+    /// Which of the element's `n_points` points no tying map reads (only tying points can be unused).
+    fn unused_points(self, n_points: usize) -> Vec<bool> {
+        match self {
+            Self::Projection(_) => Vec::new(),
+            Self::Tying(maps) => {
+                let first = n_points - N_TYING;
+                (0..n_points)
+                    .map(|n| {
+                        n >= first
+                            && maps
+                                .iter()
+                                .all(|m| m.tied.fixed_columns::<TIED>(TIED * (n - first)).iter().all(|&x| x == 0.0))
+                    })
+                    .collect()
+            }
+        }
     }
 
     /// The derivatives `σ̂_q` of the element's strain-quadratic energy with respect to the raw strains of
