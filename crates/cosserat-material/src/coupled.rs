@@ -130,11 +130,12 @@ impl Coupling<'_> {
             }
             Self::Tying(maps) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
         };
-        let unused = self.unused_points(points.len());
+        let unused = self.unused_tying_points();
+        let first_tying = points.len().saturating_sub(N_TYING);
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
             // A point no map reads has no stress, gradient or Hessian of its own (the centroid under
             // moment ties): only its place in the Jacobian list is kept.
-            if unused.get(n).copied().unwrap_or(false) {
+            if matches!(self, Self::Tying(_)) && n >= first_tying && unused[n - first_tying] {
                 if let FirstOrder::Tied(_, jacobians) = &mut first_order {
                     jacobians.push(SMatrix::zeros());
                 }
@@ -185,21 +186,14 @@ impl Coupling<'_> {
         node_weights
     }
 
-    /// Which of the element's `n_points` points no tying map reads (only tying points can be unused).
-    fn unused_points(self, n_points: usize) -> Vec<bool> {
+    /// Which of the element's tying points no tying map reads (none under the projection).
+    fn unused_tying_points(self) -> [bool; N_TYING] {
         match self {
-            Self::Projection(_) => Vec::new(),
-            Self::Tying(maps) => {
-                let first = n_points - N_TYING;
-                (0..n_points)
-                    .map(|n| {
-                        n >= first
-                            && maps
-                                .iter()
-                                .all(|m| m.tied.fixed_columns::<TIED>(TIED * (n - first)).iter().all(|&x| x == 0.0))
-                    })
-                    .collect()
-            }
+            Self::Projection(_) => [false; N_TYING],
+            Self::Tying(maps) => std::array::from_fn(|t| {
+                maps.iter()
+                    .all(|m| m.tied.fixed_columns::<TIED>(TIED * t).iter().all(|&x| x == 0.0))
+            }),
         }
     }
 
