@@ -90,25 +90,48 @@ impl AssumedParts {
     /// The projector onto the `Ê` entries 0–5 of the parts that keep their point values.
     fn kept(&self) -> SMatrix<f64, TIED, TIED> {
         let mut k = SMatrix::<f64, TIED, TIED>::zeros();
-        let (d01, d10) = (entry(0, 1), entry(1, 0));
         if !self.membrane {
-            k[(0, 0)] = 1.0;
-            k[(4, 4)] = 1.0;
-            for (r, c) in [(d01, d01), (d01, d10), (d10, d01), (d10, d10)] {
-                k[(r, c)] += 0.5;
-            }
+            k += membrane_projector();
         }
         if !self.drilling {
-            for (r, c, v) in [(d01, d01, 0.5), (d01, d10, -0.5), (d10, d01, -0.5), (d10, d10, 0.5)] {
-                k[(r, c)] += v;
-            }
+            k += drilling_projector();
         }
         if !self.shear {
-            k[(2, 2)] = 1.0;
-            k[(5, 5)] = 1.0;
+            k += shear_projector();
         }
         k
     }
+}
+
+/// The projector onto the membrane part of `Ê` entries 0–5 (the symmetric tangential block).
+fn membrane_projector() -> SMatrix<f64, TIED, TIED> {
+    let mut p = SMatrix::<f64, TIED, TIED>::zeros();
+    p[(0, 0)] = 1.0;
+    p[(4, 4)] = 1.0;
+    let (d01, d10) = (entry(0, 1), entry(1, 0));
+    for (r, c) in [(d01, d01), (d01, d10), (d10, d01), (d10, d10)] {
+        p[(r, c)] = 0.5;
+    }
+    p
+}
+
+/// The projector onto the drilling part of `Ê` entries 0–5 (the skew tangential block).
+fn drilling_projector() -> SMatrix<f64, TIED, TIED> {
+    let mut p = SMatrix::<f64, TIED, TIED>::zeros();
+    let (d01, d10) = (entry(0, 1), entry(1, 0));
+    for (r, c, v) in [(d01, d01, 0.5), (d01, d10, -0.5), (d10, d01, -0.5), (d10, d10, 0.5)] {
+        p[(r, c)] = v;
+    }
+    p
+}
+
+/// The projector onto the transverse-shear part of `Ê` entries 0–5 (the normal row).
+fn shear_projector() -> SMatrix<f64, TIED, TIED> {
+    let mut p = SMatrix::<f64, TIED, TIED>::zeros();
+    for r in [entry(2, 0), entry(2, 1)] {
+        p[(r, r)] = 1.0;
+    }
+    p
 }
 
 const CORNERS: [[f64; 2]; 3] = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
@@ -364,14 +387,7 @@ pub fn tying_maps(
 /// must keep both parts at their point values (as [`AssumedParts::MEMBRANE`] does); a constant strain
 /// is reproduced, so the patch tests hold.
 pub fn stabilize_shear_and_drilling(maps: &mut [TyingMap], alpha_shear: f64, alpha_drilling: f64) {
-    let (d01, d10) = (entry(0, 1), entry(1, 0));
-    let mut removed = SMatrix::<f64, TIED, TIED>::zeros();
-    for r in [entry(2, 0), entry(2, 1)] {
-        removed[(r, r)] = 1.0 - alpha_shear;
-    }
-    for (r, c, v) in [(d01, d01, 0.5), (d01, d10, -0.5), (d10, d01, -0.5), (d10, d10, 0.5)] {
-        removed[(r, c)] += v * (1.0 - alpha_drilling);
-    }
+    let removed = shear_projector() * (1.0 - alpha_shear) + drilling_projector() * (1.0 - alpha_drilling);
     let n_interior = (N_TYING - FIRST_INTERIOR) as f64;
     for m in maps.iter_mut() {
         m.own -= removed;
