@@ -67,6 +67,14 @@ pub trait ShellEnergy: PotentialTerm {
     /// The strain-quadratic elastic energy of a state split by strain part (membrane, drilling,
     /// transverse shear, bending).
     fn energy_parts(&self, state: &SystemState) -> cosserat_material::strain_space::EnergyParts;
+    /// Linearises the strains at `eval.u` along the Newton direction `du` (the mixed-integration-point
+    /// Newton method).
+    fn linearize_strains(&mut self, eval: &Evaluation<'_>, du: &[f64]);
+    /// A step `α du` along the last linearised direction was taken: the next Hessians weight their
+    /// second-order terms with the stresses of the linearly predicted strains.
+    fn advance_predicted_strains(&mut self, alpha: f64);
+    /// Hessians use the points' own stresses again.
+    fn clear_predicted_strains(&mut self);
 }
 
 impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellEnergy
@@ -94,6 +102,18 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn energy_parts(&self, state: &SystemState) -> cosserat_material::strain_space::EnergyParts {
         self.energy_parts(state)
+    }
+
+    fn linearize_strains(&mut self, eval: &Evaluation<'_>, du: &[f64]) {
+        self.linearize_strains(eval, du);
+    }
+
+    fn advance_predicted_strains(&mut self, alpha: f64) {
+        self.advance_predicted_strains(alpha);
+    }
+
+    fn clear_predicted_strains(&mut self) {
+        self.clear_predicted_strains();
     }
 }
 
@@ -393,6 +413,46 @@ impl IncrementalPotential {
         self.update_rotations(u, false);
         let eval = self.evaluation(u);
         self.terms.iter().map(|t| t.max_step_fraction(&eval, du)).fold(1.0, f64::min)
+    }
+
+    /// Linearises the shells' strains at `u` along the Newton direction `du` (the mixed-integration-point
+    /// Newton method: see [`Self::advance_predicted_strains`]).
+    ///
+    /// # Errors
+    /// A wrong length of `u` or `du`.
+    pub fn linearize_strains(&mut self, u: &[f64], du: &[f64]) -> Result<(), AssemblyError> {
+        self.check_len(u)?;
+        self.check_len(du)?;
+        self.update_rotations(u, true);
+        let eval = Evaluation {
+            state: &self.parts.state,
+            layout: &self.parts.layout,
+            u,
+            dt: self.dt,
+            rotations: &self.rotations,
+            parallelism: self.parallelism,
+        };
+        for shell in &mut self.parts.shells {
+            shell.linearize_strains(&eval, du);
+        }
+        Ok(())
+    }
+
+    /// The step `α du` along the last linearised direction was taken: until
+    /// [`Self::clear_predicted_strains`], the shells' Hessians weight their second-order terms with the
+    /// stresses of the strains predicted linearly along the steps, not with the stresses at the
+    /// current point (the gradient and the energy stay exact).
+    pub fn advance_predicted_strains(&mut self, alpha: f64) {
+        for shell in &mut self.parts.shells {
+            shell.advance_predicted_strains(alpha);
+        }
+    }
+
+    /// The shells' Hessians use the stresses at the current point again.
+    pub fn clear_predicted_strains(&mut self) {
+        for shell in &mut self.parts.shells {
+            shell.clear_predicted_strains();
+        }
     }
 
     /// The Hessian's sparsity pattern (upper triangle): the fixed pattern, merged with the dynamic terms'

@@ -11,6 +11,7 @@ use crate::element_assembly::{
     ElementAssembly, ElementKernel, angular_velocities, displacement_rotation_blocks, end_of_step_positions,
 };
 use crate::error::AssemblyError;
+use crate::parallel::Parallelism;
 use crate::pattern::SparsityPattern;
 use crate::state::SystemState;
 use crate::term::{Evaluation, PotentialTerm};
@@ -21,8 +22,8 @@ use cosserat_material::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
 };
 use cosserat_material::kernel::{
-    LocalDerivatives, PointInput, PointShape, add_node_second_derivatives, point_gradient, point_hessian_deferred_into,
-    point_value,
+    LocalDerivatives, PointInput, PointShape, add_node_second_derivatives, linearized_strains, point_gradient,
+    point_hessian_predicted_into, point_value,
 };
 use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
@@ -30,6 +31,7 @@ use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, 
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
 use nalgebra::{Matrix3, SMatrix, Vector3};
+use rayon::prelude::*;
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
 /// in the global system.
@@ -62,6 +64,21 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
     pub project_pd: bool,
     /// The element loop; each element's scratch holds a point's local derivatives.
     elements: ElementAssembly<NE, NB, LocalDerivatives<NL>>,
+    /// The predicted strains of the mixed-integration-point Newton method, per point.
+    prediction: StrainPrediction,
+}
+
+/// The strains the second-order terms of the Hessian are weighted with in the mixed-integration-point
+/// Newton method (see `kernel::point_hessian_predicted_into`): after a step `α δu` from `u`, each
+/// point's strain at `u` plus `α` times its linearisation along `δu`.
+#[derive(Debug, Default)]
+struct StrainPrediction {
+    /// The strains at the point of the last linearisation.
+    base: Vec<StrainVector>,
+    /// Their derivatives along its direction.
+    rate: Vec<StrainVector>,
+    /// The predicted strains, once a step along the direction was taken.
+    predicted: Option<Vec<StrainVector>>,
 }
 
 /// Linear displacement and rotation elements.
@@ -90,6 +107,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             layout,
             project_pd: false,
             elements: ElementAssembly::new(),
+            prediction: StrainPrediction::default(),
         }
     }
 
@@ -192,6 +210,73 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
     }
 
+    /// Linearises every point's strains at `eval.u` along the step `du` (the mixed-integration-point
+    /// Newton method; see [`Self::advance_predicted_strains`]).
+    pub fn linearize_strains(&mut self, eval: &Evaluation<'_>, du: &[f64]) {
+        let n_qp = self.disc.rest.points_per_element;
+        let n = self.disc.rest.shapes.len();
+        let mut base = std::mem::take(&mut self.prediction.base);
+        let mut rate = std::mem::take(&mut self.prediction.rate);
+        base.resize(n, StrainVector::zeros());
+        rate.resize(n, StrainVector::zeros());
+        if n_qp > 0 {
+            let this = &*self;
+            let run = |(e, (b, r)): (usize, (&mut [StrainVector], &mut [StrainVector]))| {
+                this.linearize_element(e, eval, du, b, r);
+            };
+            match eval.parallelism {
+                Parallelism::Rayon => base
+                    .par_chunks_mut(n_qp)
+                    .zip(rate.par_chunks_mut(n_qp))
+                    .enumerate()
+                    .for_each(run),
+                Parallelism::Sequential => base.chunks_mut(n_qp).zip(rate.chunks_mut(n_qp)).enumerate().for_each(run),
+            }
+        }
+        self.prediction.base = base;
+        self.prediction.rate = rate;
+    }
+
+    /// The step `α δu` along the last linearisation was taken: the next Hessians weight their
+    /// second-order terms with the stresses of `s(u) + α (∂s/∂u) δu` at every point.
+    pub fn advance_predicted_strains(&mut self, alpha: f64) {
+        let p = &mut self.prediction;
+        let predicted = p.base.iter().zip(&p.rate).map(|(b, r)| b + r * alpha).collect();
+        p.predicted = Some(predicted);
+    }
+
+    /// Forgets the predicted strains: Hessians use the points' own stresses again.
+    pub fn clear_predicted_strains(&mut self) {
+        self.prediction.predicted = None;
+    }
+
+    /// The strains of element `e`'s points at `eval.u` and their derivatives along `du`.
+    fn linearize_element(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        du: &[f64],
+        base: &mut [StrainVector],
+        rate: &mut [StrainVector],
+    ) {
+        let dx: [Vector3<f64>; NU] =
+            std::array::from_fn(|i| eval.layout.velocity(du, self.disc.disp_elements[e][i]) * eval.dt);
+        let d_omega: [Vector3<f64>; NR] = std::array::from_fn(|k| eval.layout.omega(du, self.disc.rot_elements[e][k]));
+        let mut g = 0;
+        self.for_each_point(e, eval, |shape, input, _| {
+            let (s, ds) = linearized_strains::<NU, NR, NL>(shape, input, self.disc.axl, &f_hat(shape, &dx), &d_omega);
+            base[g] = s;
+            rate[g] = ds;
+            g += 1;
+        });
+    }
+
+    /// The predicted strains of element `e`'s points, if any.
+    fn predicted(&self, e: usize) -> Option<&[StrainVector]> {
+        let n_qp = self.disc.rest.points_per_element;
+        self.prediction.predicted.as_ref().map(|p| &p[e * n_qp..(e + 1) * n_qp])
+    }
+
     fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NU] {
         end_of_step_positions(eval, &self.disc.disp_elements[e])
     }
@@ -278,7 +363,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         if n_qp == 0 {
             out.hessian.fill(0.0);
         }
-        let weights = coupling.element_hessian(&points, axl, volume, eval.dt, local, out);
+        let weights = coupling.element_hessian(&points, axl, volume, eval.dt, self.predicted(e), local, out);
         for (k, w) in weights.iter().enumerate() {
             add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
         }
@@ -412,8 +497,11 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         // Σ_p w_p R U_k,p: the weights of the nodal rotations' second derivatives, contracted once per
         // node below (see `point_hessian_deferred_into`).
         let mut node_weights = [Matrix3::zeros(); NR];
+        let predicted = self.predicted(e);
+        let mut g = 0;
         self.for_each_point(e, eval, |shape, input, d| {
-            let weights = point_hessian_deferred_into(shape, input, d, self.disc.axl, local);
+            let weights = point_hessian_predicted_into(shape, input, d, self.disc.axl, predicted.map(|p| &p[g]), local);
+            g += 1;
             for (sum, w) in node_weights.iter_mut().zip(&weights) {
                 *sum += w * shape.weight;
             }

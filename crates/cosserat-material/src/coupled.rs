@@ -105,17 +105,24 @@ impl Coupling<'_> {
     /// Energy, gradient and the upper block triangle of the exact Hessian of an element (blocks below
     /// the block diagonal are not written). Returns the weights of the nodal rotations' second
     /// derivatives, to be added once per node (see `kernel::point_hessian_deferred_into`).
+    ///
+    /// With `predicted` raw strains of the element's points, the second-order terms are weighted by
+    /// their stresses instead (the mixed-integration-point iteration matrix, see
+    /// `kernel::point_hessian_predicted_into`).
+    #[allow(clippy::too_many_arguments)]
     pub fn element_hessian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
         self,
         points: &[ElementPoint<'_, NU, NR>],
         variant: AxlVariant,
         volume: Option<&Moduli>,
         dt: f64,
+        predicted: Option<&[StrainVector]>,
         local: &mut LocalDerivatives<NL>,
         out: &mut ElementDerivatives<NE>,
     ) -> [Matrix3<f64>; NR] {
         const { assert!(NL == 6 + 3 * NR && NE == 3 * (NU + NR), "inconsistent element sizes") };
         let (value, sigma, xs) = self.stresses(points, variant);
+        let predicted_sigma = predicted.map(|s| self.stresses_of(points, s.to_vec()).1);
         out.value = 0.0;
         out.gradient.fill(0.0);
         let mut node_weights = [Matrix3::zeros(); NR];
@@ -142,9 +149,13 @@ impl Coupling<'_> {
                 continue;
             }
             let st = stress_of(p.shape, &p.input, x, sg, variant);
-            let (mut jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &st, variant);
+            let (mut jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant);
             local.value = 0.0;
             local.gradient = gradient_from_stress(p.shape, &p.input, &st);
+            let st = match &predicted_sigma {
+                Some(sigma) => stress_of(p.shape, &p.input, x, &sigma[n], variant),
+                None => st,
+            };
             // The first-order term: point-local for the projection, gathered for the tying maps (see
             // `ProjectedFirstOrder`, `assumed_kernel`).
             match &mut first_order {
@@ -206,11 +217,20 @@ impl Coupling<'_> {
     ) -> (f64, Vec<StrainVector>, Vec<[Matrix3<f64>; 2]>) {
         let (strains, xs): (Vec<StrainVector>, Vec<[Matrix3<f64>; 2]>) =
             points.iter().map(|p| point_strains(p.shape, &p.input, variant)).unzip();
-        let (value, sigma) = match self {
+        let (value, sigma) = self.stresses_of(points, strains);
+        (value, sigma, xs)
+    }
+
+    /// The derivatives `σ̂_q` and the strain-quadratic energy for given raw strains of the points.
+    fn stresses_of<const NU: usize, const NR: usize>(
+        self,
+        points: &[ElementPoint<'_, NU, NR>],
+        strains: Vec<StrainVector>,
+    ) -> (f64, Vec<StrainVector>) {
+        match self {
             Self::Projection(projection) => projected::stresses(points, strains, projection),
             Self::Tying(maps) => assumed_kernel::stresses(points, &strains, maps),
-        };
-        (value, sigma, xs)
+        }
     }
 
     /// The weight the point kernel's output is accumulated with: the projection's stresses are per

@@ -21,7 +21,7 @@
 //! pass (the latter is kept as the test oracle, see `oracle`).
 
 use crate::model::AxlVariant;
-use crate::strain_space::{DensityMatrix, Entry, StrainVector};
+use crate::strain_space::{DensityMatrix, Entry, StrainVector, VARIABLE_STRAINS};
 use cosserat_geometry::rotation::{RotationJet, axl, axl_upper, skew};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -471,14 +471,68 @@ pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: u
     variant: AxlVariant,
     out: &mut LocalDerivatives<NL>,
 ) -> [Matrix3<f64>; NR] {
+    point_hessian_predicted_into(shape, input, d, variant, None, out)
+}
+
+/// [`point_hessian_deferred_into`] whose second-order terms are weighted by the stress `D s̃` of
+/// predicted strains `s̃` instead of the point's own (`None`: its own). The energy, the gradient and
+/// the first-order part `Jᵀ D J` are the point's.
+///
+/// This is the iteration matrix of the mixed-integration-point Newton method (see
+/// `cosserat_solver::NewtonSettings::mixed_stresses`): `s̃` is the previous iterate's strain
+/// advanced along its step by the strains' linearisation ([`linearized_strains`]), which leaves out
+/// the step's second-order strain error that makes the stresses of thin shells swing wildly from
+/// one iterate to the next.
+pub fn point_hessian_predicted_into<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    d: &DensityMatrix,
+    variant: AxlVariant,
+    predicted: Option<&StrainVector>,
+    out: &mut LocalDerivatives<NL>,
+) -> [Matrix3<f64>; NR] {
     const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
     let st = stress(shape, input, d, variant);
     out.value = st.value;
     out.gradient = gradient_from_stress(shape, input, &st);
-    let (jac_t, qrt) = strain_jacobian(shape, input, &st, variant);
+    let (jac_t, qrt) = strain_jacobian(shape, input, &st.x, variant);
     local_hessian_from_strains(&jac_t, &qrt, d.variable_entries().iter().copied(), &mut out.hessian);
-    add_second_order_terms(shape, input, &st, &mut out.hessian);
-    st.ru
+    let second = match predicted {
+        Some(s) => stress_of(shape, input, st.x, &d.mul_vector(s), variant),
+        None => st,
+    };
+    add_second_order_terms(shape, input, &second, &mut out.hessian);
+    second.ru
+}
+
+/// The strains of a point (offset subtracted) and their derivative `J δ` along a change `δ` of its
+/// locals: `d_f_hat` of `F̂₁, F̂₂` and `d_omega` of the nodal angular velocities.
+pub fn linearized_strains<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    variant: AxlVariant,
+    d_f_hat: &[Vector3<f64>; 2],
+    d_omega: &[Vector3<f64>; NR],
+) -> (StrainVector, StrainVector) {
+    const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
+    let (s, x) = point_strains(shape, input, variant);
+    let (jac_t, qrt) = strain_jacobian::<NU, NR, NL>(shape, input, &x, variant);
+    let mut ds = StrainVector::zeros();
+    for gamma in 0..2 {
+        let de = qrt * d_f_hat[gamma];
+        for a in 0..3 {
+            ds[3 * gamma + a] = de[a];
+        }
+    }
+    for (k, w) in d_omega.iter().enumerate() {
+        for i in 0..3 {
+            let row = jac_t.row(6 + 3 * k + i);
+            for (c, &entry) in VARIABLE_STRAINS.iter().enumerate() {
+                ds[entry] += row[c] * w[i];
+            }
+        }
+    }
+    (s, ds)
 }
 
 /// The Jacobian of a point's 12 variable strains with respect to its locals, transposed (row `c` =
@@ -489,7 +543,7 @@ pub fn point_hessian_deferred_into<const NU: usize, const NR: usize, const NL: u
 pub(crate) fn strain_jacobian<const NU: usize, const NR: usize, const NL: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,
-    st: &Stress<NR>,
+    x: &[Matrix3<f64>; 2],
     variant: AxlVariant,
 ) -> (SMatrix<f64, NL, 12>, Matrix3<f64>) {
     let jet = input.point_jet;
@@ -506,7 +560,7 @@ pub(crate) fn strain_jacobian<const NU: usize, const NR: usize, const NL: usize>
         for gamma in 0..2 {
             // Qᵀ (∂R/∂ω_i)ᵀ F̂_γ = QᵀRᵀ [ξ_i]×ᵀ F̂_γ = QᵀRᵀ (F̂_γ × ξ_i).
             de_dp[gamma][i] = qrt * input.f_hat[gamma].cross(&xi);
-            dg_dp[gamma][i] = qt * axial(&(rit * st.x[gamma]), variant);
+            dg_dp[gamma][i] = qt * axial(&(rit * x[gamma]), variant);
         }
     }
     for k in 0..NR {

@@ -285,6 +285,8 @@ pub struct SolverSpec {
     /// Keep the last factorisation while each Newton iteration cuts the residual by at least this
     /// factor (chord steps, also into the next step); `None` factorises every iteration.
     pub reuse_factorisation: Option<f64>,
+    /// Newton matrices with stresses predicted along the steps (the mixed-integration-point method).
+    pub mixed_integration_points: bool,
 }
 
 /// Nodes of one shell selected by a region.

@@ -106,6 +106,18 @@ impl NewtonProblem for PotentialProblem<'_> {
         self.potential.max_step_fraction(x, dx)
     }
 
+    fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
+        self.potential.linearize_strains(x, dx).map_err(map_error)
+    }
+
+    fn advance_predicted_strains(&mut self, alpha: f64) {
+        self.potential.advance_predicted_strains(alpha);
+    }
+
+    fn clear_predicted_strains(&mut self) {
+        self.potential.clear_predicted_strains();
+    }
+
     /// A rotation node's update is the Cayley rotation `cay(Δt ω)`, whose angle `2 arctan(|Δt ω|/2)`
     /// approaches a half turn as `|Δt ω|` grows without bound: a rotation just beyond a half turn about
     /// `a` has its parameter at the far end of the opposite ray, `−a`. Massless rotations (no angular

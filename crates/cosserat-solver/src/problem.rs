@@ -62,6 +62,31 @@ pub trait NewtonProblem {
         1.0
     }
 
+    /// With [`NewtonSettings::mixed_integration_points`](crate::NewtonSettings::mixed_integration_points):
+    /// called with each Newton direction `dx` from the iterate `x`, before its line search. A problem
+    /// whose Hessian has second-order terms weighted by stresses linearises its strains there (see
+    /// [`advance_predicted_strains`](Self::advance_predicted_strains)). The default does nothing.
+    ///
+    /// # Errors
+    /// A [`ProblemError`] if the state cannot be evaluated.
+    fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
+        let _ = (x, dx);
+        Ok(())
+    }
+
+    /// With [`NewtonSettings::mixed_integration_points`](crate::NewtonSettings::mixed_integration_points):
+    /// the step `α dx` along the last linearised direction was accepted. Until the next solve, the
+    /// Hessians weight their second-order terms with the stresses of the strains predicted linearly
+    /// along the steps (the mixed-integration-point iteration matrix of Magisano, Leonetti and Garcea
+    /// 2017), while energy and gradient stay those of `x`. The default does nothing.
+    fn advance_predicted_strains(&mut self, alpha: f64) {
+        let _ = alpha;
+    }
+
+    /// Called at the start of every solve: the Hessians use the stresses of the current state again.
+    /// The default does nothing.
+    fn clear_predicted_strains(&mut self) {}
+
     /// Moves unknowns of a trial state `x`, reached from the iterate `from`, that run towards a
     /// singularity of the problem's parametrisation across it, to where the descent can continue (for
     /// example a rotation update whose parameter grows without bound as the rotation approaches a half

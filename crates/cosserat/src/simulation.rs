@@ -484,6 +484,7 @@ impl Simulation {
         s.newton.linear_solver.kind = self.solver.linear_solver;
         s.newton.linear_solver.domains = self.solver.domain_split;
         s.newton.reuse_max_ratio = self.solver.reuse_factorisation;
+        s.newton.mixed_integration_points = self.solver.mixed_integration_points;
         s
     }
 

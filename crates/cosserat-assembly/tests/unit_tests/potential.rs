@@ -266,3 +266,51 @@ fn projected_element_hessians_sum_to_a_positive_semidefinite_matrix_and_leave_no
     p.parts.shells[0].set_project_pd(false);
     assert_eq!(dense_hessian(&mut p, &u), plain);
 }
+
+/// The mixed-integration-point Newton matrix on assembled shells: a prediction along a step of length
+/// zero is the exact Hessian, the Hessian is affine in the step length along the linearised direction,
+/// the gradient never changes, and clearing the prediction restores the exact Hessian bit for bit.
+#[test]
+fn predicted_strains_change_only_the_second_order_terms_of_the_hessian() {
+    for interpolation in [
+        StrainInterpolation::Paper,
+        StrainInterpolation::Stabilized,
+        StrainInterpolation::ReggeStabilized,
+    ] {
+        let mut rng = ChaCha8Rng::seed_from_u64(31);
+        let mut p = strip_with(ElementPair::Tri6Tri3, 3, 2, ShellModel::Shell, true, interpolation).potential;
+        decorate(&mut p, &mut rng);
+        let n = p.n_dofs();
+        let u: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
+        let du: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
+        let hessian = |p: &mut IncrementalPotential| {
+            let (mut g, mut h) = (vec![0.0; n], vec![0.0; p.pattern().nnz()]);
+            p.hessian(&u, &mut g, &mut h).unwrap();
+            (g, DMatrix::from_row_slice(1, h.len(), &h))
+        };
+        let (g_exact, exact) = hessian(&mut p);
+        p.linearize_strains(&u, &du).unwrap();
+        p.advance_predicted_strains(0.0);
+        let (g0, zero) = hessian(&mut p);
+        let scale = exact.amax();
+        assert!((&zero - &exact).amax() <= 1e-13 * scale, "{interpolation:?}: zero step");
+        p.advance_predicted_strains(1.0);
+        let (g1, one) = hessian(&mut p);
+        p.advance_predicted_strains(2.0);
+        let (_, two) = hessian(&mut p);
+        assert_eq!(g0, g_exact, "{interpolation:?}");
+        assert_eq!(g1, g_exact, "{interpolation:?}");
+        let first = &one - &exact;
+        assert!(
+            first.amax() > 1e-6 * scale,
+            "{interpolation:?}: the prediction changes nothing"
+        );
+        assert!(
+            (&two - &exact - &first * 2.0).amax() <= 1e-9 * first.amax(),
+            "{interpolation:?}: not affine in the step length"
+        );
+        p.clear_predicted_strains();
+        let (_, cleared) = hessian(&mut p);
+        assert_eq!(cleared, exact, "{interpolation:?}");
+    }
+}

@@ -132,7 +132,8 @@ impl<const NU: usize, const NR: usize> CoupledElement<NU, NR> {
         let mut out = ElementDerivatives::<NE>::zeros();
         if with_hessian {
             let mut local = LocalDerivatives::<NL>::zeros();
-            let weights = coupling.element_hessian(&points, AxlVariant::SkewPart, None, self.dt, &mut local, &mut out);
+            let weights =
+                coupling.element_hessian(&points, AxlVariant::SkewPart, None, self.dt, None, &mut local, &mut out);
             for (k, w) in weights.iter().enumerate() {
                 add_node_second_derivatives(&mut out.hessian, 3 * (NU + k), node_jets[k], w);
             }

@@ -457,3 +457,124 @@ fn assigning_the_first_point_equals_adding_it_to_zero() {
     added.clear_below_block_diagonal();
     assert_eq!(assigned, added);
 }
+
+/// The strains' linearisation of the mixed-integration-point Newton method is their derivative: against
+/// central differences along a random change of velocities and angular velocities, for linear and
+/// quadratic rotation elements on curved points.
+#[test]
+fn linearized_strains_are_the_derivative_of_the_strains() {
+    check_linearized_strains::<6, 3, 15>(41);
+    check_linearized_strains::<6, 6, 24>(42);
+    check_linearized_strains::<3, 3, 15>(43);
+}
+
+fn check_linearized_strains<const NU: usize, const NR: usize, const NL: usize>(seed: u64) {
+    use cosserat_geometry::rotation::quaternion_update;
+    use cosserat_material::kernel::{linearized_strains, strain_vector};
+    let mut rng = common::rng(seed);
+    for _ in 0..4 {
+        let case = Case::<NU, NR>::random(&mut rng, true);
+        let dv: [Vector3<f64>; NU] = std::array::from_fn(|_| common::vec3(&mut rng, 0.2));
+        let dw: [Vector3<f64>; NR] = std::array::from_fn(|_| common::vec3(&mut rng, 3.0));
+        let strains_at = |t: f64| {
+            let mut c = case;
+            for (v, d) in c.velocity.iter_mut().zip(&dv) {
+                *v += d * t;
+            }
+            for (w, d) in c.omega.iter_mut().zip(&dw) {
+                *w += d * t;
+            }
+            let r = rotation_matrix(&quaternion_update(&c.q_point, &point_omega(&c.shape, &c.omega), c.dt));
+            let nodes: [Matrix3<f64>; NR] =
+                std::array::from_fn(|k| rotation_matrix(&quaternion_update(&c.q_nodes[k], &c.omega[k], c.dt)));
+            let f = cosserat_material::element::f_hat(&c.shape, &c.positions());
+            strain_vector(
+                &c.shape,
+                &f,
+                &r,
+                std::array::from_fn(|k| &nodes[k]),
+                &c.offset,
+                AxlVariant::SkewPart,
+            )
+        };
+        let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
+        let nj: [RotationJet; NR] =
+            std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
+        let input = PointInput {
+            f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
+            point_jet: &pj,
+            node_jets: std::array::from_fn(|k| &nj[k]),
+            offset: &case.offset,
+        };
+        let dx: [Vector3<f64>; NU] = std::array::from_fn(|i| dv[i] * case.dt);
+        let d_f_hat = cosserat_material::element::f_hat(&case.shape, &dx);
+        let (s, ds) = linearized_strains::<NU, NR, NL>(&case.shape, &input, AxlVariant::SkewPart, &d_f_hat, &dw);
+        assert!(rel_err(&s, &strains_at(0.0)) < 1e-14, "strains differ from the point's");
+        let eps = 1e-6;
+        let fd = (strains_at(eps) - strains_at(-eps)) / (2.0 * eps);
+        let err = rel_err(&ds, &fd);
+        assert!(err < 1e-7, "linearised strains against central differences: {err:e}");
+        assert!(ds.norm() > 1e-3, "a trivial direction");
+    }
+}
+
+/// The mixed-integration-point Hessian weights only its second-order terms with the predicted strains:
+/// with the point's own strains it is the exact Hessian, and it is affine in the predicted strains;
+/// energy and gradient are the point's.
+#[test]
+fn predicted_strains_weight_only_the_second_order_terms() {
+    use cosserat_material::kernel::{LocalDerivatives, point_hessian_deferred_into, point_hessian_predicted_into};
+    let mut rng = common::rng(44);
+    let options = shell(CurvedTerms::Supplement, AxlVariant::SkewPart);
+    let terms = terms_for(&options, true);
+    let moduli = common::material().moduli().unwrap();
+    for _ in 0..4 {
+        let case = Case::<6, 3>::random(&mut rng, true);
+        let geom = local_geometry(&case.shape.frame, &case.b_world);
+        let d = DensityMatrix::new(strain_hessian(&terms, &geom, &moduli));
+        let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
+        let nj: [RotationJet; 3] =
+            std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
+        let input = PointInput {
+            f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
+            point_jet: &pj,
+            node_jets: std::array::from_fn(|k| &nj[k]),
+            offset: &case.offset,
+        };
+        let own = cosserat_material::kernel::strain_vector(
+            &case.shape,
+            &input.f_hat,
+            &pj.r,
+            std::array::from_fn(|k| &nj[k].r),
+            &case.offset,
+            AxlVariant::SkewPart,
+        );
+        let hessian = |predicted: Option<&StrainVector>| {
+            let mut out = LocalDerivatives::<15>::zeros();
+            let w = point_hessian_predicted_into(&case.shape, &input, &d, AxlVariant::SkewPart, predicted, &mut out);
+            (out, w)
+        };
+        let mut exact = LocalDerivatives::<15>::zeros();
+        let w_exact = point_hessian_deferred_into(&case.shape, &input, &d, AxlVariant::SkewPart, &mut exact);
+        let (with_own, w_own) = hessian(Some(&own));
+        assert!(rel_err(&with_own.hessian, &exact.hessian) < 1e-14);
+        assert!(w_own.iter().zip(&w_exact).all(|(a, b)| rel_err(a, b) < 1e-14));
+        let delta = StrainVector::from_fn(|i, _| {
+            if [6, 7, 8, 15, 16, 17].contains(&i) {
+                0.0
+            } else {
+                own.norm()
+            }
+        });
+        let (one, _) = hessian(Some(&(own + delta)));
+        let (two, _) = hessian(Some(&(own + delta * 2.0)));
+        assert_eq!(one.value.to_bits(), exact.value.to_bits());
+        assert_eq!(one.gradient, exact.gradient);
+        let first = one.hessian - exact.hessian;
+        assert!(
+            first.norm() > 1e-6 * exact.hessian.norm(),
+            "the prediction changes nothing"
+        );
+        assert!(rel_err(&(two.hessian - exact.hessian), &(first * 2.0)) < 1e-10);
+    }
+}

@@ -252,6 +252,11 @@ pub struct SolverSection {
     /// dominates a step; the tolerance is the same, the iteration count grows (0.1 suits the
     /// volumetric Lotus slab, docs/micropolar-volume.md).
     pub reuse_factorisation: Option<f64>,
+    /// The mixed-integration-point Newton method (default `false`): the geometric terms of the Newton
+    /// matrix use stresses predicted linearly along the previous steps instead of the stresses at the
+    /// iterate. The same solutions with fewer iterations on thin shells under large rotations in
+    /// quasi-static runs (README, settings); ignored by the arc-length corrector.
+    pub mixed_integration_points: Option<bool>,
 }
 
 /// Mesh generator names.

@@ -274,6 +274,7 @@ impl Ctx<'_> {
             },
             max_step_reductions: s.max_step_reductions.unwrap_or(d.max_step_reductions),
             reuse_factorisation,
+            mixed_integration_points: s.mixed_integration_points.unwrap_or(d.mixed_integration_points),
         })
     }
 
@@ -348,5 +349,6 @@ fn default_solver(time: &TimeSpec) -> SolverSpec {
         indefinite_hessian: IndefiniteHessian::Shift,
         max_step_reductions: 8,
         reuse_factorisation: None,
+        mixed_integration_points: false,
     }
 }

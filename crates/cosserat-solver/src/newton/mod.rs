@@ -40,6 +40,7 @@ mod step;
 
 pub(crate) use convergence::ConvergenceTest;
 pub use convergence::{Convergence, Criterion, Tolerance};
+use evaluation::problem_error;
 pub(crate) use evaluation::{round_off_scale, weighted_max_abs};
 pub use report::{FactorisationCounts, NewtonReport};
 pub use settings::{IndefiniteHessian, NewtonSettings};
@@ -127,8 +128,8 @@ impl Run {
 enum Step {
     /// The full (feasible) step `α dx` was accepted, with its gradient.
     Full { alpha: f64 },
-    /// A shorter step was accepted.
-    Backtracked,
+    /// A shorter step `α dx` was accepted.
+    Backtracked { alpha: f64 },
     /// No step length passed.
     Failed,
 }
@@ -221,6 +222,7 @@ impl NewtonSolver {
         x: &mut [f64],
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, x)?;
+        problem.clear_predicted_strains();
         let mut run = Run {
             residuals: Vec::with_capacity(self.settings.max_iterations + 1),
             iterations: 0,
@@ -289,7 +291,17 @@ impl NewtonSolver {
             }
             let chord = run.reuse && !at.hessian;
             let slope = self.direction(problem, x, &mut at, chord, run)?;
+            if s.mixed_integration_points {
+                problem
+                    .linearize_strains(x, &self.dx)
+                    .map_err(|source| problem_error(run.iterations, source))?;
+            }
             let step = self.step(problem, x, slope, &mut at, run)?;
+            if s.mixed_integration_points
+                && let Step::Full { alpha } | Step::Backtracked { alpha } = step
+            {
+                problem.advance_predicted_strains(alpha);
+            }
             let retry_shifted = self.shift_after(&step, r, run);
             match step {
                 Step::Full { alpha } => {
@@ -298,7 +310,7 @@ impl NewtonSolver {
                         && s.linear_solver.kind != LinearSolverKind::Cg
                         && s.reuse_max_ratio.is_some_and(|ratio| run.last_residual() < ratio * r);
                 }
-                Step::Backtracked => run.reuse = false,
+                Step::Backtracked { .. } => run.reuse = false,
                 // The old factors gave a poor direction: retry this point with a fresh Newton step.
                 Step::Failed if chord => run.reuse = false,
                 // The indefinite Hessian's own direction gave no step: retry this point shifted.
@@ -324,7 +336,7 @@ impl NewtonSolver {
     fn shift_after(&mut self, step: &Step, r: f64, run: &mut Run) -> bool {
         let poor = match step {
             Step::Full { .. } => run.last_residual() >= r,
-            Step::Backtracked | Step::Failed => true,
+            Step::Backtracked { .. } | Step::Failed => true,
         };
         run.indefinite && poor && self.shift_from_now(run)
     }

@@ -81,6 +81,15 @@ pub struct NewtonSettings {
     /// Smallest accepted fraction of the Newton step when the problem limits it or rejects states
     /// (default 0.01); below it the iteration fails with [`NewtonError::InfeasibleStep`].
     pub min_step_fraction: f64,
+    /// The mixed-integration-point (MIP) Newton method of Magisano, Leonetti and Garcea (2017)
+    /// (default off). The second-order (geometric) terms of each Hessian are weighted with the stresses
+    /// of strains predicted linearly along the previous steps, `s_k + α (∂s/∂x)(x_k) dx_k`, instead of
+    /// the stresses at the iterate; energy, gradient and convergence test are unchanged, so it converges
+    /// to the same solutions. In thin shells a step's second-order strain error (spurious stretching
+    /// after a large rotation) carries membrane stresses far above the bending stresses, and the
+    /// ordinary Hessian then predicts the next step poorly; the predicted stresses leave that error
+    /// out. See [`NewtonProblem::linearize_strains`](crate::NewtonProblem::linearize_strains).
+    pub mixed_integration_points: bool,
     /// The sparse linear solver (default: `Auto`, AMD ordering, sequential).
     pub linear_solver: LinearSolverSettings,
     /// With [`LinearSolverKind::Cg`](crate::LinearSolverKind::Cg): how the relative CG tolerance of each Newton step is chosen
@@ -106,6 +115,7 @@ impl Default for NewtonSettings {
             flip_on_non_descent: true,
             indefinite_hessian: IndefiniteHessian::default(),
             min_step_fraction: 0.01,
+            mixed_integration_points: false,
             linear_solver: LinearSolverSettings::default(),
             cg_forcing: CgForcing::Reference,
         }

@@ -36,7 +36,7 @@ impl NewtonSolver {
                 }
                 run.test.observe_energy(e);
                 *at = Point::without_gradient(e);
-                return Ok(Step::Backtracked);
+                return Ok(Step::Backtracked { alpha: beta });
             }
             self.accept_with_gradient(x, run, e1);
             *at = Point::with_gradient(e1);
@@ -57,7 +57,7 @@ impl NewtonSolver {
                 x.copy_from_slice(&self.x_trial);
                 run.test.observe_energy(e);
                 *at = Point::without_gradient(e);
-                return Ok(Step::Backtracked);
+                return Ok(Step::Backtracked { alpha });
             }
             if !armijo.in_noise_regime(at.energy, e) {
                 continue;
@@ -72,7 +72,7 @@ impl NewtonSolver {
             if armijo.estimated_decrease(alpha, slope, &self.dx, &self.grad, &self.grad_trial) {
                 self.accept_with_gradient(x, run, e);
                 *at = Point::with_gradient(e);
-                return Ok(Step::Backtracked);
+                return Ok(Step::Backtracked { alpha });
             }
         }
         Ok(Step::Failed)

@@ -672,3 +672,83 @@ fn factors_that_converged_fast_start_the_next_solve_unless_the_fixed_unknowns_ch
     assert_eq!(&x[held..held + 3], pinned.as_slice());
     assert!(factorisations(&report) >= 1, "{report:?}");
 }
+
+/// A problem that records the calls of the mixed-integration-point method.
+struct Recording<P> {
+    inner: P,
+    calls: Vec<String>,
+}
+
+impl<P: NewtonProblem> NewtonProblem for Recording<P> {
+    fn n_dofs(&self) -> usize {
+        self.inner.n_dofs()
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.inner.hessian_pattern()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        self.inner.value(x)
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        self.inner.gradient(x, g)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        self.calls.push("hessian".into());
+        self.inner.hessian(x, g, h)
+    }
+    fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
+        assert_eq!((x.len(), dx.len()), (self.n_dofs(), self.n_dofs()));
+        self.calls.push("linearize".into());
+        Ok(())
+    }
+    fn advance_predicted_strains(&mut self, alpha: f64) {
+        self.calls.push(format!("advance {alpha}"));
+    }
+    fn clear_predicted_strains(&mut self) {
+        self.calls.push("clear".into());
+    }
+}
+
+/// With `mixed_integration_points`, every solve starts by clearing the predictions, every direction is
+/// linearised before its line search, and every accepted step advances the prediction by its length
+/// (here the line search's halvings on Rosenbrock); without it, only the clearing is called (a no-op
+/// for a problem that never predicted).
+#[test]
+fn mixed_integration_points_linearise_every_direction_and_advance_by_the_accepted_step() {
+    let run = |mixed: bool| {
+        let mut problem = Recording {
+            inner: Rosenbrock::new(2),
+            calls: Vec::new(),
+        };
+        let mut x = [-1.2, 1.0];
+        let settings = NewtonSettings {
+            mixed_integration_points: mixed,
+            ..reference_newton()
+        };
+        let report = solve(&mut problem, &mut x, settings).unwrap();
+        (report, problem.calls)
+    };
+    let (report, calls) = run(true);
+    assert_eq!(calls[0], "clear");
+    let linearised = calls.iter().filter(|c| *c == "linearize").count();
+    let advanced: Vec<f64> = calls
+        .iter()
+        .filter_map(|c| c.strip_prefix("advance ").map(|a| a.parse().unwrap()))
+        .collect();
+    assert_eq!(linearised, report.iterations);
+    assert_eq!(advanced.len(), report.iterations);
+    assert!(
+        advanced.iter().any(|&a| a < 1.0),
+        "the line search never shortened a step"
+    );
+    // Each advance follows its linearisation, and the next Hessian comes after both.
+    for (i, _) in calls.iter().enumerate().filter(|(_, c)| c.starts_with("advance")) {
+        assert_eq!(calls[i - 1], "linearize", "{calls:?}");
+        if let Some(next) = calls.get(i + 1) {
+            assert_eq!(next, "hessian", "{calls:?}");
+        }
+    }
+    let (plain, calls) = run(false);
+    assert_eq!(calls.iter().filter(|c| *c != "hessian").collect::<Vec<_>>(), ["clear"]);
+    assert_eq!(plain.iterations, report.iterations);
+}
