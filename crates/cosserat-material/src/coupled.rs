@@ -126,17 +126,7 @@ impl Coupling<'_> {
         out.value = 0.0;
         out.gradient.fill(0.0);
         let mut node_weights = [Matrix3::zeros(); NR];
-        // Flat elements share one density.
-        let shared = points
-            .first()
-            .map(|p| p.density)
-            .filter(|d| points.iter().all(|p| std::ptr::eq(p.density, *d)));
-        let mut first_order = match self {
-            Self::Projection(projection) => {
-                FirstOrder::Projected(ProjectedFirstOrder::<NE>::new(projection, shared, dt))
-            }
-            Self::Tying(maps) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
-        };
+        let mut first_order = self.first_order::<NU, NR, NE>(points, dt);
         let unused = self.unused_tying_points();
         let first_tying = points.len().saturating_sub(N_TYING);
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
@@ -169,13 +159,7 @@ impl Coupling<'_> {
             }
             add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
             if let Some(m) = volume.filter(|_| p.shape.weight > 0.0) {
-                let f = self.volume_factor(p);
-                let (v, gv, hv) = volume_hessian(&p.input.f_hat, m);
-                local.value += f * v;
-                let mut gl = local.gradient.fixed_rows_mut::<6>(0);
-                gl += gv * f;
-                let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
-                hl += hv * f;
+                self.add_volume_term(p, m, local);
             }
             let weight = self.stress_weight(p);
             for (sum, w) in node_weights.iter_mut().zip(&st.ru) {
@@ -195,6 +179,44 @@ impl Coupling<'_> {
             }
         }
         node_weights
+    }
+
+    /// The first-order part of the element's Hessian, before its points are visited.
+    fn first_order<'a, const NU: usize, const NR: usize, const NE: usize>(
+        self,
+        points: &[ElementPoint<'a, NU, NR>],
+        dt: f64,
+    ) -> FirstOrder<'a, NE>
+    where
+        Self: 'a,
+    {
+        // Flat elements share one density.
+        let shared = points
+            .first()
+            .map(|p| p.density)
+            .filter(|d| points.iter().all(|p| std::ptr::eq(p.density, *d)));
+        match self {
+            Self::Projection(projection) => {
+                FirstOrder::Projected(ProjectedFirstOrder::<NE>::new(projection, shared, dt))
+            }
+            Self::Tying(maps) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
+        }
+    }
+
+    /// Adds a point's nonlinear volume term to its local derivatives.
+    fn add_volume_term<const NU: usize, const NR: usize, const NL: usize>(
+        self,
+        p: &ElementPoint<'_, NU, NR>,
+        m: &Moduli,
+        local: &mut LocalDerivatives<NL>,
+    ) {
+        let f = self.volume_factor(p);
+        let (v, gv, hv) = volume_hessian(&p.input.f_hat, m);
+        local.value += f * v;
+        let mut gl = local.gradient.fixed_rows_mut::<6>(0);
+        gl += gv * f;
+        let mut hl = local.hessian.fixed_view_mut::<6, 6>(0, 0);
+        hl += hv * f;
     }
 
     /// Which of the element's tying points no tying map reads (none under the projection).
