@@ -170,7 +170,13 @@ fn small_loads_converge_to_beam_theory_for_every_modulus_and_thickness() {
             }
             let rel = relative_residual(&case, &outcome);
             if h_over_l >= 1e-2 {
-                assert!(rel <= 1e-6 * (1.0 + 1e-9), "{}: relative residual {rel:e}", case.name());
+                // Every level met its bound with the residual test: a millionth of the load, or the
+                // round-off floor where that is higher (at E = 1e3 the end force is 8e-9 N and the floor
+                // about 1e-14 N).
+                let record = outcome.summary.as_ref().and_then(|s| s.convergence).unwrap();
+                assert_eq!(record.stagnated_steps, 0, "{}", case.name());
+                assert!(record.max_residual <= record.max_step_tolerance, "{}", case.name());
+                assert!(rel <= 1e-5, "{}: relative residual {rel:e}", case.name());
             }
         }
     }
@@ -246,13 +252,24 @@ fn the_default_test_does_not_depend_on_the_unit_of_length() {
     }
 }
 
-/// Known limit: at h/L = 1e-5 the large load fails at 1/8 of it on this 20 × 2 mesh (no
-/// convergence in 100 Newton iterations, the residual stalled) for every modulus.
+/// At h/L = 1e-5 the large load converges on every level for every modulus, to the same deflection
+/// (the problem is the same in other numbers: the force scales with E). The paper's pair locks on
+/// this 20 × 2 mesh (w/L ≈ 0.056 against the elastica's 0.30172), so only the convergence and the
+/// invariance are checked here; docs/stability.md has the locking table.
+///
+/// Each level starts from the secant predictor of the last two; its residual and reactions are the
+/// predictor's error in the strip's stiff stretching, a millionfold the end force, and a test relative
+/// to them would accept wrong states (the scale is measured at the unpredicted start instead).
 #[test]
-#[ignore = "open: the thin strip under the large load stops at λ = 0.125"]
 fn large_loads_converge_on_the_thinnest_strip() {
-    for case in cases(1e-5, 1.0, 4) {
-        case.run_in("thinnest");
+    let deflections: Vec<(Case, f64)> = cases(1e-5, 1.0, 4).map(|case| (case, case.run_in("thinnest").1)).collect();
+    let reference = deflections[0].1;
+    for (case, w) in &deflections {
+        assert!(
+            (w / reference - 1.0).abs() < 1e-3,
+            "{}: w/L = {w} against {reference}",
+            case.name()
+        );
     }
 }
 

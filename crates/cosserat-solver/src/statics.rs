@@ -173,16 +173,25 @@ impl QuasiStaticStepper {
                 bisections,
             };
             apply(potential, lambda).map_err(|e| fail(e.into(), total_iterations, bisections))?;
-            self.predict(lambda);
+            let predicted = self.predict(lambda);
             self.prepare(potential)
                 .map_err(|e| fail(e.into(), total_iterations, bisections))?;
+            // The unpredicted start: the last equilibrium, with the new targets of eliminated unknowns.
+            let mut start = vec![0.0; self.u.len()];
             let fixed = potential.fixed_dofs().map(|(mask, values)| {
                 for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
                     self.u[i] = values[i];
+                    start[i] = values[i];
                 }
                 mask
             });
-            match self.solver.solve(&mut PotentialProblem::new(potential, fixed), &mut self.u) {
+            let mut problem = PotentialProblem::new(potential, fixed);
+            let result = if predicted {
+                self.solver.solve_from_prediction(&mut problem, &mut self.u, &start)
+            } else {
+                self.solver.solve(&mut problem, &mut self.u)
+            };
+            match result {
                 Ok(report) => {
                     total_iterations += report.iterations;
                     potential.commit(&self.u);
@@ -212,14 +221,18 @@ impl QuasiStaticStepper {
     }
 
     /// The starting point for level `lambda`: the last increment scaled to the new load step (a secant
-    /// predictor), or zero.
-    fn predict(&mut self, lambda: f64) {
+    /// predictor), or zero. Returns whether it predicted.
+    fn predict(&mut self, lambda: f64) -> bool {
         match (&self.previous, self.settings.extrapolate) {
             (Some((du, step)), true) if *step != 0.0 => {
                 let scale = (lambda - self.current) / step;
                 self.u.iter_mut().zip(du).for_each(|(u, d)| *u = d * scale);
+                true
             }
-            _ => self.u.fill(0.0),
+            _ => {
+                self.u.fill(0.0);
+                false
+            }
         }
     }
 

@@ -218,7 +218,8 @@ pub enum InitialGuessName {
 pub struct SolverSection {
     /// An absolute residual tolerance in N and N·m (the paper's scenes use 1e-7). Without it the
     /// tolerance is relative: `relative_tolerance` times the problem's force scale (the largest
-    /// external load, reaction or first residual of the step; in a dynamic step also the largest
+    /// external load, reaction or first residual of the step, in a quasi-static level taken at the
+    /// last equilibrium rather than at the level's predicted start; in a dynamic step also the largest
     /// nodal momentum over the time step), never below the residual's round-off floor. Torques count
     /// as forces over the mesh's median node spacing, so the test does not depend on the unit of
     /// length.

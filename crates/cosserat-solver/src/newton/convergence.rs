@@ -114,6 +114,9 @@ pub(crate) struct ConvergenceTest {
     tolerance: Tolerance,
     /// The largest of the external load, the reactions and the first residual seen so far.
     load_scale: f64,
+    /// Whether the load scale was measured before the solve (at the state a prediction extrapolates
+    /// from), so that the iterates' reactions do not enter it.
+    scale_measured: bool,
     floor: f64,
     /// `|Π|` at the start of the solve and at the latest iterate: the energy's size for the decrement.
     energy_scale: f64,
@@ -125,15 +128,29 @@ impl ConvergenceTest {
         Self {
             tolerance,
             load_scale: external_load.max(first_residual),
+            scale_measured: false,
             floor: 0.0,
             energy_scale: energy.abs(),
         }
     }
 
+    /// A test whose load scale `scale` was measured before the solve, at the state its initial iterate
+    /// is predicted from (the external load, the residual and the reactions there): the residual and
+    /// the reactions of the iterates, a prediction's among them, are errors of the iterates and not
+    /// forces of the problem, and do not enter it.
+    pub(crate) fn with_measured_scale(tolerance: Tolerance, scale: f64, energy: f64) -> Self {
+        Self {
+            scale_measured: true,
+            ..Self::new(tolerance, scale, 0.0, energy)
+        }
+    }
+
     /// Takes the reactions (the largest gradient entry of the eliminated unknowns) of a new iterate
-    /// into the load scale.
+    /// into the load scale, unless the scale was measured before the solve.
     pub(crate) fn observe_reactions(&mut self, reactions: f64) {
-        self.load_scale = self.load_scale.max(reactions);
+        if !self.scale_measured {
+            self.load_scale = self.load_scale.max(reactions);
+        }
     }
 
     /// Takes the energy of a new iterate into the energy scale.

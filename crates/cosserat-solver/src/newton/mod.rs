@@ -78,6 +78,8 @@ pub struct NewtonSolver {
     shift_scale: Vec<f64>,
     /// Trial states of the line search's extrapolation along negative curvature.
     x_extra: Vec<f64>,
+    /// The load scale measured by [`NewtonSolver::solve_from_prediction`] for the solve it starts.
+    measured_scale: Option<f64>,
     /// The last shift `μ` that made an indefinite Hessian positive definite (the next one starts near
     /// it).
     last_shift: f64,
@@ -162,6 +164,7 @@ impl NewtonSolver {
             diagonal_slots: diagonal_slots(pattern),
             shift_scale: vec![0.0; n],
             x_extra: Vec::new(),
+            measured_scale: None,
             last_shift: 0.0,
         })
     }
@@ -209,6 +212,34 @@ impl NewtonSolver {
     /// The sparse linear solver (for its statistics).
     pub fn linear_solver(&self) -> &SparseSolver {
         &self.linear
+    }
+
+    /// [`solve`](Self::solve) from a predicted iterate `x` (an extrapolation of earlier solutions from
+    /// `start`, e.g. a path's secant predictor). The scale of the [relative
+    /// tolerance](Tolerance::Relative) is measured at `start` (its residual and reactions, beside the
+    /// external loads), not at `x`: a prediction's residual and reactions are its own error, which in a
+    /// thin shell's stiff stretching can exceed the loads a millionfold and would loosen the test by as
+    /// much. Costs one gradient evaluation at `start`.
+    ///
+    /// # Errors
+    /// As [`solve`](Self::solve); `start` must have the length of `x`.
+    pub fn solve_from_prediction<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+        start: &[f64],
+    ) -> Result<NewtonReport, NewtonError> {
+        self.prepare(problem, start)?;
+        self.grad.fill(0.0);
+        let at_start = problem
+            .gradient(start, &mut self.grad)
+            .map_err(|source| problem_error(0, source));
+        at_start?;
+        self.check_gradient(&self.grad, 0)?;
+        self.measured_scale = Some(self.residual(&self.grad).max(self.reactions()));
+        let result = self.solve(problem, x);
+        self.measured_scale = None;
+        result
     }
 
     /// Minimises `problem` starting from `x`, which holds the solution on success. On failure `x`
@@ -372,7 +403,10 @@ impl NewtonSolver {
         let r0 = self.residual(&self.grad);
         run.residuals.push(r0);
         let load = problem.load_scale() / self.settings.residual_scale;
-        run.test = ConvergenceTest::new(self.settings.tolerance, load, r0, energy);
+        run.test = match self.measured_scale.take() {
+            Some(scale) => ConvergenceTest::with_measured_scale(self.settings.tolerance, load.max(scale), energy),
+            None => ConvergenceTest::new(self.settings.tolerance, load, r0, energy),
+        };
         run.test.observe_reactions(self.reactions());
         if hessian {
             self.estimate_floor(problem, x, run);

@@ -752,3 +752,33 @@ fn mixed_integration_points_linearise_every_direction_and_advance_by_the_accepte
     assert_eq!(calls.iter().filter(|c| *c != "hessian").collect::<Vec<_>>(), ["clear"]);
     assert_eq!(plain.iterations, report.iterations);
 }
+
+/// A solve from a prediction takes the scale of its relative test from the state the prediction
+/// extrapolates (where the residual of ½xᵀAx − bᵀx is max |b|), not from the prediction, whose residual
+/// is its own error: from a prediction a thousand units off, the plain solve would accept residuals a
+/// million times larger.
+#[test]
+fn a_solve_from_a_prediction_measures_the_load_scale_at_the_unpredicted_start() {
+    let mut r = rng(12);
+    let a = block_grid(4, 3, 1e-1, &mut r);
+    let b: Vec<f64> = random_vector(a.n(), &mut r).iter().map(|v| 1e-3 * v).collect();
+    let b_max = b.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+    let mut problem = Quadratic { a, b };
+    let n = problem.n_dofs();
+    let settings = NewtonSettings::default();
+    let mut solver = NewtonSolver::for_problem(&problem, settings).unwrap();
+    let prediction = vec![1e3; n];
+    let mut x = prediction.clone();
+    let plain = solver.solve(&mut problem, &mut x).unwrap();
+    assert!(plain.convergence.load_scale > 1e3 * b_max);
+    let mut x = prediction;
+    let predicted = solver.solve_from_prediction(&mut problem, &mut x, &vec![0.0; n]).unwrap();
+    assert_eq!(predicted.convergence.load_scale, b_max);
+    assert!(predicted.residual() <= 1e-6 * b_max);
+    // The measured scale is spent by its solve: the next plain solve measures its own.
+    let mut x = vec![1e3; n];
+    assert_eq!(
+        solver.solve(&mut problem, &mut x).unwrap().convergence.load_scale,
+        plain.convergence.load_scale
+    );
+}
