@@ -96,10 +96,17 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
         // `Ê` columns of G̃_p: Σ_t J_t M_pt^T over the tying points t, plus the point's own through
         // `K_p`. A tying point that the map does not use (the centroid under moment ties) costs nothing.
         let mut tied = g.fixed_columns::<TIED>(0) * m.own.transpose();
+        // The maps' blocks are sparse (a membrane tie reads only the tangential entries, a shear or
+        // drilling mean only its own), so they are applied entry by entry.
         for (t, jt) in jacobians[first..].iter().enumerate() {
             let block = m.tied.fixed_columns::<TIED>(TIED * t);
-            if block.iter().any(|&x| x != 0.0) {
-                tied += jt.fixed_columns::<TIED>(0) * block.transpose();
+            for j in 0..TIED {
+                for i in 0..TIED {
+                    let v = block[(i, j)];
+                    if v != 0.0 {
+                        tied.column_mut(i).axpy(v, &jt.column(j), 1.0);
+                    }
+                }
             }
         }
         let mut gt = *g;
