@@ -40,6 +40,7 @@ pub mod pressure;
 pub mod scatter;
 pub mod shell;
 pub mod state;
+mod strain_prediction;
 pub mod system;
 pub mod term;
 

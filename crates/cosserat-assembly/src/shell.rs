@@ -14,6 +14,7 @@ use crate::error::AssemblyError;
 use crate::parallel::Parallelism;
 use crate::pattern::SparsityPattern;
 use crate::state::SystemState;
+use crate::strain_prediction::StrainPrediction;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
 use cosserat_material::assumed_kernel;
@@ -66,19 +67,6 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
     elements: ElementAssembly<NE, NB, LocalDerivatives<NL>>,
     /// The predicted strains of the mixed-integration-point Newton method, per point.
     prediction: StrainPrediction,
-}
-
-/// The strains the second-order terms of the Hessian are weighted with in the mixed-integration-point
-/// Newton method (see `kernel::point_hessian_predicted_into`): after a step `α δu` from `u`, each
-/// point's strain at `u` plus `α` times its linearisation along `δu`.
-#[derive(Debug, Default)]
-struct StrainPrediction {
-    /// The strains at the point of the last linearisation.
-    base: Vec<StrainVector>,
-    /// Their derivatives along its direction.
-    rate: Vec<StrainVector>,
-    /// The predicted strains, once a step along the direction was taken.
-    predicted: Option<Vec<StrainVector>>,
 }
 
 /// Linear displacement and rotation elements.
@@ -214,11 +202,8 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     /// Newton method; see [`Self::advance_predicted_strains`]).
     pub fn linearize_strains(&mut self, eval: &Evaluation<'_>, du: &[f64]) {
         let n_qp = self.disc.rest.points_per_element;
-        let n = self.disc.rest.shapes.len();
-        let mut base = std::mem::take(&mut self.prediction.base);
-        let mut rate = std::mem::take(&mut self.prediction.rate);
-        base.resize(n, StrainVector::zeros());
-        rate.resize(n, StrainVector::zeros());
+        let mut prediction = std::mem::take(&mut self.prediction);
+        let (base, rate) = prediction.linearization_buffers(self.disc.rest.shapes.len());
         if n_qp > 0 {
             let this = &*self;
             let run = |(e, (b, r)): (usize, (&mut [StrainVector], &mut [StrainVector]))| {
@@ -233,21 +218,18 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 Parallelism::Sequential => base.chunks_mut(n_qp).zip(rate.chunks_mut(n_qp)).enumerate().for_each(run),
             }
         }
-        self.prediction.base = base;
-        self.prediction.rate = rate;
+        self.prediction = prediction;
     }
 
     /// The step `α δu` along the last linearisation was taken: the next Hessians weight their
     /// second-order terms with the stresses of `s(u) + α (∂s/∂u) δu` at every point.
     pub fn advance_predicted_strains(&mut self, alpha: f64) {
-        let p = &mut self.prediction;
-        let predicted = p.base.iter().zip(&p.rate).map(|(b, r)| b + r * alpha).collect();
-        p.predicted = Some(predicted);
+        self.prediction.advance(alpha);
     }
 
     /// Forgets the predicted strains: Hessians use the points' own stresses again.
     pub fn clear_predicted_strains(&mut self) {
-        self.prediction.predicted = None;
+        self.prediction.clear();
     }
 
     /// The strains of element `e`'s points at `eval.u` and their derivatives along `du`.
@@ -274,7 +256,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     /// The predicted strains of element `e`'s points, if any.
     fn predicted(&self, e: usize) -> Option<&[StrainVector]> {
         let n_qp = self.disc.rest.points_per_element;
-        self.prediction.predicted.as_ref().map(|p| &p[e * n_qp..(e + 1) * n_qp])
+        self.prediction.points(e * n_qp, n_qp)
     }
 
     fn positions(&self, e: usize, eval: &Evaluation<'_>) -> [Vector3<f64>; NU] {
