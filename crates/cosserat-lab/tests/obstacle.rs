@@ -48,6 +48,20 @@ fn stabilized_thin_cantilever_is_within_one_percent_of_the_elastica() {
     assert!((ratio - 1.0).abs() <= 0.01, "tip deflection / elastica = {ratio}");
 }
 
+/// One run of the locking study's Sze 3.1 cantilever (`row`, `h_over_l`, extra overrides) in `dir`:
+/// its tip deflection over the elastica's and its Newton iterations per level.
+fn sze_run(row: &Row, h_over_l: f64, extra: &[String], dir: &str) -> (f64, f64) {
+    let mut ov = cosserat_lab::locking::overrides(row, h_over_l);
+    ov.extend_from_slice(extra);
+    let outcome = run_described(
+        &Runner::InProcess,
+        &RunDescription::new(cosserat_lab::locking::SCENE, out(dir), &ov),
+    )
+    .unwrap();
+    let ratio = cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
+    (ratio, outcome.summary.as_ref().unwrap().avg_newton_iterations)
+}
+
 #[test]
 fn regge_thin_cantilevers_are_within_one_percent_of_the_elastica() {
     let root = cosserat_lab::workspace_root();
@@ -55,15 +69,8 @@ fn regge_thin_cantilevers_are_within_one_percent_of_the_elastica() {
     for interpolation in [Interpolation::Regge, Interpolation::ReggeStabilized] {
         for h_over_l in [1e-3, 1e-4] {
             let row = Row::new(Pair::Tri6Tri3, interpolation, 20, 2);
-            let ov = cosserat_lab::locking::overrides(&row, h_over_l);
-            let dir = out(&format!("sze_{}_{h_over_l:e}", interpolation.as_str()));
-            let outcome = run_described(
-                &Runner::InProcess,
-                &RunDescription::new(cosserat_lab::locking::SCENE, dir, &ov),
-            )
-            .unwrap();
-            let ratio =
-                cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
+            let dir = format!("sze_{}_{h_over_l:e}", interpolation.as_str());
+            let (ratio, _) = sze_run(&row, h_over_l, &[], &dir);
             assert!(
                 (ratio - 1.0).abs() <= 0.01,
                 "{} h/L = {h_over_l:e}: tip deflection / elastica = {ratio}",
@@ -87,17 +94,13 @@ fn mixed_integration_points_cut_the_newton_iterations_of_thin_cantilevers() {
     ] {
         let row = Row::new(Pair::Tri6Tri3, interpolation, 20, 2);
         let run = |mixed: bool| {
-            let mut ov = cosserat_lab::locking::overrides(&row, h_over_l);
-            ov.push(format!("solver.mixed_integration_points={mixed}"));
-            let dir = out(&format!("mip_{}_{h_over_l:e}_{mixed}", interpolation.as_str()));
-            let outcome = run_described(
-                &Runner::InProcess,
-                &RunDescription::new(cosserat_lab::locking::SCENE, dir, &ov),
+            let dir = format!("mip_{}_{h_over_l:e}_{mixed}", interpolation.as_str());
+            sze_run(
+                &row,
+                h_over_l,
+                &[format!("solver.mixed_integration_points={mixed}")],
+                &dir,
             )
-            .unwrap();
-            let ratio =
-                cosserat_lab::locking::deflection_ratio(&outcome).unwrap_or_else(|| panic!("{}", outcome.reason()));
-            (ratio, outcome.summary.as_ref().unwrap().avg_newton_iterations)
         };
         let (ratio, iterations) = run(false);
         let (mixed_ratio, mixed_iterations) = run(true);

@@ -51,6 +51,23 @@ impl<const NU: usize, const NR: usize> Case<NU, NR> {
     fn positions(&self) -> [Vector3<f64>; NU] {
         std::array::from_fn(|i| self.x_start[i] + self.velocity[i] * self.dt)
     }
+
+    /// The jets of the point rotation and of the nodal rotations at the end of the step.
+    fn jets(&self) -> (RotationJet, [RotationJet; NR]) {
+        let point = RotationJet::of_update(&self.q_point, &point_omega(&self.shape, &self.omega), self.dt);
+        let nodes = std::array::from_fn(|k| RotationJet::of_update(&self.q_nodes[k], &self.omega[k], self.dt));
+        (point, nodes)
+    }
+
+    /// The kernel's input at the case's state, from its [`Case::jets`].
+    fn input<'a>(&'a self, point: &'a RotationJet, nodes: &'a [RotationJet; NR]) -> PointInput<'a, NR> {
+        PointInput {
+            f_hat: cosserat_material::element::f_hat(&self.shape, &self.positions()),
+            point_jet: point,
+            node_jets: std::array::from_fn(|k| &nodes[k]),
+            offset: &self.offset,
+        }
+    }
 }
 
 fn terms_for(options: &ModelOptions, curved: bool) -> TermSet {
@@ -67,15 +84,8 @@ fn fast<const NU: usize, const NR: usize, const NL: usize>(
     let moduli = common::material().moduli().unwrap();
     let geom = local_geometry(&case.shape.frame, &case.b_world);
     let d = DensityMatrix::new(strain_hessian(terms, &geom, &moduli));
-    let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
-    let nj: [RotationJet; NR] =
-        std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
-    let input = PointInput {
-        f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
-        point_jet: &pj,
-        node_jets: std::array::from_fn(|k| &nj[k]),
-        offset: &case.offset,
-    };
+    let (pj, nj) = case.jets();
+    let input = case.input(&pj, &nj);
     (
         point_hessian::<NU, NR, NL>(&case.shape, &input, &d, axl),
         point_gradient::<NU, NR, NL>(&case.shape, &input, &d, axl),
@@ -497,15 +507,8 @@ fn check_linearized_strains<const NU: usize, const NR: usize, const NL: usize>(s
                 AxlVariant::SkewPart,
             )
         };
-        let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
-        let nj: [RotationJet; NR] =
-            std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
-        let input = PointInput {
-            f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
-            point_jet: &pj,
-            node_jets: std::array::from_fn(|k| &nj[k]),
-            offset: &case.offset,
-        };
+        let (pj, nj) = case.jets();
+        let input = case.input(&pj, &nj);
         let dx: [Vector3<f64>; NU] = std::array::from_fn(|i| dv[i] * case.dt);
         let d_f_hat = cosserat_material::element::f_hat(&case.shape, &dx);
         let (s, ds) = linearized_strains::<NU, NR, NL>(&case.shape, &input, AxlVariant::SkewPart, &d_f_hat, &dw);
@@ -532,15 +535,8 @@ fn predicted_strains_weight_only_the_second_order_terms() {
         let case = Case::<6, 3>::random(&mut rng, true);
         let geom = local_geometry(&case.shape.frame, &case.b_world);
         let d = DensityMatrix::new(strain_hessian(&terms, &geom, &moduli));
-        let pj = RotationJet::of_update(&case.q_point, &point_omega(&case.shape, &case.omega), case.dt);
-        let nj: [RotationJet; 3] =
-            std::array::from_fn(|k| RotationJet::of_update(&case.q_nodes[k], &case.omega[k], case.dt));
-        let input = PointInput {
-            f_hat: cosserat_material::element::f_hat(&case.shape, &case.positions()),
-            point_jet: &pj,
-            node_jets: std::array::from_fn(|k| &nj[k]),
-            offset: &case.offset,
-        };
+        let (pj, nj) = case.jets();
+        let input = case.input(&pj, &nj);
         let own = cosserat_material::kernel::strain_vector(
             &case.shape,
             &input.f_hat,

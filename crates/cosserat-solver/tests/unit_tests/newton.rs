@@ -63,11 +63,24 @@ fn start_at_the_minimiser_takes_zero_iterations() {
     assert_eq!(x, [1.0, 1.0]);
 }
 
-/// A problem that counts its gradient and Hessian evaluations.
+/// A problem that counts its gradient and Hessian evaluations and records the calls of the
+/// mixed-integration-point method (with the Hessians among them).
 struct Counting<P> {
     inner: P,
     gradients: usize,
     hessians: usize,
+    calls: Vec<String>,
+}
+
+impl<P> Counting<P> {
+    fn new(inner: P) -> Self {
+        Self {
+            inner,
+            gradients: 0,
+            hessians: 0,
+            calls: Vec::new(),
+        }
+    }
 }
 
 impl<P: NewtonProblem> NewtonProblem for Counting<P> {
@@ -86,7 +99,19 @@ impl<P: NewtonProblem> NewtonProblem for Counting<P> {
     }
     fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
         self.hessians += 1;
+        self.calls.push("hessian".into());
         self.inner.hessian(x, g, h)
+    }
+    fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
+        assert_eq!((x.len(), dx.len()), (self.n_dofs(), self.n_dofs()));
+        self.calls.push("linearize".into());
+        Ok(())
+    }
+    fn advance_predicted_strains(&mut self, alpha: f64) {
+        self.calls.push(format!("advance {alpha}"));
+    }
+    fn clear_predicted_strains(&mut self) {
+        self.calls.push("clear".into());
     }
 }
 
@@ -95,11 +120,7 @@ fn the_first_hessian_brings_the_first_gradient_unless_the_last_solve_started_con
     let mut r = rng(17);
     let a = block_grid(4, 3, 1e-1, &mut r);
     let b = random_vector(a.n(), &mut r);
-    let mut problem = Counting {
-        inner: Quadratic { a, b },
-        gradients: 0,
-        hessians: 0,
-    };
+    let mut problem = Counting::new(Quadratic { a, b });
     let mut solver = NewtonSolver::for_problem(&problem, reference_newton()).unwrap();
     let mut x = vec![0.0; problem.n_dofs()];
     let mut counts = |problem: &mut Counting<Quadratic>, x: &mut Vec<f64>| {
@@ -673,42 +694,6 @@ fn factors_that_converged_fast_start_the_next_solve_unless_the_fixed_unknowns_ch
     assert!(factorisations(&report) >= 1, "{report:?}");
 }
 
-/// A problem that records the calls of the mixed-integration-point method.
-struct Recording<P> {
-    inner: P,
-    calls: Vec<String>,
-}
-
-impl<P: NewtonProblem> NewtonProblem for Recording<P> {
-    fn n_dofs(&self) -> usize {
-        self.inner.n_dofs()
-    }
-    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
-        self.inner.hessian_pattern()
-    }
-    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
-        self.inner.value(x)
-    }
-    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
-        self.inner.gradient(x, g)
-    }
-    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
-        self.calls.push("hessian".into());
-        self.inner.hessian(x, g, h)
-    }
-    fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
-        assert_eq!((x.len(), dx.len()), (self.n_dofs(), self.n_dofs()));
-        self.calls.push("linearize".into());
-        Ok(())
-    }
-    fn advance_predicted_strains(&mut self, alpha: f64) {
-        self.calls.push(format!("advance {alpha}"));
-    }
-    fn clear_predicted_strains(&mut self) {
-        self.calls.push("clear".into());
-    }
-}
-
 /// With `mixed_integration_points`, every solve starts by clearing the predictions, every direction is
 /// linearised before its line search, and every accepted step advances the prediction by its length
 /// (here the line search's halvings on Rosenbrock); without it, only the clearing is called (a no-op
@@ -716,10 +701,7 @@ impl<P: NewtonProblem> NewtonProblem for Recording<P> {
 #[test]
 fn mixed_integration_points_linearise_every_direction_and_advance_by_the_accepted_step() {
     let run = |mixed: bool| {
-        let mut problem = Recording {
-            inner: Rosenbrock::new(2),
-            calls: Vec::new(),
-        };
+        let mut problem = Counting::new(Rosenbrock::new(2));
         let mut x = [-1.2, 1.0];
         let settings = NewtonSettings {
             mixed_integration_points: mixed,
