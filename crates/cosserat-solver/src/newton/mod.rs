@@ -78,8 +78,6 @@ pub struct NewtonSolver {
     shift_scale: Vec<f64>,
     /// Trial states of the line search's extrapolation along negative curvature.
     x_extra: Vec<f64>,
-    /// The load scale measured by [`NewtonSolver::solve_from_prediction`] for the solve it starts.
-    measured_scale: Option<f64>,
     /// The last shift `μ` that made an indefinite Hessian positive definite (the next one starts near
     /// it).
     last_shift: f64,
@@ -118,6 +116,8 @@ struct Run {
     /// Whether the next direction is a chord step with the current factors (the last step was full
     /// and cut the residual by the factor of [`NewtonSettings::reuse_max_ratio`]).
     reuse: bool,
+    /// The load scale measured before the solve (see [`NewtonSolver::solve_from_prediction`]).
+    measured_scale: Option<f64>,
 }
 
 impl Run {
@@ -164,7 +164,6 @@ impl NewtonSolver {
             diagonal_slots: diagonal_slots(pattern),
             shift_scale: vec![0.0; n],
             x_extra: Vec::new(),
-            measured_scale: None,
             last_shift: 0.0,
         })
     }
@@ -231,15 +230,12 @@ impl NewtonSolver {
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, start)?;
         self.grad.fill(0.0);
-        let at_start = problem
+        problem
             .gradient(start, &mut self.grad)
-            .map_err(|source| problem_error(0, source));
-        at_start?;
+            .map_err(|source| problem_error(0, source))?;
         self.check_gradient(&self.grad, 0)?;
-        self.measured_scale = Some(self.residual(&self.grad).max(self.reactions()));
-        let result = self.solve(problem, x);
-        self.measured_scale = None;
-        result
+        let scale = self.residual(&self.grad).max(self.reactions());
+        self.solve_with_scale(problem, x, Some(scale))
     }
 
     /// Minimises `problem` starting from `x`, which holds the solution on success. On failure `x`
@@ -251,6 +247,17 @@ impl NewtonSolver {
         &mut self,
         problem: &mut P,
         x: &mut [f64],
+    ) -> Result<NewtonReport, NewtonError> {
+        self.solve_with_scale(problem, x, None)
+    }
+
+    /// [`solve`](Self::solve) with the load scale measured before the solve, if any (see
+    /// [`solve_from_prediction`](Self::solve_from_prediction)).
+    fn solve_with_scale<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+        measured_scale: Option<f64>,
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, x)?;
         problem.clear_predicted_strains();
@@ -265,6 +272,7 @@ impl NewtonSolver {
             indefinite: false,
             shift_from_now: false,
             reuse: self.carry_factors,
+            measured_scale,
         };
         let result = self.minimise(problem, x, &mut run);
         // A solve that stopped where it started lets the next one evaluate the gradient alone first, so
@@ -403,7 +411,7 @@ impl NewtonSolver {
         let r0 = self.residual(&self.grad);
         run.residuals.push(r0);
         let load = problem.load_scale() / self.settings.residual_scale;
-        run.test = match self.measured_scale.take() {
+        run.test = match run.measured_scale {
             Some(scale) => ConvergenceTest::with_measured_scale(self.settings.tolerance, load.max(scale), energy),
             None => ConvergenceTest::new(self.settings.tolerance, load, r0, energy),
         };
