@@ -288,6 +288,9 @@ pub struct RunSummary {
     pub wasted_newton_iterations: usize,
     /// Number of time step reductions (dt halvings, load bisections), those of a failed step included.
     pub n_step_reductions: usize,
+    /// Intermediate load levels a quasi-static run solved on the way to its written levels (after
+    /// bisections, or where a level needed many Newton iterations); 0 in other runs.
+    pub n_intermediate_levels: usize,
     /// Total wall-clock time of the run \[s\].
     pub wall_seconds: f64,
     /// Average wall-clock time per completed step \[ms\].

@@ -99,22 +99,32 @@ quantity = "displacement"
 
     /// Runs the case in a folder of its own within `group` (one per test: tests run in parallel).
     fn run_in(&self, group: &str) -> (RunOutcome, f64) {
+        let outcome = self.run_with(group, "", &[]);
+        assert!(outcome.is_ok(), "{}: {}", self.name(), outcome.reason());
+        let w = self.deflection(&outcome);
+        (outcome, w)
+    }
+
+    /// Runs the case with scene `overrides` in a folder of its own within `group`, named by `tag`.
+    fn run_with(&self, group: &str, tag: &str, overrides: &[String]) -> RunOutcome {
         let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR"))
             .join("convergence_sweep")
             .join(group)
             .join(format!(
-                "E{:e}_h{:e}_k{:e}_u{:e}",
+                "E{:e}_h{:e}_k{:e}_u{:e}{tag}",
                 self.youngs_modulus, self.h_over_l, self.load, self.unit
             ));
         std::fs::create_dir_all(&dir).expect("sweep directory");
         let scene = dir.with_extension("toml");
         std::fs::write(&scene, self.scene()).expect("scene file");
-        let outcome =
-            run_described(&Runner::InProcess, &RunDescription::new(&scene, &dir, &[])).expect("output directory");
-        assert!(outcome.is_ok(), "{}: {}", self.name(), outcome.reason());
+        run_described(&Runner::InProcess, &RunDescription::new(&scene, &dir, overrides)).expect("output directory")
+    }
+
+    /// The tip deflection over the length at the end of a run.
+    fn deflection(&self, outcome: &RunOutcome) -> f64 {
         let probes = outcome.probes.as_ref().expect("probes.csv");
         let w = probes.last_vec("tip", ["ux", "uy", "uz"]).expect("tip probe")[2];
-        (outcome, w * self.unit / LENGTH)
+        w * self.unit / LENGTH
     }
 }
 
@@ -271,6 +281,39 @@ fn large_loads_converge_on_the_thinnest_strip() {
             case.name()
         );
     }
+}
+
+/// The whole load in one requested level on the thinnest strip, with the strain interpolation that
+/// does not lock there: from the straight strip Newton needs hundreds of iterations per increment,
+/// and halving only the increments that fail runs out of halvings or spends more. The adaptive
+/// increments shorten after each slow level and reach the elastica's 0.30172.
+#[test]
+fn one_level_reaches_the_elastica_on_the_thinnest_strip() {
+    let case = Case {
+        youngs_modulus: 1e7,
+        h_over_l: 1e-5,
+        load: 1.0,
+        levels: 1,
+        unit: 1.0,
+    };
+    let interpolation = "material.strain_interpolation=\"regge_stabilized\"".to_string();
+    let frames = "output.frames=false".to_string();
+    let iterations = |o: &RunOutcome| o.summary.as_ref().map_or(0.0, |s| s.avg_newton_iterations);
+    let adaptive = case.run_with("one_level", "_adaptive", &[interpolation.clone(), frames.clone()]);
+    assert!(adaptive.is_ok(), "{}", adaptive.reason());
+    let w = case.deflection(&adaptive);
+    assert!((w / 0.30172 - 1.0).abs() < 2e-3, "w/L = {w}");
+    let bisection = case.run_with(
+        "one_level",
+        "_bisection",
+        &[interpolation, frames, "time.adaptive=false".to_string()],
+    );
+    assert!(
+        !bisection.is_ok() || iterations(&bisection) > iterations(&adaptive),
+        "bisection alone: {} iterations, adaptive {}",
+        iterations(&bisection),
+        iterations(&adaptive)
+    );
 }
 
 /// The validation scenes set absolute tolerances to reproduce their published tables; without them

@@ -105,7 +105,7 @@ impl PySimulation {
         let name = spec.name.clone();
         let end = match &spec.time {
             TimeSpec::Dynamic { end, .. } | TimeSpec::ArcLength { end, .. } => *end,
-            TimeSpec::QuasiStatic { levels } => levels.last().copied().unwrap_or(1.0),
+            TimeSpec::QuasiStatic { levels, .. } => levels.last().copied().unwrap_or(1.0),
         };
         let sim = py.detach(|| Simulation::new(spec)).map_err(|e| simulation_error(py, &e))?;
         Ok(Self {

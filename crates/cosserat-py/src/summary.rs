@@ -80,6 +80,11 @@ impl PyRunSummary {
     fn n_step_reductions(&self) -> usize {
         self.inner.n_step_reductions
     }
+    /// Intermediate load levels of a quasi-static run (solved, not written).
+    #[getter]
+    fn n_intermediate_levels(&self) -> usize {
+        self.inner.n_intermediate_levels
+    }
     /// Wall-clock time of the run \[s\].
     #[getter]
     fn wall_seconds(&self) -> f64 {

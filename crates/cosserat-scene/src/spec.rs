@@ -247,6 +247,8 @@ pub enum TimeSpec {
     QuasiStatic {
         /// Load factors at which equilibria are computed and written (increasing, ending at 1).
         levels: Vec<f64>,
+        /// Intermediate levels where a level needs many Newton iterations (not written).
+        adaptive: bool,
     },
     /// Equilibria traced along the load path by arc-length continuation; the pseudo time `t` of
     /// scripts is the load factor, which may fall and rise along the path.

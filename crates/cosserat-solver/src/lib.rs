@@ -101,6 +101,7 @@ pub use newton::{
 };
 pub use problem::NewtonProblem;
 pub use statics::{
-    LevelFailure, LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, StaticError, solve_quasi_static,
+    IncrementControl, LevelFailure, LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, StaticError,
+    solve_quasi_static,
 };
 pub use time_step::{InitialGuess, StepError, StepReport, TimeStepSettings, TimeStepper};

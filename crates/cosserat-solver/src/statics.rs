@@ -4,7 +4,9 @@
 //! [`cosserat_assembly::PSEUDO_TIME_STEP`], so the velocity unknowns are displacement increments and
 //! the residual is a force in N (torque in N·m). Each load
 //! level starts from the previous equilibrium; a level whose Newton solve fails is approached through
-//! bisected intermediate levels, up to a bounded number of times.
+//! bisected intermediate levels, up to a bounded number of times. With an [`IncrementControl`] the
+//! load increment also follows Newton's effort: a level that needs many iterations makes the next
+//! increments smaller, and increments grow back where Newton converges quickly.
 
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
@@ -22,6 +24,9 @@ pub struct QuasiStaticSettings {
     /// Start each solve from the previous increment scaled to the new load step (a secant predictor)
     /// instead of from zero. Smooth loading paths then start close to the solution.
     pub extrapolate: bool,
+    /// Intermediate levels where Newton needs many iterations; `None` inserts them only when a solve
+    /// fails (bisection).
+    pub increment_control: Option<IncrementControl>,
 }
 
 impl Default for QuasiStaticSettings {
@@ -30,9 +35,35 @@ impl Default for QuasiStaticSettings {
             newton: NewtonSettings::default(),
             max_bisections: 10,
             extrapolate: true,
+            increment_control: Some(IncrementControl::default()),
         }
     }
 }
+
+/// Load increments that follow Newton's effort (Crisfield's rule: the next increment is the last one
+/// times `√(desired / used)` iterations, between a quarter and twice the last).
+///
+/// Thin shells converge far more slowly from a long secant prediction than from a short one: the
+/// prediction's error sits in the stiff membrane, and the line search then cuts each step to a small
+/// fraction. Shorter increments cost more solves but fewer iterations in all.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct IncrementControl {
+    /// The Newton iterations an increment should need. A requested level solved in one increment
+    /// within them is never split; one that needs more shortens the increments after it.
+    pub desired_iterations: usize,
+}
+
+impl Default for IncrementControl {
+    fn default() -> Self {
+        Self {
+            desired_iterations: DEFAULT_DESIRED_ITERATIONS,
+        }
+    }
+}
+
+/// Above the few iterations of a well-predicted level, so that scenes whose levels converge normally
+/// are never split.
+const DEFAULT_DESIRED_ITERATIONS: usize = 30;
 
 /// The equilibrium at one requested load level.
 #[derive(Debug, Clone)]
@@ -41,10 +72,14 @@ pub struct LoadLevelReport {
     pub load_factor: f64,
     /// Newton's report of the solve that reached this level.
     pub newton: NewtonReport,
-    /// Intermediate levels inserted to reach it.
+    /// Failed solves that were retried at a halved increment.
     pub bisections: usize,
+    /// Intermediate levels solved on the way (after bisections or from the increment control).
+    pub sub_levels: usize,
     /// Newton iterations over all solves for this level (intermediate and failed ones included).
     pub total_iterations: usize,
+    /// Newton iterations of the failed solves among them.
+    pub wasted_iterations: usize,
 }
 
 /// Why a load level could not be reached.
@@ -85,6 +120,14 @@ pub struct QuasiStaticStepper {
     previous: Option<(Vec<f64>, f64)>,
     /// The load factor of the last equilibrium.
     current: f64,
+    /// The largest load increment the next solve may take (`None`: the whole next level).
+    limit: Option<f64>,
+}
+
+/// The outcome of one Newton solve towards a level.
+enum Attempt {
+    Converged(NewtonReport),
+    Failed(NewtonError),
 }
 
 impl QuasiStaticStepper {
@@ -103,6 +146,7 @@ impl QuasiStaticStepper {
             u: vec![0.0; potential.n_dofs()],
             previous: None,
             current: 0.0,
+            limit: None,
         })
     }
 
@@ -127,12 +171,24 @@ impl QuasiStaticStepper {
         self.previous.as_ref().map(|(du, step)| (du.as_slice(), *step))
     }
 
-    /// Continues from the equilibrium at `load_factor` with the predictor's memory `predictor` (to
-    /// resume a run from a checkpoint; the potential must hold that equilibrium).
+    /// The largest load increment the next solve may take (`None`: the whole next level).
+    pub fn increment_limit(&self) -> Option<f64> {
+        self.limit
+    }
+
+    /// Continues from the equilibrium at `load_factor` with the predictor's memory `predictor` and the
+    /// increment limit `limit` (to resume a run from a checkpoint; the potential must hold that
+    /// equilibrium).
     ///
     /// # Errors
-    /// A predictor increment whose length is not the number of unknowns (as a message).
-    pub fn resume(&mut self, load_factor: f64, predictor: Option<(Vec<f64>, f64)>) -> Result<(), String> {
+    /// A predictor increment whose length is not the number of unknowns, or a limit that is not a
+    /// positive number (as a message).
+    pub fn resume(
+        &mut self,
+        load_factor: f64,
+        predictor: Option<(Vec<f64>, f64)>,
+        limit: Option<f64>,
+    ) -> Result<(), String> {
         if let Some((du, _)) = &predictor
             && du.len() != self.u.len()
         {
@@ -142,8 +198,14 @@ impl QuasiStaticStepper {
                 self.u.len()
             ));
         }
+        if let Some(limit) = limit
+            && !(limit.is_finite() && limit > 0.0)
+        {
+            return Err(format!("the load increment limit {limit} is not a positive number"));
+        }
         self.current = load_factor;
         self.previous = predictor;
+        self.limit = limit;
         Ok(())
     }
 
@@ -159,12 +221,15 @@ impl QuasiStaticStepper {
         target: f64,
         apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
     ) -> Result<LoadLevelReport, StaticError> {
-        let mut bisections = 0;
-        let mut total_iterations = 0;
-        let mut stack = vec![target];
-        let mut last_report = None;
-        while let Some(&lambda) = stack.last() {
-            let from = self.current;
+        let level_start = self.current;
+        // Without increment control every level starts whole, as bisection leaves no memory.
+        if self.settings.increment_control.is_none() {
+            self.limit = None;
+        }
+        let smallest = (target - level_start) * 0.5f64.powi(self.settings.max_bisections as i32);
+        let (mut bisections, mut sub_levels, mut total_iterations, mut wasted_iterations) = (0, 0, 0, 0);
+        loop {
+            let (from, lambda) = (self.current, next_level(self.current, target, self.limit));
             let fail = |error: LevelFailure, iterations: usize, bisections: usize| StaticError {
                 from,
                 to: lambda,
@@ -172,51 +237,80 @@ impl QuasiStaticStepper {
                 iterations,
                 bisections,
             };
-            apply(potential, lambda).map_err(|e| fail(e.into(), total_iterations, bisections))?;
-            let predicted = self.predict(lambda);
-            self.prepare(potential)
-                .map_err(|e| fail(e.into(), total_iterations, bisections))?;
-            // The unpredicted start: the last equilibrium, with the new targets of eliminated unknowns.
-            let mut start = vec![0.0; self.u.len()];
-            let fixed = potential.fixed_dofs().map(|(mask, values)| {
-                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
-                    self.u[i] = values[i];
-                    start[i] = values[i];
+            let attempt = self
+                .attempt(potential, lambda, apply)
+                .map_err(|e| fail(e, total_iterations, bisections))?;
+            match attempt {
+                Attempt::Converged(newton) => {
+                    total_iterations += newton.iterations;
+                    let whole = from == level_start && lambda == target;
+                    let step = Increment {
+                        length: lambda - from,
+                        iterations: newton.iterations,
+                        whole,
+                    };
+                    self.limit = adapted_limit(self.settings.increment_control, self.limit, step, smallest);
+                    if lambda == target {
+                        return Ok(LoadLevelReport {
+                            load_factor: target,
+                            newton,
+                            bisections,
+                            sub_levels,
+                            total_iterations,
+                            wasted_iterations,
+                        });
+                    }
+                    sub_levels += 1;
                 }
-                mask
-            });
-            let mut problem = PotentialProblem::new(potential, fixed);
-            let result = if predicted {
-                self.solver.solve_from_prediction(&mut problem, &mut self.u, &start)
-            } else {
-                self.solver.solve(&mut problem, &mut self.u)
-            };
-            match result {
-                Ok(report) => {
-                    total_iterations += report.iterations;
-                    potential.commit(&self.u);
-                    self.previous = Some((self.u.clone(), lambda - self.current));
-                    self.current = lambda;
-                    stack.pop();
-                    last_report = Some(report);
-                }
-                Err(error) => {
-                    total_iterations += error.residuals().len().saturating_sub(1);
+                Attempt::Failed(error) => {
+                    let iterations = error.residuals().len().saturating_sub(1);
+                    total_iterations += iterations;
+                    wasted_iterations += iterations;
                     if bisections >= self.settings.max_bisections {
                         return Err(fail(error.into(), total_iterations, bisections));
                     }
                     bisections += 1;
                     // A failed predictor is not trusted for the bisected step.
                     self.previous = None;
-                    stack.push(0.5 * (self.current + lambda));
+                    self.limit = Some(0.5 * (lambda - from));
                 }
             }
         }
-        Ok(LoadLevelReport {
-            load_factor: target,
-            newton: last_report.expect("the loop ends only after the target level converged"),
-            bisections,
-            total_iterations,
+    }
+
+    /// One Newton solve for level `lambda` from the last equilibrium, committed when it converges.
+    fn attempt(
+        &mut self,
+        potential: &mut IncrementalPotential,
+        lambda: f64,
+        apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
+    ) -> Result<Attempt, LevelFailure> {
+        apply(potential, lambda)?;
+        let predicted = self.predict(lambda);
+        self.prepare(potential)?;
+        // The unpredicted start: the last equilibrium, with the new targets of eliminated unknowns.
+        let mut start = vec![0.0; self.u.len()];
+        let fixed = potential.fixed_dofs().map(|(mask, values)| {
+            for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+                self.u[i] = values[i];
+                start[i] = values[i];
+            }
+            mask
+        });
+        let mut problem = PotentialProblem::new(potential, fixed);
+        let result = if predicted {
+            self.solver.solve_from_prediction(&mut problem, &mut self.u, &start)
+        } else {
+            self.solver.solve(&mut problem, &mut self.u)
+        };
+        Ok(match result {
+            Ok(report) => {
+                potential.commit(&self.u);
+                self.previous = Some((self.u.clone(), lambda - self.current));
+                self.current = lambda;
+                Attempt::Converged(report)
+            }
+            Err(error) => Attempt::Failed(error),
         })
     }
 
@@ -251,6 +345,45 @@ impl QuasiStaticStepper {
     }
 }
 
+/// The next load factor from `current` on the way to `target`: the target, or the first of equal
+/// increments within `limit`.
+fn next_level(current: f64, target: f64, limit: Option<f64>) -> f64 {
+    let remaining = target - current;
+    match limit {
+        Some(limit) if limit < remaining => {
+            // Round-off in the ratio must not add an increment of nearly zero length.
+            let n = (remaining / limit * (1.0 - 1e-12)).ceil();
+            if n > 1.0 { current + remaining / n } else { target }
+        }
+        _ => target,
+    }
+}
+
+/// A converged load increment.
+#[derive(Debug, Clone, Copy)]
+struct Increment {
+    length: f64,
+    iterations: usize,
+    /// Whether it was a whole requested level.
+    whole: bool,
+}
+
+/// The increment limit after the converged increment `step`, never below `smallest`.
+fn adapted_limit(control: Option<IncrementControl>, limit: Option<f64>, step: Increment, smallest: f64) -> Option<f64> {
+    match control {
+        // Bisection only: after a success the pending level is retried at twice the increment.
+        None => limit.map(|limit| 2.0 * limit),
+        Some(control) => {
+            let ratio = control.desired_iterations as f64 / step.iterations.max(1) as f64;
+            if step.whole && ratio >= 1.0 {
+                None
+            } else {
+                Some((step.length * ratio.sqrt().clamp(0.25, 2.0)).max(smallest))
+            }
+        }
+    }
+}
+
 /// Solves for equilibrium at each load factor of `levels` (increasing), calling `apply(potential, λ)`
 /// to set loads and targets for `λ`, and `reached(potential, λ)` after each requested level converged.
 ///
@@ -281,4 +414,44 @@ pub fn solve_quasi_static(
         reports.push(report);
     }
     Ok(reports)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn levels_split_into_equal_increments_within_the_limit() {
+        assert_eq!(next_level(0.25, 0.5, None), 0.5);
+        assert_eq!(next_level(0.25, 0.5, Some(0.25)), 0.5);
+        assert_eq!(next_level(0.25, 0.5, Some(1.0)), 0.5);
+        // 0.25 / 0.1 needs three increments of 1/12.
+        assert!((next_level(0.25, 0.5, Some(0.1)) - (0.25 + 0.25 / 3.0)).abs() < 1e-15);
+        // A limit a hair below the remaining step does not add a sliver.
+        assert!((next_level(0.0, 0.3, Some(0.1 * (1.0 - 1e-14))) - 0.1).abs() < 1e-15);
+        assert_eq!(next_level(0.0, 0.3, Some(0.3 * (1.0 - 1e-14))), 0.3);
+    }
+
+    #[test]
+    fn the_limit_follows_the_iterations_between_a_quarter_and_twice_the_increment() {
+        let control = Some(IncrementControl { desired_iterations: 16 });
+        let step = |iterations, whole| Increment {
+            length: 0.1,
+            iterations,
+            whole,
+        };
+        let limit = |iterations, whole| adapted_limit(control, Some(0.1), step(iterations, whole), 1e-6).unwrap();
+        // √(16 / 64) = 1/2, √(16 / 4) = 2; the factor stays within [1/4, 2].
+        assert!((limit(64, false) - 0.05).abs() < 1e-15);
+        assert!((limit(4, false) - 0.2).abs() < 1e-15);
+        assert!((limit(1, false) - 0.2).abs() < 1e-15);
+        assert!((limit(10_000, false) - 0.025).abs() < 1e-15);
+        assert!((limit(64, true) - 0.05).abs() < 1e-15);
+        // A whole level within the desired iterations lifts the limit; nothing goes below `smallest`.
+        assert_eq!(adapted_limit(control, Some(0.1), step(16, true), 1e-6), None);
+        assert_eq!(adapted_limit(control, None, step(10_000, false), 0.05), Some(0.05));
+        // Without control the limit only doubles, back towards the pending level.
+        assert_eq!(adapted_limit(None, Some(0.1), step(64, false), 1e-6), Some(0.2));
+        assert_eq!(adapted_limit(None, None, step(64, true), 1e-6), None);
+    }
 }

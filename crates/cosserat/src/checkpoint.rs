@@ -77,6 +77,8 @@ pub enum StepperState {
         load_factor: f64,
         /// The predictor's last increment and its load step.
         predictor: Option<(Vec<f64>, f64)>,
+        /// The largest load increment of the next solve (`None`: the whole next level).
+        increment_limit: Option<f64>,
         /// Whether the next Newton solve starts with the Hessian.
         starts_with_hessian: bool,
     },
@@ -211,6 +213,7 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             levels_done,
             load_factor,
             predictor,
+            increment_limit,
             starts_with_hessian,
         } => {
             out.usize(1);
@@ -220,6 +223,10 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             if let Some((du, step)) = predictor {
                 out.f64s(du);
                 out.f64(*step);
+            }
+            out.bool(increment_limit.is_some());
+            if let Some(limit) = increment_limit {
+                out.f64(*limit);
             }
             out.bool(*starts_with_hessian);
         }
@@ -248,10 +255,12 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
             } else {
                 None
             };
+            let increment_limit = if input.bool()? { Some(input.f64()?) } else { None };
             Ok(StepperState::QuasiStatic {
                 levels_done,
                 load_factor,
                 predictor,
+                increment_limit,
                 starts_with_hessian: input.bool()?,
             })
         }

@@ -19,6 +19,8 @@ pub struct RunStats {
     pub wasted_iterations: usize,
     /// Time-step halvings and load bisections.
     pub reductions: usize,
+    /// Intermediate load levels of quasi-static runs (solved, not written).
+    pub intermediate_levels: usize,
     /// Time in assembly \[s\].
     pub assembly_seconds: f64,
     /// Time in linear solves \[s\].
@@ -51,6 +53,7 @@ impl Default for RunStats {
             max_newton_iterations: 0,
             wasted_iterations: 0,
             reductions: 0,
+            intermediate_levels: 0,
             assembly_seconds: 0.0,
             solve_seconds: 0.0,
             factorisation_seconds: 0.0,
@@ -77,7 +80,9 @@ impl RunStats {
     /// Adds a reached load level (a level counts as a step).
     pub fn record_level(&mut self, r: &LoadLevelReport, seconds: f64) {
         self.add_step(&r.newton, r.total_iterations, seconds);
+        self.wasted_iterations += r.wasted_iterations;
         self.reductions += r.bisections;
+        self.intermediate_levels += r.sub_levels;
     }
 
     fn add_step(&mut self, newton: &NewtonReport, iterations: usize, seconds: f64) {
@@ -118,6 +123,7 @@ impl RunStats {
             self.max_newton_iterations,
             self.wasted_iterations,
             self.reductions,
+            self.intermediate_levels,
             self.frames,
             self.factorisations,
             self.cg_iterations,
@@ -152,6 +158,7 @@ impl RunStats {
                 max_newton_iterations,
                 wasted_iterations,
                 reductions,
+                intermediate_levels,
                 frames,
                 factorisations,
                 cg_iterations,
@@ -173,6 +180,7 @@ impl RunStats {
             max_newton_iterations,
             wasted_iterations,
             reductions,
+            intermediate_levels,
             assembly_seconds,
             solve_seconds,
             factorisation_seconds,

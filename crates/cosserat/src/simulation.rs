@@ -327,8 +327,8 @@ impl Simulation {
                     progress,
                     stop,
                 ),
-                TimeSpec::QuasiStatic { levels } => {
-                    self.run_quasi_static(&mut writer, &levels, resume.as_ref(), progress, stop)
+                TimeSpec::QuasiStatic { levels, adaptive } => {
+                    self.run_quasi_static(&mut writer, (&levels, adaptive), resume.as_ref(), progress, stop)
                 }
                 TimeSpec::ArcLength {
                     initial_increment,
@@ -411,14 +411,16 @@ impl Simulation {
     fn run_quasi_static(
         &mut self,
         writer: &mut RunWriter,
-        levels: &[f64],
+        (levels, adaptive): (&[f64], bool),
         resume: Option<&Checkpoint>,
         progress: &mut dyn FnMut(&StepInfo, &mut Scripts),
         stop: &StopRequest,
     ) -> Result<Outcome, SimulationError> {
+        let defaults = QuasiStaticSettings::default();
         let settings = QuasiStaticSettings {
             newton: self.time_step_settings(PSEUDO_TIME_STEP, false).newton,
-            ..QuasiStaticSettings::default()
+            increment_control: defaults.increment_control.filter(|_| adaptive),
+            ..defaults
         };
         let (mut stepper, first) = match resume {
             Some(checkpoint) => self.resume_quasi_static(checkpoint, &settings, levels.len())?,
@@ -463,6 +465,7 @@ impl Simulation {
                     levels_done: index + 1,
                     load_factor: stepper.load_factor(),
                     predictor: stepper.predictor().map(|(du, step)| (du.to_vec(), step)),
+                    increment_limit: stepper.increment_limit(),
                     starts_with_hessian: stepper.solver().starts_with_hessian(),
                 };
                 self.write_checkpoint(writer, state)?;
@@ -558,6 +561,7 @@ impl Simulation {
             max_newton_iterations: s.max_newton_iterations,
             wasted_newton_iterations: s.wasted_iterations,
             n_step_reductions: s.reductions,
+            n_intermediate_levels: s.intermediate_levels,
             wall_seconds: wall,
             avg_step_ms: s.avg_step_ms(),
             // Shares of the time in steps, not of the whole run, whose set-up, symbolic analysis and

@@ -68,6 +68,13 @@ fn quasi_static_strip() -> String {
     strip("mode = \"quasi_static\"\nn_levels = 6", -1e-4, "t")
 }
 
+/// The same strip under ten times the load, with a checkpoint after every level: some levels need
+/// more Newton iterations than the increment control wants, so the levels after them are reached
+/// through intermediate ones.
+fn quasi_static_strip_with_intermediate_levels() -> String {
+    strip("mode = \"quasi_static\"\nn_levels = 6", -1e-3, "t").replace("checkpoint_every = 3", "checkpoint_every = 1")
+}
+
 /// A plate dropped onto a floor inclined by 20° with friction μ = 0.5: it lands within the first
 /// steps and then sticks and slides with friction active (Tri3, 4 × 4 quads).
 fn contact_plate() -> String {
@@ -264,6 +271,19 @@ fn a_resumed_quasi_static_run_is_bit_identical() {
     let (_, resumed) = check_bit_identity("quasi_static", &quasi_static_strip(), 4);
     assert_eq!(resumed.resumed_from, Some(3));
     assert_eq!(resumed.n_steps, 6);
+}
+
+#[test]
+fn a_resumed_quasi_static_run_with_intermediate_levels_is_bit_identical() {
+    let (expected, resumed) = check_bit_identity(
+        "quasi_static_intermediate",
+        &quasi_static_strip_with_intermediate_levels(),
+        2,
+    );
+    assert!(expected.n_intermediate_levels > 0, "no intermediate level was solved");
+    assert_eq!(resumed.n_intermediate_levels, expected.n_intermediate_levels);
+    // The first level is one of the slow ones: the run resumes with a shortened increment.
+    assert_eq!(resumed.resumed_from, Some(2));
 }
 
 #[test]

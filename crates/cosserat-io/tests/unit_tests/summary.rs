@@ -32,6 +32,7 @@ fn sample_summary() -> RunSummary {
         max_newton_iterations: 7,
         wasted_newton_iterations: 4,
         n_step_reductions: 2,
+        n_intermediate_levels: 3,
         wall_seconds: 12.75,
         avg_step_ms: 12.5,
         assembly_share: 0.625,
@@ -77,7 +78,7 @@ fn sample_summary() -> RunSummary {
 }
 
 /// The keys of the output contract, with the JSON names used for them.
-const CONTRACT_KEYS: [&str; 34] = [
+const CONTRACT_KEYS: [&str; 35] = [
     "scene",
     "status",
     "reason",
@@ -100,6 +101,7 @@ const CONTRACT_KEYS: [&str; 34] = [
     "max_newton_iterations",
     "wasted_newton_iterations",
     "n_step_reductions",
+    "n_intermediate_levels",
     "wall_seconds",
     "avg_step_ms",
     "assembly_share",

@@ -35,6 +35,7 @@ SUMMARY_COLUMNS = (
     "avg_newton_iterations",
     "max_newton_iterations",
     "n_step_reductions",
+    "n_intermediate_levels",
     "wall_seconds",
     "avg_step_ms",
     "peak_memory_mb",

@@ -141,8 +141,12 @@ pub struct TimeSection {
     pub output_fps: Option<f64>,
     /// Interval between output frames \[s\] (instead of `output_fps`).
     pub output_interval: Option<f64>,
-    /// Adaptive time stepping: halve `dt` after a failed step, grow by 1.05 after a success up to
-    /// `dt`. Default `true` (the reference code's baseline); fixed-step scenes set `false`.
+    /// Dynamic: adaptive time stepping, halve `dt` after a failed step, grow by 1.05 after a success
+    /// up to `dt`. Default `true` (the reference code's baseline); fixed-step scenes set `false`.
+    /// Quasi-static: where a level needs more than 30 Newton iterations, the following levels
+    /// are reached through intermediate ones (not written), which grow back where Newton converges
+    /// quickly; levels that converge within that are never split. Default `true`; `false` inserts
+    /// intermediate levels only when a solve fails (bisection).
     pub adaptive: Option<bool>,
     /// Quasi-static load factors (increasing, in `(0, 1]`, ending at 1).
     pub levels: Option<Vec<f64>>,

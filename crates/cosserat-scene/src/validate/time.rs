@@ -111,7 +111,6 @@ impl Ctx<'_> {
                 "end",
                 "output_fps",
                 "output_interval",
-                "adaptive",
                 "initial_increment",
                 "max_steps",
             ],
@@ -144,7 +143,10 @@ impl Ctx<'_> {
             }
         };
         self.sample_times = std::iter::once(0.0).chain(levels.iter().copied()).collect();
-        Ok(TimeSpec::QuasiStatic { levels })
+        Ok(TimeSpec::QuasiStatic {
+            levels,
+            adaptive: time.adaptive.unwrap_or(true),
+        })
     }
 
     /// `arc_length`: every equilibrium along the path is written; the load factor may fall below zero

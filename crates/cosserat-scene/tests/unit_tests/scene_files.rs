@@ -340,7 +340,8 @@ fn validation_scenes_load_every_tabulated_level() {
         assert_eq!(
             spec.time,
             TimeSpec::QuasiStatic {
-                levels: tabulated.clone()
+                levels: tabulated.clone(),
+                adaptive: true,
             },
             "{name}"
         );
@@ -364,5 +365,11 @@ fn validation_scenes_load_every_tabulated_level() {
     // The end edge of the 48 × 4 mesh carries ny + 1 = 5 rotation (corner) nodes.
     assert_eq!(rollup.loads[0].selection.rot_nodes.len(), 5);
     let small = load("validation/cantilever_small_load.toml");
-    assert_eq!(small.time, TimeSpec::QuasiStatic { levels: vec![0.5, 1.0] });
+    assert_eq!(
+        small.time,
+        TimeSpec::QuasiStatic {
+            levels: vec![0.5, 1.0],
+            adaptive: true
+        }
+    );
 }

@@ -177,6 +177,7 @@ impl Simulation {
             levels_done,
             load_factor,
             predictor,
+            increment_limit,
             starts_with_hessian,
         } = checkpoint.stepper.clone()
         else {
@@ -191,7 +192,7 @@ impl Simulation {
         self.restore_contact(checkpoint)?;
         let mut stepper = QuasiStaticStepper::new(&mut self.potential, settings)?;
         stepper
-            .resume(load_factor, predictor)
+            .resume(load_factor, predictor, increment_limit)
             .map_err(|reason| SimulationError::Setup(format!("resuming: {reason}")))?;
         stepper.solver_mut().set_starts_with_hessian(starts_with_hessian);
         Ok((stepper, levels_done))
