@@ -20,7 +20,7 @@ use crate::pattern::SparsityPattern;
 use crate::state::SystemState;
 use crate::term::{Evaluation, NodeRotations, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Quaternion};
 use rayon::prelude::*;
 use std::marker::PhantomData;
 
@@ -203,7 +203,22 @@ pub struct IncrementalPotential {
     spare_rotations: NodeRotations,
     /// Present only when a dynamic term (contact) exists.
     dynamic: Option<DynamicPattern>,
+    /// The step's start rotations while rebased ones stand in for them
+    /// ([`IncrementalPotential::rebase_rotations`]).
+    step_start_rotations: Option<StartRotations>,
 }
+
+/// The rotations of the nodes and of the quadrature points at the start of a step.
+struct StartRotations {
+    nodes: Vec<Quaternion<f64>>,
+    points: Vec<Quaternion<f64>>,
+}
+
+/// The Cayley parameter `Δt |ω|` of a node's rotation update beyond which the rotations are rebased:
+/// a quarter turn. The Cayley map reaches a half turn only as its parameter grows without bound, and
+/// its derivative, hence every rotation's residual and Newton step, shrinks with the square of the
+/// parameter; rebased, each update starts again from zero.
+const REBASE_PARAMETER: f64 = 2.0;
 
 /// The pattern of the dynamic terms and its merge with the fixed pattern.
 struct DynamicPattern {
@@ -259,6 +274,7 @@ impl IncrementalPotential {
             pattern: SparsityPattern::from_groups(0, std::iter::empty::<&[usize]>()),
             rotations: NodeRotations::Matrices(vec![Matrix3::identity(); n_rot]),
             spare_rotations: NodeRotations::Jets(Vec::new()),
+            step_start_rotations: None,
             dynamic: None,
         };
         potential.rebuild_fixed();
@@ -662,11 +678,69 @@ impl IncrementalPotential {
         Some((mask, values))
     }
 
+    /// Re-expresses the unknowns `u` of a step in which some node's rotation update `cay(Δt ω)` has
+    /// turned by more than a quarter turn: the rotations the nodes and quadrature points reach become
+    /// the step's start rotations and the angular velocities zero, the same configuration in unknowns
+    /// far from the Cayley map's singularity at a half turn. A massless rotation field that snaps
+    /// within a step needs this to get past a half turn. Returns whether it rebased.
+    ///
+    /// The energy is unchanged only where no term reads the angular velocities themselves, so nothing
+    /// is rebased under rotational inertia, torque loads or angular-velocity penalties. The start
+    /// rotations are kept for [`Self::restore_step_start`] until [`Self::commit`]; the quadrature
+    /// points' rotations, interpolated from the nodes' updates, then follow the path of the rebased
+    /// updates (as after two shorter steps).
+    pub fn rebase_rotations(&mut self, u: &mut [f64]) -> bool {
+        let (layout, dt) = (self.parts.layout, self.dt);
+        let parameter = |k: usize| dt * layout.omega(u, k).norm();
+        if !self.rotations_are_configuration_only() || !(0..layout.n_rot_nodes).any(|k| parameter(k) > REBASE_PARAMETER)
+        {
+            return false;
+        }
+        let state = &mut self.parts.state;
+        if self.step_start_rotations.is_none() {
+            self.step_start_rotations = Some(StartRotations {
+                nodes: state.q.clone(),
+                points: state.q_points.clone(),
+            });
+        }
+        for s in &mut self.parts.shells {
+            s.commit(state, &layout, u, dt);
+        }
+        for k in 0..layout.n_rot_nodes {
+            state.q[k] = quaternion_update(&state.q[k], &layout.omega(u, k), dt);
+            let b = 3 * layout.rot_block(k);
+            u[b..b + 3].fill(0.0);
+        }
+        self.clear_predicted_strains();
+        true
+    }
+
+    /// Whether the energy depends on the rotation unknowns only through the rotations they reach.
+    fn rotations_are_configuration_only(&self) -> bool {
+        let parts = &self.parts;
+        let inertia = parts
+            .inertia
+            .as_ref()
+            .is_some_and(|i| i.rotational_inertia.iter().any(|j| *j != 0.0));
+        let torques = parts.loads.torques.iter().any(|t| *t != nalgebra::Vector3::zeros());
+        !inertia && !torques && parts.omega_penalties.is_empty()
+    }
+
+    /// Puts back the step's start rotations after [`Self::rebase_rotations`] (a solve that failed and
+    /// is retried from the start of the step).
+    pub fn restore_step_start(&mut self) {
+        if let Some(start) = self.step_start_rotations.take() {
+            self.parts.state.q = start.nodes;
+            self.parts.state.q_points = start.points;
+        }
+    }
+
     /// Advances the state with converged unknowns `u` (model.md §1.7): positions, velocities, nodal and
     /// quadrature-point rotations, angular velocities.
     pub fn commit(&mut self, u: &[f64]) {
         let layout = self.parts.layout;
         let dt = self.dt;
+        self.step_start_rotations = None;
         for s in &mut self.parts.shells {
             s.commit(&mut self.parts.state, &layout, u, dt);
         }

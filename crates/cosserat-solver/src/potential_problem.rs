@@ -126,6 +126,14 @@ impl NewtonProblem for PotentialProblem<'_> {
     /// beyond 1000 (an angle of 179.885°) turns the rotation from `φ` to `2π − φ` about `a`: across the
     /// half turn by `2(π − φ)`, where the descent can reach the minimum. A step that moves
     /// inwards is left alone, so that an iterate just across can move on without being sent back.
+    fn rebase(&mut self, x: &mut [f64]) -> bool {
+        self.potential.rebase_rotations(x)
+    }
+
+    fn abandon_rebase(&mut self) {
+        self.potential.restore_step_start();
+    }
+
     fn cross_singularities(&self, from: &[f64], x: &mut [f64]) {
         let parts = &self.potential.parts;
         let dt = self.potential.dt();

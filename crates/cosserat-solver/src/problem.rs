@@ -87,6 +87,19 @@ pub trait NewtonProblem {
     /// The default does nothing.
     fn clear_predicted_strains(&mut self) {}
 
+    /// Re-expresses the accepted iterate `x` in unknowns of the same state that lie farther from a
+    /// singularity of the parametrisation (for example rotation updates rebased at the rotations they
+    /// reached). The energy is unchanged; its gradient and Hessian are those of the new unknowns, which
+    /// Newton's method evaluates next. Returns whether `x` changed. The default changes nothing.
+    fn rebase(&mut self, x: &mut [f64]) -> bool {
+        let _ = x;
+        false
+    }
+
+    /// The solve failed: undoes what [`rebase`](Self::rebase) changed outside the unknowns. The default
+    /// does nothing.
+    fn abandon_rebase(&mut self) {}
+
     /// Moves unknowns of a trial state `x`, reached from the iterate `from`, that run towards a
     /// singularity of the problem's parametrisation across it, to where the descent can continue (for
     /// example a rotation update whose parameter grows without bound as the rotation approaches a half

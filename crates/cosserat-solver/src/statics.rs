@@ -107,6 +107,8 @@ pub struct StaticError {
     pub iterations: usize,
     /// Bisections of the failed level.
     pub bisections: usize,
+    /// Intermediate levels reached on the way to it.
+    pub sub_levels: usize,
 }
 
 /// Advances a potential through increasing load levels, one requested level at a time, from the
@@ -236,6 +238,7 @@ impl QuasiStaticStepper {
                 error,
                 iterations,
                 bisections,
+                sub_levels,
             };
             let attempt = self
                 .attempt(potential, lambda, apply)
@@ -403,6 +406,7 @@ pub fn solve_quasi_static(
         error: error.into(),
         iterations: 0,
         bisections: 0,
+        sub_levels: 0,
     })?;
     let mut reports = Vec::with_capacity(levels.len());
     for &target in levels {

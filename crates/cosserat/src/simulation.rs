@@ -442,6 +442,7 @@ impl Simulation {
                 Ok(report) => report,
                 Err(e) => {
                     self.stats.reductions += e.bisections;
+                    self.stats.intermediate_levels += e.sub_levels;
                     return Ok(Outcome::failed_level(&e));
                 }
             };

@@ -314,3 +314,62 @@ fn predicted_strains_change_only_the_second_order_terms_of_the_hessian() {
         assert_eq!(cleared, exact, "{interpolation:?}");
     }
 }
+
+/// Rebasing re-expresses a state whose rotation updates passed a quarter turn: the same energy and
+/// the same forces on the positions (the same configuration, quadrature points' rotations included),
+/// zero angular velocities, and the step's start back after a restore. Nothing is rebased where a
+/// term reads the angular velocities (a torque) or below a quarter turn.
+#[test]
+fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut p = strip(ElementPair::Tri6Tri3, 2, 1, ShellModel::Shell, true).potential;
+    let parts = &mut p.parts;
+    for q in parts.state.q.iter_mut().chain(parts.state.q_points.iter_mut()) {
+        *q = quaternion_from_matrix(&exp_map(&random_vec(&mut rng, 0.3)));
+    }
+    let n_rot = parts.layout.n_rot_nodes;
+    parts.rotation_penalties.push(RotationPenalty {
+        label: "d3".into(),
+        nodes: vec![0, n_rot - 1],
+        targets: vec![exp_map(&Vector3::new(0.2, -0.1, 0.3)), Matrix3::identity()],
+        columns: [true, false, true],
+        stiffness: 10.0,
+    });
+    parts.loads.forces[3] = Vector3::new(0.1, -0.2, 0.3);
+    let layout = parts.layout;
+    let dt = p.dt();
+    let n = p.n_dofs();
+    let mut u: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
+    let quarter = |u: &[f64], k: usize| dt * layout.omega(u, k).norm();
+    // One node turns by 2 arctan(5/2) ≈ 136° within the step, the others by a few degrees.
+    let b = 3 * layout.rot_block(1);
+    let w = Vector3::new(1.0, -2.0, 0.5).normalize() * (5.0 / dt);
+    u[b..b + 3].copy_from_slice(w.as_slice());
+    assert!(quarter(&u, 0) < 2.0 && quarter(&u, 1) > 2.0);
+    let start = (p.parts.state.q.clone(), p.parts.state.q_points.clone());
+    let mut g = vec![0.0; n];
+    let e = p.gradient(&u, &mut g).unwrap();
+    let mut rebased = u.clone();
+    assert!(p.rebase_rotations(&mut rebased));
+    let mut g_rebased = vec![0.0; n];
+    let e_rebased = p.gradient(&rebased, &mut g_rebased).unwrap();
+    assert!((e_rebased - e).abs() <= 1e-12 * e.abs(), "{e_rebased} against {e}");
+    let positions = 3 * layout.n_disp_nodes;
+    assert_eq!(rebased[..positions], u[..positions]);
+    assert!(rebased[positions..].iter().all(|w| *w == 0.0));
+    let scale = g.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+    for (a, b) in g[..positions].iter().zip(&g_rebased[..positions]) {
+        assert!((a - b).abs() <= 1e-10 * scale, "position force {b} against {a}");
+    }
+    p.restore_step_start();
+    assert_eq!((&p.parts.state.q, &p.parts.state.q_points), (&start.0, &start.1));
+    assert_eq!(p.value(&u).unwrap(), e);
+    // Below a quarter turn, and with a torque on the shell, the unknowns stay.
+    let mut small = u.clone();
+    small[b..b + 3].iter_mut().for_each(|w| *w *= 0.3);
+    assert!(!p.rebase_rotations(&mut small));
+    p.parts.loads.torques[2] = Vector3::new(0.0, 0.0, 1e-3);
+    let mut loaded = u.clone();
+    assert!(!p.rebase_rotations(&mut loaded));
+    assert_eq!(loaded, u);
+}

@@ -275,6 +275,9 @@ impl NewtonSolver {
             measured_scale,
         };
         let result = self.minimise(problem, x, &mut run);
+        if result.is_err() {
+            problem.abandon_rebase();
+        }
         // A solve that stopped where it started lets the next one evaluate the gradient alone first, so
         // that a state at rest does not pay for a Hessian; any other starts with the Hessian, whose
         // assembly brings the first gradient (one gradient evaluation less per solve).
@@ -364,6 +367,15 @@ impl NewtonSolver {
                         residuals: Vec::new(),
                     });
                 }
+            }
+            if !matches!(step, Step::Failed) && problem.rebase(x) {
+                // The same state in other unknowns: its residual, gradient and Hessian are evaluated
+                // anew, and the residual of the old unknowns does not count.
+                if at.gradient {
+                    run.residuals.pop();
+                }
+                at.gradient = false;
+                run.reuse = false;
             }
         }
     }

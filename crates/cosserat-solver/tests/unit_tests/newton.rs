@@ -10,7 +10,7 @@ use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 use nalgebra::DVector;
 
 use super::fixtures::{block_grid, random_vector, rng};
-use super::toy::{Quadratic, Rosenbrock, Scalar, SpringChain, pattern_of};
+use super::toy::{HalfTurn, Quadratic, Rosenbrock, Scalar, SpringChain, pattern_of};
 
 /// The reference code's Newton: absolute tolerance 1e-7, indefinite Hessians factorised as they are.
 fn reference_newton() -> NewtonSettings {
@@ -763,4 +763,41 @@ fn a_solve_from_a_prediction_measures_the_load_scale_at_the_unpredicted_start() 
         solver.solve(&mut problem, &mut x).unwrap().convergence.load_scale,
         plain.convergence.load_scale
     );
+}
+
+/// An angle 0.01° short of a half turn, reached by a Cayley-type update: rebased at the angles it
+/// reaches, Newton converges in a few iterations; the update alone must send its unknown towards
+/// 2 tan(89.995°) ≈ 2.3e4 along a vanishing derivative. A failed solve puts the base back.
+#[test]
+fn rebasing_takes_an_update_past_its_singularity() {
+    let target = (180.0_f64 - 0.01).to_radians();
+    let settings = NewtonSettings {
+        tolerance: Tolerance::Absolute(1e-12),
+        ..NewtonSettings::default()
+    };
+    let mut rebased = HalfTurn::new(target, true);
+    let mut x = [0.0];
+    let report = solve(&mut rebased, &mut x, settings).unwrap();
+    let reached = rebased.base + 2.0 * (0.5 * x[0]).atan();
+    assert!((reached - target).abs() < 1e-10, "{reached} against {target}");
+    assert!(rebased.rebased >= 1);
+    assert_eq!(report.residuals.len(), report.iterations + 1);
+    assert!(report.iterations <= 10, "{} iterations", report.iterations);
+    let mut alone = HalfTurn::new(target, false);
+    let mut x = [0.0];
+    let without = solve(&mut alone, &mut x, settings);
+    assert!(
+        without.as_ref().map_or(true, |r| r.iterations > 2 * report.iterations),
+        "without rebasing: {:?} iterations",
+        without.map(|r| r.iterations)
+    );
+    let mut failing = HalfTurn::new(target, true);
+    let mut x = [0.0];
+    let short = NewtonSettings {
+        max_iterations: 2,
+        ..settings
+    };
+    assert!(solve(&mut failing, &mut x, short).is_err());
+    assert!(failing.rebased >= 1, "the failed solve never rebased");
+    assert_eq!(failing.base, failing.start);
 }

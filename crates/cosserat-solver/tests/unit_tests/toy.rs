@@ -291,3 +291,71 @@ where
         self.max_fraction
     }
 }
+
+/// An angle reached by a Cayley-type update of one unknown, `φ = φ₀ + 2 arctan(t/2)`, with the energy
+/// `½ (φ − φ*)²`: from `φ₀` the update turns less than a half turn, and its derivative vanishes as it
+/// approaches one. With `rebases`, [`NewtonProblem::rebase`] moves `φ₀` to the angle reached and `t` to
+/// zero once `|t| > 2` (a quarter turn), as the shells' rotation updates do.
+pub struct HalfTurn {
+    pub base: f64,
+    pub target: f64,
+    pub rebases: bool,
+    /// The base at the start of the solve, restored by [`NewtonProblem::abandon_rebase`].
+    pub start: f64,
+    pub rebased: usize,
+    pub pattern: SymbolicSparseColMat<usize>,
+}
+
+impl HalfTurn {
+    pub fn new(target: f64, rebases: bool) -> Self {
+        Self {
+            base: 0.0,
+            target,
+            rebases,
+            start: 0.0,
+            rebased: 0,
+            pattern: pattern_of(1, [(0, 0)]),
+        }
+    }
+
+    /// The angle and its first two derivatives in `t`.
+    fn angle(&self, t: f64) -> (f64, f64, f64) {
+        let s = 1.0 + 0.25 * t * t;
+        (self.base + 2.0 * (0.5 * t).atan(), 1.0 / s, -0.5 * t / (s * s))
+    }
+}
+
+impl NewtonProblem for HalfTurn {
+    fn n_dofs(&self) -> usize {
+        1
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        let (phi, _, _) = self.angle(x[0]);
+        Ok(0.5 * (phi - self.target).powi(2))
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        let (phi, d, _) = self.angle(x[0]);
+        g[0] = (phi - self.target) * d;
+        self.value(x)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        let (phi, d, d2) = self.angle(x[0]);
+        h[0] = d * d + (phi - self.target) * d2;
+        self.gradient(x, g)
+    }
+    fn rebase(&mut self, x: &mut [f64]) -> bool {
+        if !self.rebases || x[0].abs() <= 2.0 {
+            return false;
+        }
+        self.base = self.angle(x[0]).0;
+        x[0] = 0.0;
+        self.rebased += 1;
+        true
+    }
+    fn abandon_rebase(&mut self) {
+        self.base = self.start;
+    }
+}
