@@ -704,7 +704,10 @@ impl IncrementalPotential {
             });
         }
         for s in &mut self.parts.shells {
-            s.commit(state, &layout, u, dt);
+            s.rebase_rotations(state, &layout, u, dt);
+        }
+        for t in &mut self.terms {
+            t.rebase_rotations(state, &layout, u, dt);
         }
         for k in 0..layout.n_rot_nodes {
             state.q[k] = quaternion_update(&state.q[k], &layout.omega(u, k), dt);

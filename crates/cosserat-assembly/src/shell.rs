@@ -577,6 +577,11 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
     }
 
+    fn rebase_rotations(&mut self, state: &mut SystemState, layout: &DofLayout, u: &[f64], dt: f64) {
+        // The shell's commit advances its point rotations and nothing else.
+        self.commit(state, layout, u, dt);
+    }
+
     fn active_energy_terms(&self) -> Vec<String> {
         self.disc.rest.active_terms.clone()
     }

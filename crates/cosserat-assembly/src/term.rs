@@ -126,6 +126,12 @@ pub trait PotentialTerm: Send + Sync + AsAny {
     /// rotations), with the converged unknowns.
     fn commit(&mut self, _state: &mut SystemState, _layout: &DofLayout, _u: &[f64], _dt: f64) {}
 
+    /// Moves the term's own rotation history (e.g. quadrature-point rotations) to the rotations that
+    /// the unknowns `u` reach, within a step and without advancing anything else
+    /// ([`IncrementalPotential::rebase_rotations`](crate::IncrementalPotential::rebase_rotations)).
+    /// The default keeps no rotation history.
+    fn rebase_rotations(&mut self, _state: &mut SystemState, _layout: &DofLayout, _u: &[f64], _dt: f64) {}
+
     /// Energy terms of the material model that this term evaluates, for the run summary.
     fn active_energy_terms(&self) -> Vec<String> {
         vec![self.name()]

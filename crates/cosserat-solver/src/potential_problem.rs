@@ -118,14 +118,6 @@ impl NewtonProblem for PotentialProblem<'_> {
         self.potential.clear_predicted_strains();
     }
 
-    /// A rotation node's update is the Cayley rotation `cay(Δt ω)`, whose angle `2 arctan(|Δt ω|/2)`
-    /// approaches a half turn as `|Δt ω|` grows without bound: a rotation just beyond a half turn about
-    /// `a` has its parameter at the far end of the opposite ray, `−a`. Massless rotations (no angular
-    /// inertia) can have to turn that far in one step, where the rotation field snaps; the descent then
-    /// runs out along `+a` for ever. Reflecting `Δt ω ← −Δt ω` when a step moves `|Δt ω|` outwards
-    /// beyond 1000 (an angle of 179.885°) turns the rotation from `φ` to `2π − φ` about `a`: across the
-    /// half turn by `2(π − φ)`, where the descent can reach the minimum. A step that moves
-    /// inwards is left alone, so that an iterate just across can move on without being sent back.
     fn rebase(&mut self, x: &mut [f64]) -> bool {
         self.potential.rebase_rotations(x)
     }
@@ -134,6 +126,16 @@ impl NewtonProblem for PotentialProblem<'_> {
         self.potential.restore_step_start();
     }
 
+    /// A rotation node's update is the Cayley rotation `cay(Δt ω)`, whose angle `2 arctan(|Δt ω|/2)`
+    /// approaches a half turn as `|Δt ω|` grows without bound: a rotation just beyond a half turn about
+    /// `a` has its parameter at the far end of the opposite ray, `−a`. Massless rotations (no angular
+    /// inertia) can have to turn that far in one step, where the rotation field snaps; the descent then
+    /// runs out along `+a` for ever. Reflecting `Δt ω ← −Δt ω` when a step moves `|Δt ω|` outwards
+    /// beyond 1000 (an angle of 179.885°) turns the rotation from `φ` to `2π − φ` about `a`: across the
+    /// half turn by `2(π − φ)`, where the descent can reach the minimum. A step that moves
+    /// inwards is left alone, so that an iterate just across can move on without being sent back.
+    /// Where the rotations can be rebased ([`IncrementalPotential::rebase_rotations`]) a quarter turn
+    /// rebases them long before; the reflection serves the potentials that cannot be.
     fn cross_singularities(&self, from: &[f64], x: &mut [f64]) {
         let parts = &self.potential.parts;
         let dt = self.potential.dt();

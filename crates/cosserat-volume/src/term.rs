@@ -338,6 +338,11 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> Potentia
         }
     }
 
+    fn rebase_rotations(&mut self, state: &mut SystemState, layout: &DofLayout, u: &[f64], dt: f64) {
+        // The commit advances the point rotations and nothing else.
+        self.commit(state, layout, u, dt);
+    }
+
     fn active_energy_terms(&self) -> Vec<String> {
         let mut names = vec!["micropolar_stretch".to_string()];
         if self.disc.moduli.length_scale > 0.0 && self.disc.moduli.curvature_coefficients.iter().any(|&b| b > 0.0) {

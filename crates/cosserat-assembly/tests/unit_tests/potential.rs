@@ -14,6 +14,17 @@ fn random_vec(rng: &mut ChaCha8Rng, s: f64) -> Vector3<f64> {
     Vector3::from_fn(|_, _| rng.random_range(-s..s))
 }
 
+/// A penalty on the first and third directors of the first and last rotation nodes, one target tilted.
+fn d3_penalty(n_rot: usize) -> RotationPenalty {
+    RotationPenalty {
+        label: "d3".into(),
+        nodes: vec![0, n_rot - 1],
+        targets: vec![exp_map(&Vector3::new(0.2, -0.1, 0.3)), Matrix3::identity()],
+        columns: [true, false, true],
+        stiffness: 10.0,
+    }
+}
+
 /// Perturbs the state and adds every kind of boundary term and prescribed rest field.
 fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
     let parts = &mut p.parts;
@@ -38,13 +49,7 @@ fn decorate(p: &mut IncrementalPotential, rng: &mut ChaCha8Rng) {
         active: [true, false, true],
         stiffness: 1e3,
     });
-    parts.rotation_penalties.push(RotationPenalty {
-        label: "d3".into(),
-        nodes: vec![0, n_rot - 1],
-        targets: vec![exp_map(&Vector3::new(0.2, -0.1, 0.3)), Matrix3::identity()],
-        columns: [true, false, true],
-        stiffness: 10.0,
-    });
+    parts.rotation_penalties.push(d3_penalty(n_rot));
     parts.omega_penalties.push(AngularVelocityPenalty {
         label: "spin".into(),
         nodes: vec![1],
@@ -328,13 +333,7 @@ fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
         *q = quaternion_from_matrix(&exp_map(&random_vec(&mut rng, 0.3)));
     }
     let n_rot = parts.layout.n_rot_nodes;
-    parts.rotation_penalties.push(RotationPenalty {
-        label: "d3".into(),
-        nodes: vec![0, n_rot - 1],
-        targets: vec![exp_map(&Vector3::new(0.2, -0.1, 0.3)), Matrix3::identity()],
-        columns: [true, false, true],
-        stiffness: 10.0,
-    });
+    parts.rotation_penalties.push(d3_penalty(n_rot));
     parts.loads.forces[3] = Vector3::new(0.1, -0.2, 0.3);
     let layout = parts.layout;
     let dt = p.dt();
