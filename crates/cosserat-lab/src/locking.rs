@@ -227,18 +227,25 @@ fn advice(results: &[(Row, Vec<Cell>)]) -> Result<String> {
         )?;
     }
     let thinnest = |row: &Row, cells: &[Cell]| thinnest_within(cells).map(|r| (r, row.nx * row.ny));
-    // The best row reaches the thinnest shell within 1 %, and among equals has the fewest quads.
-    let best = results
+    // The best rows reach the thinnest shell within 1 %, and among equals have the fewest quads; rows
+    // that tie are all named.
+    let reached: Vec<(&Row, (f64, usize))> = results
         .iter()
         .filter_map(|(row, cells)| thinnest(row, cells).map(|t| (row, t)))
-        .min_by(|(_, (ra, na)), (_, (rb, nb))| ra.total_cmp(rb).then(na.cmp(nb)));
-    if let Some((row, (r, _))) = best {
+        .collect();
+    let best = reached
+        .iter()
+        .map(|(_, t)| *t)
+        .min_by(|(ra, na), (rb, nb)| ra.total_cmp(rb).then(na.cmp(nb)));
+    if let Some((r, quads)) = best {
+        let rows: Vec<&Row> = reached.iter().filter(|(_, t)| *t == (r, quads)).map(|(row, _)| *row).collect();
+        let names: Vec<String> = rows.iter().map(|row| format!("**{}**", row.label())).collect();
         writeln!(
             md,
-            "\nThe thinnest strip within 1 % on the fewest quads: **{}** on {}×{} (to h/L = {r:.0e}). A pair or interpolation that locks needs elements of a few thicknesses where the shell bends; refine as h/L decreases and check a thin shell's result on a second, finer mesh (docs/model-notes.md compares the interpolations on curved shells, where they differ).",
-            row.label(),
-            row.nx,
-            row.ny
+            "\nThe thinnest strip within 1 % on the fewest quads: {} on {}×{} (to h/L = {r:.0e}). A pair or interpolation that locks needs elements of a few thicknesses where the shell bends; refine as h/L decreases and check a thin shell's result on a second, finer mesh (docs/model-notes.md compares the interpolations on curved shells, where they differ).",
+            names.join(" and "),
+            rows[0].nx,
+            rows[0].ny
         )?;
     }
     Ok(md)
