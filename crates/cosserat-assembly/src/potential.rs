@@ -692,7 +692,7 @@ impl IncrementalPotential {
     pub fn rebase_rotations(&mut self, u: &mut [f64]) -> bool {
         let (layout, dt) = (self.parts.layout, self.dt);
         let parameter = |k: usize| dt * layout.omega(u, k).norm();
-        if !self.rotations_are_configuration_only() || !(0..layout.n_rot_nodes).any(|k| parameter(k) > REBASE_PARAMETER)
+        if !(0..layout.n_rot_nodes).any(|k| parameter(k) > REBASE_PARAMETER) || !self.rotations_are_configuration_only()
         {
             return false;
         }
@@ -739,7 +739,9 @@ impl IncrementalPotential {
     }
 
     /// Advances the state with converged unknowns `u` (model.md §1.7): positions, velocities, nodal and
-    /// quadrature-point rotations, angular velocities.
+    /// quadrature-point rotations, angular velocities. After a rebase the angular velocities are those
+    /// of the update since the rebase: they start the next step's Newton iteration, and a snap's half
+    /// turn repeated there would send it the wrong way.
     pub fn commit(&mut self, u: &[f64]) {
         let layout = self.parts.layout;
         let dt = self.dt;

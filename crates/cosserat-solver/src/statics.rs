@@ -126,6 +126,17 @@ pub struct QuasiStaticStepper {
     limit: Option<f64>,
 }
 
+/// What the solves towards one requested level have cost so far.
+#[derive(Debug, Clone, Copy, Default)]
+struct Tally {
+    bisections: usize,
+    sub_levels: usize,
+    /// Newton iterations, failed solves' included.
+    iterations: usize,
+    /// Newton iterations of failed solves.
+    wasted: usize,
+}
+
 /// The outcome of one Newton solve towards a level.
 enum Attempt {
     Converged(NewtonReport),
@@ -228,51 +239,49 @@ impl QuasiStaticStepper {
         if self.settings.increment_control.is_none() {
             self.limit = None;
         }
+        // No more increments per level than bisection alone could make.
         let smallest = (target - level_start) * 0.5f64.powi(self.settings.max_bisections as i32);
-        let (mut bisections, mut sub_levels, mut total_iterations, mut wasted_iterations) = (0, 0, 0, 0);
+        let mut tally = Tally::default();
         loop {
             let (from, lambda) = (self.current, next_level(self.current, target, self.limit));
-            let fail = |error: LevelFailure, iterations: usize, bisections: usize| StaticError {
+            let fail = |error: LevelFailure, tally: &Tally| StaticError {
                 from,
                 to: lambda,
                 error,
-                iterations,
-                bisections,
-                sub_levels,
+                iterations: tally.iterations,
+                bisections: tally.bisections,
+                sub_levels: tally.sub_levels,
             };
-            let attempt = self
-                .attempt(potential, lambda, apply)
-                .map_err(|e| fail(e, total_iterations, bisections))?;
+            let attempt = self.attempt(potential, lambda, apply).map_err(|e| fail(e, &tally))?;
             match attempt {
                 Attempt::Converged(newton) => {
-                    total_iterations += newton.iterations;
-                    let whole = from == level_start && lambda == target;
+                    tally.iterations += newton.iterations;
                     let step = Increment {
                         length: lambda - from,
                         iterations: newton.iterations,
-                        whole,
+                        whole: from == level_start && lambda == target,
                     };
                     self.limit = adapted_limit(self.settings.increment_control, self.limit, step, smallest);
                     if lambda == target {
                         return Ok(LoadLevelReport {
                             load_factor: target,
                             newton,
-                            bisections,
-                            sub_levels,
-                            total_iterations,
-                            wasted_iterations,
+                            bisections: tally.bisections,
+                            sub_levels: tally.sub_levels,
+                            total_iterations: tally.iterations,
+                            wasted_iterations: tally.wasted,
                         });
                     }
-                    sub_levels += 1;
+                    tally.sub_levels += 1;
                 }
                 Attempt::Failed(error) => {
                     let iterations = error.residuals().len().saturating_sub(1);
-                    total_iterations += iterations;
-                    wasted_iterations += iterations;
-                    if bisections >= self.settings.max_bisections {
-                        return Err(fail(error.into(), total_iterations, bisections));
+                    tally.iterations += iterations;
+                    tally.wasted += iterations;
+                    if tally.bisections >= self.settings.max_bisections {
+                        return Err(fail(error.into(), &tally));
                     }
-                    bisections += 1;
+                    tally.bisections += 1;
                     // A failed predictor is not trusted for the bisected step.
                     self.previous = None;
                     self.limit = Some(0.5 * (lambda - from));

@@ -320,12 +320,9 @@ fn predicted_strains_change_only_the_second_order_terms_of_the_hessian() {
     }
 }
 
-/// Rebasing re-expresses a state whose rotation updates passed a quarter turn: the same energy and
-/// the same forces on the positions (the same configuration, quadrature points' rotations included),
-/// zero angular velocities, and the step's start back after a restore. Nothing is rebased where a
-/// term reads the angular velocities (a torque) or below a quarter turn.
-#[test]
-fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
+/// A curved strip with random start rotations and a director penalty, and unknowns in which rotation
+/// node 1 turns by 2 arctan(5/2) ≈ 136° within the step, the others by a few degrees.
+fn strip_turning_past_a_quarter_turn() -> (IncrementalPotential, Vec<f64>) {
     let mut rng = ChaCha8Rng::seed_from_u64(11);
     let mut p = strip(ElementPair::Tri6Tri3, 2, 1, ShellModel::Shell, true).potential;
     let parts = &mut p.parts;
@@ -335,16 +332,24 @@ fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
     let n_rot = parts.layout.n_rot_nodes;
     parts.rotation_penalties.push(d3_penalty(n_rot));
     parts.loads.forces[3] = Vector3::new(0.1, -0.2, 0.3);
-    let layout = parts.layout;
-    let dt = p.dt();
-    let n = p.n_dofs();
-    let mut u: Vec<f64> = (0..n).map(|_| rng.random_range(-0.5..0.5)).collect();
-    let quarter = |u: &[f64], k: usize| dt * layout.omega(u, k).norm();
-    // One node turns by 2 arctan(5/2) ≈ 136° within the step, the others by a few degrees.
-    let b = 3 * layout.rot_block(1);
-    let w = Vector3::new(1.0, -2.0, 0.5).normalize() * (5.0 / dt);
+    let mut u: Vec<f64> = (0..p.n_dofs()).map(|_| rng.random_range(-0.5..0.5)).collect();
+    let b = 3 * p.parts.layout.rot_block(1);
+    let w = Vector3::new(1.0, -2.0, 0.5).normalize() * (5.0 / p.dt());
     u[b..b + 3].copy_from_slice(w.as_slice());
-    assert!(quarter(&u, 0) < 2.0 && quarter(&u, 1) > 2.0);
+    (p, u)
+}
+
+/// Rebasing re-expresses a state whose rotation updates passed a quarter turn: the same energy and
+/// the same forces on the positions (the same configuration, quadrature points' rotations included),
+/// zero angular velocities, and the step's start back after a restore. Committed, it leaves the
+/// rotations the step would have left in one update. Nothing is rebased where a
+/// term reads the angular velocities (a torque) or below a quarter turn.
+#[test]
+fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
+    let (mut p, u) = strip_turning_past_a_quarter_turn();
+    let (layout, dt, n) = (p.parts.layout, p.dt(), p.n_dofs());
+    let parameter = |u: &[f64], k: usize| dt * layout.omega(u, k).norm();
+    assert!(parameter(&u, 0) < 2.0 && parameter(&u, 1) > 2.0);
     let start = (p.parts.state.q.clone(), p.parts.state.q_points.clone());
     let mut g = vec![0.0; n];
     let e = p.gradient(&u, &mut g).unwrap();
@@ -364,6 +369,7 @@ fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
     assert_eq!((&p.parts.state.q, &p.parts.state.q_points), (&start.0, &start.1));
     assert_eq!(p.value(&u).unwrap(), e);
     // Below a quarter turn, and with a torque on the shell, the unknowns stay.
+    let b = 3 * layout.rot_block(1);
     let mut small = u.clone();
     small[b..b + 3].iter_mut().for_each(|w| *w *= 0.3);
     assert!(!p.rebase_rotations(&mut small));
@@ -371,4 +377,15 @@ fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
     let mut loaded = u.clone();
     assert!(!p.rebase_rotations(&mut loaded));
     assert_eq!(loaded, u);
+    // The same step committed in one update and after a rebase.
+    let (mut whole, u) = strip_turning_past_a_quarter_turn();
+    let (mut split, mut u_split) = strip_turning_past_a_quarter_turn();
+    whole.commit(&u);
+    assert!(split.rebase_rotations(&mut u_split));
+    split.commit(&u_split);
+    let (a, b) = (&whole.parts.state, &split.parts.state);
+    let close = |x: &[nalgebra::Quaternion<f64>], y: &[nalgebra::Quaternion<f64>]| {
+        x.iter().zip(y).all(|(x, y)| (x.coords - y.coords).amax() < 1e-14)
+    };
+    assert!(close(&a.q, &b.q) && close(&a.q_points, &b.q_points));
 }
