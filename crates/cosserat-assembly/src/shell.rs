@@ -172,7 +172,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 .collect();
             let node_r = std::array::from_fn(|k| &node_r[k]);
             let strains = match self.disc.rest.element_tying_maps(e) {
-                Some(maps) => assumed_kernel::element_strains(&points, node_r, maps, self.disc.axl),
+                Some(maps) => {
+                    assumed_kernel::element_strains(&points, node_r, maps, &self.disc.rest.tying_twins, self.disc.axl)
+                }
                 None => {
                     let projection = self.disc.rest.projections.get(e);
                     projected::element_strains(&points, node_r, projection, self.disc.axl)
@@ -408,7 +410,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 .collect();
             let volume = self.disc.volume.as_ref();
             let coupling = match (maps, projection) {
-                (Some(maps), _) => Coupling::Tying(maps),
+                (Some(maps), _) => Coupling::Tying(maps, self.disc.rest.tying_twins),
                 (None, Some(projection)) => Coupling::Projection(projection),
                 (None, None) => unreachable!("checked above"),
             };
@@ -447,7 +449,14 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         local: &mut LocalDerivatives<NL>,
     ) {
         if let Some(maps) = self.disc.rest.element_tying_maps(e) {
-            self.coupled_derivatives(e, eval, Coupling::Tying(maps), with_hessian, out, local);
+            self.coupled_derivatives(
+                e,
+                eval,
+                Coupling::Tying(maps, self.disc.rest.tying_twins),
+                with_hessian,
+                out,
+                local,
+            );
             return;
         }
         if let Some(projection) = self.disc.rest.projections.get(e) {

@@ -61,6 +61,41 @@ pub struct TyingMap {
     pub own: SMatrix<f64, TIED, TIED>,
 }
 
+/// The tying points that lie on a quadrature point of the element's rule (the interior degree-2 rule's
+/// points under the paper's Tri6/Tri3 rule). Such a point has the quadrature point's position and
+/// rotation, so its strains, stresses and Jacobian are read at the quadrature point instead of being
+/// evaluated twice.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct TyingTwins([Option<u8>; N_TYING]);
+
+impl TyingTwins {
+    /// No tying point on a quadrature point.
+    pub const NONE: Self = Self([None; N_TYING]);
+
+    /// The twins of the tying points among the `quadrature` points of a rule (reference coordinates).
+    pub fn of_rule(quadrature: &[[f64; 2]]) -> Self {
+        let points = tying_points();
+        Self(std::array::from_fn(|t| {
+            let [r, s] = points[t];
+            quadrature
+                .iter()
+                .position(|q| (q[0] - r).abs() <= 1e-14 && (q[1] - s).abs() <= 1e-14)
+                .and_then(|q| u8::try_from(q).ok())
+        }))
+    }
+
+    /// Tying point `t` coincides with a quadrature point.
+    pub fn is_twin(&self, t: usize) -> bool {
+        self.0[t].is_some()
+    }
+
+    /// The index, among the element's points (quadrature points first, then the tying points from
+    /// `first_tying`), of the point whose strains tying point `t` takes.
+    pub fn source(&self, t: usize, first_tying: usize) -> usize {
+        self.0[t].map_or(first_tying + t, usize::from)
+    }
+}
+
 /// Which strain parts take assumed values (the others keep their point values).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct AssumedParts {

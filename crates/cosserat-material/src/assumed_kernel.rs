@@ -12,9 +12,10 @@
 //! `M_p` plus its own through `K_p`, and its `Γ̂` columns from its own.
 //!
 //! The element's points are its quadrature points followed by its [`N_TYING`] tying points, whose
-//! weights are zero.
+//! weights are zero. A tying point that lies on a quadrature point ([`TyingTwins`]) takes that point's
+//! strains, so its stress is added to the quadrature point's and its Jacobian is the quadrature point's.
 
-use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap};
+use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap, TyingTwins};
 use crate::kernel::strain_vector;
 use crate::model::AxlVariant;
 use crate::projected::{ElementPoint, ValuePoint, add_first_order};
@@ -22,14 +23,14 @@ use crate::strain_space::StrainVector;
 use nalgebra::{Matrix3, SMatrix, SVector};
 
 /// The tied strains of an element from the raw strains of its points (tying points last).
-fn tied(strains: &[StrainVector]) -> SVector<f64, N_TIED> {
+fn tied(strains: &[StrainVector], twins: &TyingTwins) -> SVector<f64, N_TIED> {
     let first = strains.len() - N_TYING;
-    SVector::from_fn(|i, _| strains[first + i / TIED][i % TIED])
+    SVector::from_fn(|i, _| strains[twins.source(i / TIED, first)][i % TIED])
 }
 
 /// The assumed strains of the quadrature points from the raw strains of all points.
-fn assumed(strains: &[StrainVector], maps: &[TyingMap]) -> Vec<StrainVector> {
-    let z = tied(strains);
+fn assumed(strains: &[StrainVector], maps: &[TyingMap], twins: &TyingTwins) -> Vec<StrainVector> {
+    let z = tied(strains, twins);
     strains
         .iter()
         .zip(maps)
@@ -48,13 +49,22 @@ pub fn element_strains<const NU: usize, const NR: usize>(
     points: &[ValuePoint<'_, NU, NR>],
     node_r: [&Matrix3<f64>; NR],
     maps: &[TyingMap],
+    twins: &TyingTwins,
     variant: AxlVariant,
 ) -> Vec<StrainVector> {
+    let first = points.len() - N_TYING;
     let strains: Vec<StrainVector> = points
         .iter()
-        .map(|p| strain_vector(p.shape, &p.f_hat, &p.r, node_r, p.offset, variant))
+        .enumerate()
+        .map(|(n, p)| {
+            // A twin's strains are read at its quadrature point.
+            if n >= first && twins.is_twin(n - first) {
+                return StrainVector::zeros();
+            }
+            strain_vector(p.shape, &p.f_hat, &p.r, node_r, p.offset, variant)
+        })
         .collect();
-    assumed(&strains, maps)
+    assumed(&strains, maps, twins)
 }
 
 /// The derivatives `σ̂_q` of the element energy with respect to the raw `strains` of all its points,
@@ -63,8 +73,9 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
     points: &[ElementPoint<'_, NU, NR>],
     strains: &[StrainVector],
     maps: &[TyingMap],
+    twins: &TyingTwins,
 ) -> (f64, Vec<StrainVector>) {
-    let smoothed = assumed(strains, maps);
+    let smoothed = assumed(strains, maps, twins);
     let mut value = 0.0;
     let mut sigma = vec![StrainVector::zeros(); points.len()];
     let mut tied_stress = SVector::<f64, N_TIED>::zeros();
@@ -77,9 +88,9 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
             .copy_from(&m.own.tr_mul(&ws.fixed_rows::<TIED>(0)));
     }
     let first = points.len() - N_TYING;
-    for (t, out) in sigma[first..].iter_mut().enumerate() {
-        out.fixed_rows_mut::<TIED>(0)
-            .copy_from(&tied_stress.fixed_rows::<TIED>(TIED * t));
+    for t in 0..N_TYING {
+        let mut out = sigma[twins.source(t, first)].fixed_rows_mut::<TIED>(0);
+        out += tied_stress.fixed_rows::<TIED>(TIED * t);
     }
     (value, sigma)
 }
@@ -89,6 +100,7 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
     points: &[ElementPoint<'_, NU, NR>],
     jacobians: &[SMatrix<f64, NE, 12>],
     maps: &[TyingMap],
+    twins: &TyingTwins,
     h: &mut SMatrix<f64, NE, NE>,
 ) {
     let first = points.len() - N_TYING;
@@ -98,7 +110,8 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
         let mut tied = g.fixed_columns::<TIED>(0) * m.own.transpose();
         // The maps' blocks are sparse (a membrane tie reads only the tangential entries, a shear or
         // drilling mean only its own), so they are applied entry by entry.
-        for (t, jt) in jacobians[first..].iter().enumerate() {
+        for t in 0..N_TYING {
+            let jt = &jacobians[twins.source(t, first)];
             let block = m.tied.fixed_columns::<TIED>(TIED * t);
             for j in 0..TIED {
                 for i in 0..TIED {

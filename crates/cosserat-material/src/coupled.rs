@@ -6,7 +6,7 @@
 //! (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` differ between the treatments, and they live in their
 //! modules.
 
-use crate::assumed::{N_TYING, TIED, TyingMap};
+use crate::assumed::{N_TYING, TIED, TyingMap, TyingTwins};
 use crate::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper};
 use crate::kernel::{
     LocalDerivatives, add_second_order_terms, gradient_from_stress, point_strains, strain_jacobian, stress_of,
@@ -37,8 +37,9 @@ pub enum Coupling<'a> {
     /// The stabilised projection: `s̃_p = s_p − B (s_p − s̄)` over the element's quadrature points.
     Projection(&'a StrainProjection),
     /// The assumed strains: the quadrature points' tying maps; the element's points are its
-    /// quadrature points followed by its tying points (weight zero).
-    Tying(&'a [TyingMap]),
+    /// quadrature points followed by its tying points (weight zero), of which the twins take their
+    /// quadrature points' strains.
+    Tying(&'a [TyingMap], TyingTwins),
 }
 
 impl Coupling<'_> {
@@ -51,7 +52,7 @@ impl Coupling<'_> {
     ) -> Vec<StrainVector> {
         match self {
             Self::Projection(p) => projected::element_strains(points, node_r, Some(p), variant),
-            Self::Tying(maps) => assumed_kernel::element_strains(points, node_r, maps, variant),
+            Self::Tying(maps, twins) => assumed_kernel::element_strains(points, node_r, maps, &twins, variant),
         }
     }
 
@@ -89,7 +90,12 @@ impl Coupling<'_> {
         let (value, sigma, xs) = self.stresses(points, variant);
         out.value = value;
         out.gradient.fill(0.0);
-        for ((p, sg), x) in points.iter().zip(&sigma).zip(xs) {
+        let unused = self.unused_tying_points();
+        let first_tying = points.len().saturating_sub(N_TYING);
+        for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
+            if self.is_unused(n, first_tying, &unused) {
+                continue;
+            }
             let st = stress_of(p.shape, &p.input, x, sg, variant);
             let mut g: SVector<f64, NL> = gradient_from_stress(p.shape, &p.input, &st);
             if let Some(m) = volume.filter(|_| p.shape.weight > 0.0) {
@@ -131,8 +137,9 @@ impl Coupling<'_> {
         let first_tying = points.len().saturating_sub(N_TYING);
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
             // A point no map reads has no stress, gradient or Hessian of its own (the centroid under
-            // moment ties): only its place in the Jacobian list is kept.
-            if matches!(self, Self::Tying(_)) && n >= first_tying && unused[n - first_tying] {
+            // moment ties, the twins of quadrature points): only its place in the Jacobian list is
+            // kept.
+            if self.is_unused(n, first_tying, &unused) {
                 if let FirstOrder::Tied(_, jacobians) = &mut first_order {
                     jacobians.push(SMatrix::zeros());
                 }
@@ -175,7 +182,11 @@ impl Coupling<'_> {
         match first_order {
             FirstOrder::Projected(projected) => projected.finish(&mut out.hessian),
             FirstOrder::Tied(maps, jacobians) => {
-                assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &mut out.hessian);
+                let twins = match self {
+                    Self::Tying(_, twins) => twins,
+                    Self::Projection(_) => TyingTwins::NONE,
+                };
+                assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &twins, &mut out.hessian);
             }
         }
         node_weights
@@ -199,7 +210,7 @@ impl Coupling<'_> {
             Self::Projection(projection) => {
                 FirstOrder::Projected(ProjectedFirstOrder::<NE>::new(projection, shared, dt))
             }
-            Self::Tying(maps) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
+            Self::Tying(maps, _) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
         }
     }
 
@@ -219,15 +230,23 @@ impl Coupling<'_> {
         hl += hv * f;
     }
 
-    /// Which of the element's tying points no tying map reads (none under the projection).
+    /// Which of the element's tying points are not evaluated: those no tying map reads and the twins
+    /// of quadrature points (none under the projection).
     fn unused_tying_points(self) -> [bool; N_TYING] {
         match self {
             Self::Projection(_) => [false; N_TYING],
-            Self::Tying(maps) => std::array::from_fn(|t| {
-                maps.iter()
-                    .all(|m| m.tied.fixed_columns::<TIED>(TIED * t).iter().all(|&x| x == 0.0))
+            Self::Tying(maps, twins) => std::array::from_fn(|t| {
+                twins.is_twin(t)
+                    || maps
+                        .iter()
+                        .all(|m| m.tied.fixed_columns::<TIED>(TIED * t).iter().all(|&x| x == 0.0))
             }),
         }
+    }
+
+    /// Point `n` of the element is a tying point that is not evaluated.
+    fn is_unused(self, n: usize, first_tying: usize, unused: &[bool; N_TYING]) -> bool {
+        matches!(self, Self::Tying(..)) && n >= first_tying && unused[n - first_tying]
     }
 
     /// The derivatives `σ̂_q` of the element's strain-quadratic energy with respect to the raw strains of
@@ -251,7 +270,7 @@ impl Coupling<'_> {
     ) -> (f64, Vec<StrainVector>) {
         match self {
             Self::Projection(projection) => projected::stresses(points, strains, projection),
-            Self::Tying(maps) => assumed_kernel::stresses(points, &strains, maps),
+            Self::Tying(maps, twins) => assumed_kernel::stresses(points, &strains, maps, &twins),
         }
     }
 
@@ -261,7 +280,7 @@ impl Coupling<'_> {
     fn stress_weight<const NU: usize, const NR: usize>(self, p: &ElementPoint<'_, NU, NR>) -> f64 {
         match self {
             Self::Projection(_) => p.shape.weight,
-            Self::Tying(_) => 1.0,
+            Self::Tying(..) => 1.0,
         }
     }
 
@@ -270,7 +289,7 @@ impl Coupling<'_> {
     fn volume_factor<const NU: usize, const NR: usize>(self, p: &ElementPoint<'_, NU, NR>) -> f64 {
         match self {
             Self::Projection(_) => 1.0,
-            Self::Tying(_) => p.shape.weight,
+            Self::Tying(..) => p.shape.weight,
         }
     }
 }

@@ -9,7 +9,8 @@
 //! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
 
 use crate::assumed::{
-    AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, stabilize_shear_and_drilling, tying_maps, tying_points,
+    AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, TyingTwins, stabilize_shear_and_drilling, tying_maps,
+    tying_points,
 };
 use crate::error::RestStateError;
 use crate::kernel::PointShape;
@@ -85,6 +86,8 @@ pub struct ShellRest<const NU: usize, const NR: usize> {
     /// The tying maps of each quadrature point under [`StrainInterpolation::Assumed`] (element-major,
     /// [`Self::quadrature_points_per_element`] per element; empty otherwise).
     pub tying_maps: Vec<TyingMap>,
+    /// The tying points that lie on quadrature points (the same for every element).
+    pub tying_twins: TyingTwins,
 }
 
 impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
@@ -261,6 +264,11 @@ where
         element_areas,
         projections,
         tying_maps: tying_map_list,
+        tying_twins: if tying.is_empty() {
+            TyingTwins::NONE
+        } else {
+            TyingTwins::of_rule(rule.points())
+        },
     })
 }
 

@@ -4,8 +4,9 @@
 
 use super::common;
 use super::coupled_element::{CoupledElement, check};
+use cosserat_fem::quadrature::QuadratureRule;
 use cosserat_geometry::Real;
-use cosserat_material::assumed::{N_TIED, N_TYING, TyingMap};
+use cosserat_material::assumed::{N_TIED, N_TYING, TyingMap, TyingTwins};
 use cosserat_material::coupled::Coupling;
 use nalgebra::SMatrix;
 use rand::Rng;
@@ -57,7 +58,55 @@ fn check_assumed<const NU: usize, const NR: usize, const NL: usize, const NE: us
             own: SMatrix::from_fn(|_, _| rng.random_range(-0.5..0.5)),
         })
         .collect();
-    check::<NU, NR, NL, NE>(&el, Coupling::Tying(&maps), |u| oracle(&el, &maps, u), seed);
+    check::<NU, NR, NL, NE>(
+        &el,
+        Coupling::Tying(&maps, TyingTwins::NONE),
+        |u| oracle(&el, &maps, u),
+        seed,
+    );
+}
+
+/// Tying points on quadrature points (the twins of the paper's Tri6/Tri3 rule) are read at their
+/// quadrature points instead of being evaluated: with the same position and rotation there, the kernel
+/// must still match the oracle, which evaluates every tying point.
+fn check_twins<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(seed: u64, curved: bool) {
+    let mut rng = common::rng(seed);
+    let mut el = CoupledElement::<NU, NR>::random(&mut rng, N_QUADRATURE + N_TYING, curved);
+    let rule = QuadratureRule::interior_p2();
+    let twins = TyingTwins::of_rule(rule.points());
+    let mut n_twins = 0;
+    for t in 0..N_TYING {
+        let source = twins.source(t, N_QUADRATURE);
+        if source != N_QUADRATURE + t {
+            n_twins += 1;
+            el.shapes[N_QUADRATURE + t] = el.shapes[source];
+            el.b_world[N_QUADRATURE + t] = el.b_world[source];
+            el.offsets[N_QUADRATURE + t] = el.offsets[source];
+            el.q_points[N_QUADRATURE + t] = el.q_points[source];
+        }
+    }
+    assert_eq!(
+        n_twins, 3,
+        "the interior tying points are the interior degree-2 rule's points"
+    );
+    for s in &mut el.shapes[N_QUADRATURE..] {
+        s.weight = 0.0;
+    }
+    let maps: Vec<TyingMap> = (0..N_QUADRATURE)
+        .map(|_| TyingMap {
+            tied: SMatrix::from_fn(|_, _| rng.random_range(-0.3..0.3)),
+            own: SMatrix::from_fn(|_, _| rng.random_range(-0.5..0.5)),
+        })
+        .collect();
+    check::<NU, NR, NL, NE>(&el, Coupling::Tying(&maps, twins), |u| oracle(&el, &maps, u), seed);
+}
+
+#[test]
+fn twin_tying_points_are_read_at_their_quadrature_points() {
+    common::with_big_stack(|| {
+        check_twins::<6, 3, 15, 27>(61, false);
+        check_twins::<6, 3, 15, 27>(62, true);
+    });
 }
 
 #[test]
