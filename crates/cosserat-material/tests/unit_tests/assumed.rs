@@ -10,6 +10,7 @@ use cosserat_material::assumed::{N_TIED, N_TYING, TyingMap, TyingTwins};
 use cosserat_material::coupled::Coupling;
 use nalgebra::SMatrix;
 use rand::Rng;
+use rand_chacha::ChaCha8Rng;
 
 /// Quadrature points; the tying points follow them.
 const N_QUADRATURE: usize = 3;
@@ -45,19 +46,27 @@ fn oracle<T: Real, const NU: usize, const NR: usize>(el: &CoupledElement<NU, NR>
     energy
 }
 
-fn check_assumed<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(seed: u64, curved: bool) {
-    let mut rng = common::rng(seed);
-    let mut el = CoupledElement::<NU, NR>::random(&mut rng, N_QUADRATURE + N_TYING, curved);
-    // Tying points have no weight of their own.
+/// Gives the tying points of `el` no weight of their own and draws random tying maps: the chain rule
+/// must hold for any linear map.
+fn weightless_tying_points_and_random_maps<const NU: usize, const NR: usize>(
+    el: &mut CoupledElement<NU, NR>,
+    rng: &mut ChaCha8Rng,
+) -> Vec<TyingMap> {
     for s in &mut el.shapes[N_QUADRATURE..] {
         s.weight = 0.0;
     }
-    let maps: Vec<TyingMap> = (0..N_QUADRATURE)
+    (0..N_QUADRATURE)
         .map(|_| TyingMap {
             tied: SMatrix::from_fn(|_, _| rng.random_range(-0.3..0.3)),
             own: SMatrix::from_fn(|_, _| rng.random_range(-0.5..0.5)),
         })
-        .collect();
+        .collect()
+}
+
+fn check_assumed<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(seed: u64, curved: bool) {
+    let mut rng = common::rng(seed);
+    let mut el = CoupledElement::<NU, NR>::random(&mut rng, N_QUADRATURE + N_TYING, curved);
+    let maps = weightless_tying_points_and_random_maps(&mut el, &mut rng);
     check::<NU, NR, NL, NE>(
         &el,
         Coupling::Tying(&maps, TyingTwins::NONE),
@@ -89,15 +98,7 @@ fn check_twins<const NU: usize, const NR: usize, const NL: usize, const NE: usiz
         n_twins, 3,
         "the interior tying points are the interior degree-2 rule's points"
     );
-    for s in &mut el.shapes[N_QUADRATURE..] {
-        s.weight = 0.0;
-    }
-    let maps: Vec<TyingMap> = (0..N_QUADRATURE)
-        .map(|_| TyingMap {
-            tied: SMatrix::from_fn(|_, _| rng.random_range(-0.3..0.3)),
-            own: SMatrix::from_fn(|_, _| rng.random_range(-0.5..0.5)),
-        })
-        .collect();
+    let maps = weightless_tying_points_and_random_maps(&mut el, &mut rng);
     check::<NU, NR, NL, NE>(&el, Coupling::Tying(&maps, twins), |u| oracle(&el, &maps, u), seed);
 }
 
