@@ -449,14 +449,8 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         local: &mut LocalDerivatives<NL>,
     ) {
         if let Some(maps) = self.disc.rest.element_tying_maps(e) {
-            self.coupled_derivatives(
-                e,
-                eval,
-                Coupling::Tying(maps, self.disc.rest.tying_twins),
-                with_hessian,
-                out,
-                local,
-            );
+            let coupling = Coupling::Tying(maps, self.disc.rest.tying_twins);
+            self.coupled_derivatives(e, eval, coupling, with_hessian, out, local);
             return;
         }
         if let Some(projection) = self.disc.rest.projections.get(e) {
