@@ -182,11 +182,7 @@ impl Coupling<'_> {
         match first_order {
             FirstOrder::Projected(projected) => projected.finish(&mut out.hessian),
             FirstOrder::Tied(maps, jacobians) => {
-                let twins = match self {
-                    Self::Tying(_, twins) => twins,
-                    Self::Projection(_) => TyingTwins::NONE,
-                };
-                assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &twins, &mut out.hessian);
+                assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &self.twins(), &mut out.hessian);
             }
         }
         node_weights
@@ -244,9 +240,18 @@ impl Coupling<'_> {
         }
     }
 
-    /// Point `n` of the element is a tying point that is not evaluated.
+    /// Point `n` of the element is a tying point that is not evaluated (never under the projection,
+    /// whose `unused` is all false).
     fn is_unused(self, n: usize, first_tying: usize, unused: &[bool; N_TYING]) -> bool {
-        matches!(self, Self::Tying(..)) && n >= first_tying && unused[n - first_tying]
+        n >= first_tying && unused[n - first_tying]
+    }
+
+    /// The tying points read at quadrature points (none under the projection).
+    fn twins(self) -> TyingTwins {
+        match self {
+            Self::Tying(_, twins) => twins,
+            Self::Projection(_) => TyingTwins::NONE,
+        }
     }
 
     /// The derivatives `σ̂_q` of the element's strain-quadratic energy with respect to the raw strains of

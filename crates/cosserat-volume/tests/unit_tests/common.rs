@@ -90,6 +90,12 @@ pub fn perturb_state(system: &mut cosserat_volume::VolumeSystem, seed: u64) {
     }
 }
 
+/// `n` random unknowns (velocities and angular velocities) of magnitude up to 0.5.
+pub fn random_unknowns(n: usize, seed: u64) -> Vec<f64> {
+    let mut r = rng(seed);
+    (0..n).map(|_| vec3(&mut r, 0.5).x).collect()
+}
+
 /// The dense symmetric matrix of upper-triangular values in `pattern`.
 pub fn dense(pattern: &cosserat_assembly::SparsityPattern, values: &[f64]) -> nalgebra::DMatrix<f64> {
     let n = pattern.n_dofs();

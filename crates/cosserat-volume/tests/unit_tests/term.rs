@@ -1,7 +1,7 @@
 //! The volume term inside the incremental potential: derivatives of the assembled system, determinism
 //! across threads, the rest-curvature handle, non-finite input and the point-rotation update.
 
-use super::common::{amax, dense, material, perturb_state, rng, small_system, vec3};
+use super::common::{amax, dense, material, perturb_state, random_unknowns, small_system};
 use cosserat_assembly::{AssemblyError, Parallelism};
 use cosserat_geometry::rotation::quaternion_update;
 use cosserat_volume::MicropolarModuli;
@@ -16,8 +16,7 @@ fn assembled_gradient_and_hessian_match_central_differences() {
         .set(|p| Matrix3::from_fn(|r, c| 0.5 * (p as f64 + 1.0) * ((r + 2 * c) as f64 - 3.0)));
     let p = &mut sys.potential;
     let n = p.n_dofs();
-    let mut r = rng(2);
-    let u: Vec<f64> = (0..n).map(|_| vec3(&mut r, 0.5).x).collect();
+    let u = random_unknowns(n, 2);
     let mut g = vec![0.0; n];
     let mut values = vec![0.0; p.pattern().nnz()];
     let e = p.hessian(&u, &mut g, &mut values).unwrap();
@@ -55,8 +54,7 @@ fn results_are_bit_identical_for_one_and_many_threads() {
     perturb_state(&mut sys, 3);
     let p = &mut sys.potential;
     let n = p.n_dofs();
-    let mut r = rng(4);
-    let u: Vec<f64> = (0..n).map(|_| vec3(&mut r, 0.5).y).collect();
+    let u = random_unknowns(n, 4);
     let mut run = |par: Parallelism| {
         p.parallelism = par;
         let mut g = vec![0.0; n];
@@ -144,8 +142,7 @@ fn rebased_rotations_keep_the_energy_of_the_solid() {
     perturb_state(&mut sys, 4);
     let p = &mut sys.potential;
     let n = p.n_dofs();
-    let mut r = rng(5);
-    let mut u: Vec<f64> = (0..n).map(|_| vec3(&mut r, 0.5).x).collect();
+    let mut u = random_unknowns(n, 5);
     let layout = p.parts.layout;
     let b = 3 * layout.rot_block(0);
     let w = Vector3::new(0.3, 1.0, -0.4).normalize() * (4.0 / p.dt());
