@@ -1,5 +1,5 @@
 //! Numeric Cholesky rate on plate-under-load Hessian patterns: one factorisation of the whole matrix
-//! (AMD or nested dissection) against the two-domain split (`DomainSplit`), and with `RELAX=1` faer's supernode relaxation
+//! (AMD, nested dissection, or the cheaper of the two) against the two-domain split (`DomainSplit`), and with `RELAX=1` faer's supernode relaxation
 //! settings (more amalgamation raises the rate on the padded operation count but not the time).
 //!
 //! `cargo run --release -p cosserat-solver --example factor_rate -- <ny> [<nx / ny>]` (Tri6/Tri3 plate
@@ -61,7 +61,9 @@ fn main() {
             FillOrdering::NestedDissection { block: 3 },
             DomainSplit::Off,
         ),
-        ("two domains", FillOrdering::Amd, DomainSplit::Always),
+        ("whole, automatic", FillOrdering::Auto, DomainSplit::Off),
+        ("two domains, AMD", FillOrdering::Amd, DomainSplit::Always),
+        ("two domains, automatic", FillOrdering::Auto, DomainSplit::Always),
     ];
     // `VARIANT=<text>` runs only the variants whose name contains it.
     let only = std::env::var("VARIANT").unwrap_or_default();

@@ -347,7 +347,7 @@ impl TimeStepper {
         Ok(())
     }
 
-    /// A new Newton solver for the potential's current pattern.
+    /// A new Newton solver for the potential's current pattern, which grew from the last one's.
     fn rebuild_solver(&mut self, potential: &IncrementalPotential) -> Result<(), NewtonError> {
         let mut settings = *self.solver.settings();
         // Contact only adds couplings to the same mesh, so `Auto`'s choice for the first pattern
@@ -363,7 +363,7 @@ impl TimeStepper {
                 DomainSplit::Off
             };
         }
-        self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), settings)?;
+        self.solver = self.solver.try_grown(potential.pattern().symbolic(), settings)?;
         Ok(())
     }
 

@@ -49,24 +49,38 @@ impl std::fmt::Debug for SymmetricFactor {
 impl SymmetricFactor {
     /// Orders the pattern and runs the supernodal symbolic analysis; allocates all buffers.
     pub(crate) fn try_new(pattern: &UpperPattern, ordering: FillOrdering, par: Par) -> Result<Self, LinearSolveError> {
-        let nd = match ordering {
+        let custom = match ordering {
+            FillOrdering::Auto => Some(super::ordering::whole_order(pattern, true)?.0),
             FillOrdering::NestedDissection { block } => super::ordering::nested_dissection(pattern.as_ref(), block),
-            _ => None,
+            FillOrdering::Amd | FillOrdering::Identity => None,
         };
-        let inverse: Option<Vec<usize>> = nd.as_ref().map(|fwd| {
-            let mut inv = vec![0; fwd.len()];
-            for (new, &old) in fwd.iter().enumerate() {
-                inv[old] = new;
-            }
-            inv
-        });
-        let ord = match (ordering, &nd, &inverse) {
-            (FillOrdering::Identity, _, _) => SymmetricOrdering::Identity,
-            (FillOrdering::NestedDissection { .. }, Some(fwd), Some(inv)) => {
-                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(fwd, inv, fwd.len()))
-            }
-            _ => SymmetricOrdering::Amd,
-        };
+        match (ordering, custom) {
+            (FillOrdering::Identity, _) => Self::analyse(pattern, SymmetricOrdering::Identity, par),
+            (_, Some(order)) => Self::try_with_order(pattern, &order, par),
+            _ => Self::analyse(pattern, SymmetricOrdering::Amd, par),
+        }
+    }
+
+    /// The symbolic analysis in the given factorisation order (`order[new] = old`), e.g. the order of
+    /// an earlier analysis of a pattern that has since grown.
+    pub(crate) fn try_with_order(pattern: &UpperPattern, order: &[usize], par: Par) -> Result<Self, LinearSolveError> {
+        let mut inverse = vec![0; order.len()];
+        for (new, &old) in order.iter().enumerate() {
+            inverse[old] = new;
+        }
+        let perm = faer::perm::PermRef::new_checked(order, &inverse, order.len());
+        Self::analyse(pattern, SymmetricOrdering::Custom(perm), par)
+    }
+
+    /// The factorisation order (`order[new] = old`).
+    pub(crate) fn order(&self) -> Vec<usize> {
+        match self.symbolic.perm() {
+            Some(perm) => perm.arrays().0.to_vec(),
+            None => (0..self.symbolic.nrows()).collect(),
+        }
+    }
+
+    fn analyse(pattern: &UpperPattern, ord: SymmetricOrdering<'_, usize>, par: Par) -> Result<Self, LinearSolveError> {
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()

@@ -170,3 +170,11 @@ pub enum LinearSolveError {
 fn column_suffix(col: &Option<usize>) -> String {
     col.map_or_else(String::new, |c| format!(", zero pivot at column {c}"))
 }
+
+/// The error of a workspace allocation that failed.
+pub(crate) fn out_of_memory() -> LinearSolveError {
+    LinearSolveError::Faer {
+        stage: LinearSolveStage::Workspace,
+        source: faer::sparse::FaerError::OutOfMemory,
+    }
+}

@@ -33,6 +33,7 @@ mod error;
 mod ldlt;
 mod lu;
 pub mod memory;
+mod metis;
 mod multifrontal;
 mod ordering;
 mod pattern;
@@ -86,13 +87,18 @@ pub enum LinearSolverKind {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 #[non_exhaustive]
 pub enum FillOrdering {
-    /// Approximate minimum degree (AMD).
+    /// AMD or METIS's nested dissection (on nodes of three unknowns): nested dissection when its
+    /// factor needs at most three quarters of AMD's operations, counted exactly from both orders'
+    /// column counts before the symbolic analysis (it then factorises faster despite a lower rate
+    /// per operation). In the two-domain Cholesky, the same choice is made inside each domain.
     #[default]
+    Auto,
+    /// Approximate minimum degree (AMD).
     Amd,
     /// No reordering (for banded matrices, or to make the factor structure predictable).
     Identity,
-    /// Nested dissection on the graph of node blocks of the given size (three unknowns per node for
-    /// shells): far less fill and larger supernodes than AMD on large two-dimensional meshes. Falls
+    /// METIS's multilevel nested dissection on the graph of node blocks of the given size (three
+    /// unknowns per node for shells): less fill and larger supernodes than AMD on large meshes. Falls
     /// back to AMD if the size is not a multiple of the block.
     NestedDissection {
         /// Unknowns per node.
@@ -125,6 +131,12 @@ pub enum DomainSplit {
     Always,
 }
 
+/// The largest growth of the factor's operations, relative to the last analysis that ordered its
+/// pattern afresh, at which [`SparseSolver::try_grown`] keeps reusing the orders. Orders found for a
+/// pattern stay good while contact adds a few couplings; the bound renews them once the couplings
+/// have changed the factor's structure.
+pub const GROWN_REORDER_RATIO: f64 = 1.25;
+
 /// The largest ratio of the split's critical-path operations to the whole factorisation's at which
 /// [`DomainSplit::Auto`] splits.
 const AUTO_MAX_CRITICAL_SHARE: f64 = 0.7;
@@ -139,7 +151,7 @@ impl DomainSplit {
 pub struct LinearSolverSettings {
     /// The factorisation (default [`LinearSolverKind::Auto`]).
     pub kind: LinearSolverKind,
-    /// The fill-reducing ordering of the symmetric factorisations (default AMD).
+    /// The fill-reducing ordering of the symmetric factorisations (default [`FillOrdering::Auto`]).
     pub ordering: FillOrdering,
     /// faer's parallelism for factorisation and solves (default sequential).
     pub parallelism: Par,
@@ -159,7 +171,7 @@ impl Default for LinearSolverSettings {
     fn default() -> Self {
         Self {
             kind: LinearSolverKind::Auto,
-            ordering: FillOrdering::Amd,
+            ordering: FillOrdering::Auto,
             parallelism: Par::Seq,
             max_backward_error: 1e-8,
             cg: CgSettings::default(),
@@ -221,6 +233,11 @@ pub struct SparseSolver {
     /// the product `A x` that checks every direct solution, and CG's products.
     column_tasks: ColumnTasks,
     symbolic_analyses: usize,
+    /// The operations of the factor of the last analysis that ordered its pattern afresh (the
+    /// reference of [`SparseSolver::try_grown`]).
+    fresh_operations: Option<f64>,
+    /// Whether the symbolic analysis reused the orders of the solver this one grew from.
+    reuses_orders: bool,
     last_backward_error: Option<f64>,
     last_cg: Option<CgReport>,
 }
@@ -249,12 +266,73 @@ impl SparseSolver {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         settings: LinearSolverSettings,
     ) -> Result<Self, LinearSolveError> {
+        let mut solver = Self::unanalysed(pattern, settings)?;
+        solver.prepare_symbolic()?;
+        Ok(solver)
+    }
+
+    /// A solver for `pattern` with `settings`, reusing this solver's fill-reducing orders (if the
+    /// settings keep its ordering and parallelism, and any two-domain split it made):
+    /// for a pattern of the same dimension that contains this solver's, such as a Hessian pattern
+    /// grown by new contact couplings. The symbolic analysis then skips the orderings, which cost
+    /// several times the analysis itself. A two-domain split keeps its domains' orders, and the nodes
+    /// that a new entry couples across the domains move into the separator. The orders are reused as
+    /// long as the factor needs at most [`GROWN_REORDER_RATIO`] times the operations of the last
+    /// analysis that ordered afresh; beyond that, or when nothing can be reused, the pattern is
+    /// ordered afresh as by [`try_new`](Self::try_new). The choice depends on the sequence of patterns
+    /// only, so results do not depend on the number of threads.
+    ///
+    /// # Errors
+    /// As [`try_new`](Self::try_new).
+    pub fn try_grown(
+        &self,
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        settings: LinearSolverSettings,
+    ) -> Result<Self, LinearSolveError> {
+        validate(&settings)?;
+        let mut grown = Self::unanalysed(pattern, settings)?;
+        let same_orders =
+            settings.ordering == self.settings.ordering && settings.parallelism == self.settings.parallelism;
+        if same_orders && grown.pattern.n() == self.pattern.n() {
+            grown.two_domain_tried = self.two_domain_tried;
+            if let Some(split) = &self.two_domain {
+                grown.two_domain = split.try_grown(&grown.pattern)?;
+            } else if let Some(symmetric) = &self.symmetric {
+                grown.symmetric = Some(SymmetricFactor::try_with_order(
+                    &grown.pattern,
+                    &symmetric.order(),
+                    self.settings.parallelism,
+                )?);
+            }
+            let operations = grown.symmetric_stats().map(|stats| stats.flops);
+            match (operations, self.fresh_operations) {
+                (Some(operations), Some(fresh)) if operations <= GROWN_REORDER_RATIO * fresh => {
+                    grown.fresh_operations = Some(fresh);
+                    grown.symbolic_analyses = 1;
+                    grown.reuses_orders = true;
+                }
+                _ => {
+                    grown.two_domain = None;
+                    grown.symmetric = None;
+                    grown.two_domain_tried = false;
+                }
+            }
+        }
+        grown.prepare_symbolic()?;
+        Ok(grown)
+    }
+
+    /// The solver with its buffers and no symbolic analysis.
+    fn unanalysed(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        settings: LinearSolverSettings,
+    ) -> Result<Self, LinearSolveError> {
         validate(&settings)?;
         let pattern = UpperPattern::try_new(pattern)?;
         let n = pattern.n();
         let nnz = pattern.nnz();
         let column_tasks = ColumnTasks::new(&pattern);
-        let mut solver = Self {
+        let solver = Self {
             settings,
             pattern,
             symmetric: None,
@@ -271,10 +349,11 @@ impl SparseSolver {
             product: vec![0.0; n],
             column_tasks,
             symbolic_analyses: 0,
+            fresh_operations: None,
+            reuses_orders: false,
             last_backward_error: None,
             last_cg: None,
         };
-        solver.prepare_symbolic()?;
         Ok(solver)
     }
 
@@ -304,6 +383,9 @@ impl SparseSolver {
         if kind == LinearSolverKind::Lu {
             self.ensure_lu()?;
         }
+        if self.fresh_operations.is_none() {
+            self.fresh_operations = self.symmetric_stats().map(|stats| stats.flops);
+        }
         Ok(())
     }
 
@@ -312,11 +394,11 @@ impl SparseSolver {
         let n = self.pattern.n();
         let auto = match (self.settings.domains, self.settings.ordering) {
             (DomainSplit::Off, _) => return Ok(None),
-            (DomainSplit::Auto, FillOrdering::Amd) if n >= DomainSplit::AUTO_MIN_UNKNOWNS => true,
+            (DomainSplit::Auto, FillOrdering::Auto | FillOrdering::Amd) if n >= DomainSplit::AUTO_MIN_UNKNOWNS => true,
             (DomainSplit::Auto, _) => return Ok(None),
             (DomainSplit::Always, _) => false,
         };
-        let Some(bisection) = ordering::bisection(self.pattern.as_ref(), 3) else {
+        let Some(bisection) = ordering::bisection(self.pattern.as_ref(), ordering::NODE_BLOCK) else {
             return Ok(None);
         };
         let n_sep = bisection.separator.len();
@@ -331,7 +413,12 @@ impl SparseSolver {
         // measured at 0.46 of the whole's operations on the plate strip Tri6 320 × 32 (factorisation
         // 1.9× faster), 0.67 on the Armadillos (two bodies, step 1.3× faster), and 0.73 on the closed
         // Bunny surface (no faster, and more memory).
-        TwoDomainCholesky::try_new(&self.pattern, &bisection, auto.then_some(AUTO_MAX_CRITICAL_SHARE))
+        TwoDomainCholesky::try_new(
+            &self.pattern,
+            &bisection,
+            auto.then_some(AUTO_MAX_CRITICAL_SHARE),
+            self.settings.ordering == FillOrdering::Auto,
+        )
     }
 
     /// Runs the whole-matrix symbolic analysis if it is not there yet (with the two-domain Cholesky,
@@ -379,6 +466,7 @@ impl SparseSolver {
         if settings.ordering != self.settings.ordering || settings.domains != self.settings.domains {
             self.two_domain = None;
             self.two_domain_tried = false;
+            self.fresh_operations = None;
         }
         let only_cg_changed = LinearSolverSettings {
             cg: self.settings.cg,
@@ -424,6 +512,12 @@ impl SparseSolver {
     /// LU, each at most once per pattern and settings (none for CG).
     pub fn symbolic_analysis_count(&self) -> usize {
         self.symbolic_analyses
+    }
+
+    /// Whether the symbolic analysis reused the fill-reducing orders of the solver this one grew from
+    /// ([`try_grown`](Self::try_grown)) instead of ordering its pattern afresh.
+    pub fn reuses_orders(&self) -> bool {
+        self.reuses_orders
     }
 
     /// Structural statistics of the symmetric factor `L` (`None` for pure LU, whose factor structure

@@ -509,7 +509,7 @@ mod tests {
             next[c as usize] += 1;
         }
         let structure = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
-        let perm = crate::two_domain::amd_order(structure.as_ref()).unwrap();
+        let perm = crate::ordering::amd_order(structure.as_ref()).unwrap();
         let mut position = vec![0; n];
         for (new, &old) in perm.iter().enumerate() {
             position[old] = new;

@@ -28,22 +28,23 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization, cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::reborrow::ReborrowMut;
+use faer::sparse::SymbolicSparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::linalg::amd;
-use faer::sparse::linalg::cholesky::simplicial;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering, factorize_symbolic_cholesky,
 };
-use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 use faer::{Mat, MatMut, Par, Side};
 
 use super::FactorStats;
 use super::cholesky::supernodal_stats;
 use super::multifrontal::Fronts;
-use super::ordering::Bisection;
+use super::ordering::{
+    Bisection, NESTED_DISSECTION_SHARE, NODE_BLOCK, amd_order, factor_operations, nested_dissection_of_pairs,
+    upper_structure, whole_order,
+};
 use super::pattern::UpperPattern;
-use crate::error::{LinearSolveError, LinearSolveStage};
+use crate::error::{LinearSolveError, LinearSolveStage, out_of_memory};
 
 const NONE: usize = usize::MAX;
 
@@ -223,11 +224,16 @@ impl Domain {
 ///   distance from the separator, nearest or farthest first, ties in the given order or reversed) and
 ///   the ordering whose factor of `M` has the fewest operations `Σ c_j²` (from its column counts, in
 ///   near-linear time) is kept.
+///
+/// With `nested_dissection`, METIS's nested dissection of the own block is a fifth candidate, taken
+/// if it needs at most [`NESTED_DISSECTION_SHARE`] of the best AMD order's operations (as for the
+/// whole matrix, [`whole_order`]).
 fn domain_order(
     pattern: &UpperPattern,
     own: &[usize],
     separator: &[usize],
     local: &mut [usize],
+    nested_dissection: bool,
 ) -> Result<(Vec<usize>, f64), LinearSolveError> {
     let (n_own, n_sep) = (own.len(), separator.len());
     let m = n_own + n_sep;
@@ -286,9 +292,34 @@ fn domain_order(
             best = Some((cost, order));
         }
     }
+    if nested_dissection
+        && let Some((cost, order)) = nested_dissection_candidate(n_own, m, &pairs)?
+        && best.as_ref().is_none_or(|(c, _)| cost <= NESTED_DISSECTION_SHARE * *c)
+    {
+        best = Some((cost, order));
+    }
     let (operations, order) = best.unwrap_or_default();
     let by_local: Vec<usize> = own.iter().chain(separator).copied().collect();
     Ok((order.iter().map(|&l| by_local[l]).collect(), operations))
+}
+
+/// METIS's nested dissection of the domain's own block (local unknowns `0..n_own`, the separator
+/// `n_own..m` after it) with its operations, or `None` if METIS cannot order it.
+fn nested_dissection_candidate(
+    n_own: usize,
+    m: usize,
+    pairs: &[(u32, u32)],
+) -> Result<Option<(f64, Vec<usize>)>, LinearSolveError> {
+    let own_pairs: Vec<(u32, u32)> = pairs
+        .iter()
+        .copied()
+        .filter(|&(r, c)| (r as usize) < n_own && (c as usize) < n_own)
+        .collect();
+    let Some(perm) = nested_dissection_of_pairs(n_own, &own_pairs) else {
+        return Ok(None);
+    };
+    let order: Vec<usize> = perm.into_iter().chain(n_own..m).collect();
+    Ok(Some((factor_operations(&order, pairs)?, order)))
 }
 
 /// Breadth-first distance (in entries) of every local unknown from the separator (`n_own..m`).
@@ -330,94 +361,10 @@ fn distance_from_separator(m: usize, n_own: usize, pairs: &[(u32, u32)]) -> Vec<
     distance
 }
 
-/// The upper structure (each pair stored once at `(min, max)`, plus the diagonal) of an `n × n`
-/// symmetric matrix with the given off-diagonal pairs, rows unsorted.
-fn upper_structure(n: usize, pairs: &[(u32, u32)]) -> SymbolicSparseColMat<usize> {
-    let mut col_ptr = vec![0usize; n + 1];
-    for &(r, c) in pairs {
-        col_ptr[r.max(c) as usize + 1] += 1;
-    }
-    for c in 0..n {
-        col_ptr[c + 1] += col_ptr[c] + 1;
-    }
-    let mut next: Vec<usize> = col_ptr[..n].to_vec();
-    let mut row_idx = vec![0usize; col_ptr[n]];
-    for (c, slot) in next.iter_mut().enumerate() {
-        row_idx[*slot] = c;
-        *slot += 1;
-    }
-    for &(r, c) in pairs {
-        let (lo, hi) = (r.min(c) as usize, r.max(c) as usize);
-        row_idx[next[hi]] = lo;
-        next[hi] += 1;
-    }
-    SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx)
-}
-
-/// `Σ c_j²` of the Cholesky factor of the symmetric matrix with off-diagonal `pairs` (local
-/// numbering) factorised in `order`, from its column counts.
-fn factor_operations(order: &[usize], pairs: &[(u32, u32)]) -> Result<f64, LinearSolveError> {
-    let m = order.len();
-    let mut position = vec![0u32; m];
-    for (k, &l) in order.iter().enumerate() {
-        position[l] = k as u32;
-    }
-    let permuted: Vec<(u32, u32)> = pairs
-        .iter()
-        .map(|&(r, c)| (position[r as usize], position[c as usize]))
-        .collect();
-    let upper = upper_structure(m, &permuted);
-    drop(permuted);
-    let mut etree = vec![0isize; m];
-    let mut counts = vec![0usize; m];
-    let nnz = upper.row_idx().len();
-    let mut mem = MemBuffer::try_new(simplicial::prefactorize_symbolic_cholesky_scratch::<usize>(m, nnz))
-        .map_err(|_| out_of_memory())?;
-    simplicial::prefactorize_symbolic_cholesky(&mut etree, &mut counts, upper.as_ref(), MemStack::new(&mut mem));
-    Ok(counts.iter().map(|&c| (c as f64) * (c as f64)).sum())
-}
-
 /// The critical path of the split: the larger domain factor, then the separator's dense factor.
 fn critical(operations_0: f64, operations_1: f64, n_sep: usize) -> f64 {
     let n_sep = n_sep as f64;
     operations_0.max(operations_1) + n_sep * n_sep * n_sep / 3.0
-}
-
-/// `Σ c_j²` of the Cholesky factor of the whole matrix in faer's AMD order, from exact column counts
-/// (the measure the split's critical path is compared with).
-pub(crate) fn whole_operations(pattern: &UpperPattern) -> Result<f64, LinearSolveError> {
-    let pairs: Vec<(u32, u32)> = pattern
-        .row_idx()
-        .iter()
-        .zip(pattern.col_idx())
-        .filter(|(r, c)| r != c)
-        .map(|(&r, &c)| (r as u32, c as u32))
-        .collect();
-    factor_operations(&amd_order(pattern.as_ref())?, &pairs)
-}
-
-/// faer's AMD ordering (`perm[new] = old`) of the symmetric pattern `upper` (one triangle suffices).
-pub(super) fn amd_order(upper: SymbolicSparseColMatRef<'_, usize>) -> Result<Vec<usize>, LinearSolveError> {
-    let n = upper.ncols();
-    let mut perm = vec![0usize; n];
-    if n == 0 {
-        return Ok(perm);
-    }
-    let mut perm_inv = vec![0usize; n];
-    let mut mem = MemBuffer::try_new(amd::order_maybe_unsorted_scratch::<usize>(n, upper.row_idx().len()))
-        .map_err(|_| out_of_memory())?;
-    amd::order_maybe_unsorted(
-        &mut perm,
-        &mut perm_inv,
-        upper,
-        amd::Control::default(),
-        MemStack::new(&mut mem),
-    )
-    .map_err(|source| LinearSolveError::Faer {
-        stage: LinearSolveStage::SymmetricSymbolic,
-        source,
-    })?;
-    Ok(perm)
 }
 
 /// `work` at the rows `columns` then `below`, copied to the front of `local`.
@@ -499,11 +446,33 @@ fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usi
     (pattern, gather)
 }
 
-fn out_of_memory() -> LinearSolveError {
-    LinearSolveError::Faer {
-        stage: LinearSolveStage::Workspace,
-        source: faer::sparse::FaerError::OutOfMemory,
+/// `(values position, row, column)` of the stored entries of `Aₛₛ` in separator numbering, or `None`
+/// if an entry couples the two parts (they are then not separated).
+fn separator_entries(
+    pattern: &UpperPattern,
+    parts: &[Vec<usize>; 2],
+    separator: &[usize],
+) -> Option<Vec<(usize, usize, usize)>> {
+    let n = pattern.n();
+    let mut part = vec![2u8; n];
+    for (p, unknowns) in parts.iter().enumerate() {
+        for &u in unknowns {
+            part[u] = p as u8;
+        }
     }
+    let mut separator_local = vec![NONE; n];
+    for (k, &u) in separator.iter().enumerate() {
+        separator_local[u] = k;
+    }
+    let mut entries = Vec::new();
+    for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
+        match (part[r], part[c]) {
+            (0, 1) | (1, 0) => return None,
+            (2, 2) => entries.push((k, separator_local[r], separator_local[c])),
+            _ => {}
+        }
+    }
+    Some(entries)
 }
 
 /// The Cholesky factorisation of a bisected pattern: two domain factors and the separator's dense
@@ -545,31 +514,25 @@ impl TwoDomainCholesky {
         pattern: &UpperPattern,
         bisection: &Bisection,
         max_critical_share: Option<f64>,
+        nested_dissection: bool,
     ) -> Result<Option<Self>, LinearSolveError> {
         let n = pattern.n();
-        let mut part = vec![2u8; n];
-        for (p, unknowns) in bisection.parts.iter().enumerate() {
-            for &u in unknowns {
-                part[u] = p as u8;
-            }
-        }
-        let mut separator_local = vec![NONE; n];
-        for (k, &u) in bisection.separator.iter().enumerate() {
-            separator_local[u] = k;
-        }
-        let mut separator_entries = Vec::new();
-        for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
-            match (part[r], part[c]) {
-                (0, 1) | (1, 0) => return Ok(None),
-                (2, 2) => separator_entries.push((k, separator_local[r], separator_local[c])),
-                _ => {}
-            }
+        if separator_entries(pattern, &bisection.parts, &bisection.separator).is_none() {
+            return Ok(None);
         }
         let n_sep = bisection.separator.len();
-        let order = |own: &[usize]| domain_order(pattern, own, &bisection.separator, &mut vec![NONE; n]);
+        let order = |own: &[usize]| {
+            domain_order(
+                pattern,
+                own,
+                &bisection.separator,
+                &mut vec![NONE; n],
+                nested_dissection,
+            )
+        };
         let ((o0, o1), whole) = rayon::join(
             || rayon::join(|| order(&bisection.parts[0]), || order(&bisection.parts[1])),
-            || max_critical_share.map(|_| whole_operations(pattern)),
+            || max_critical_share.map(|_| whole_order(pattern, nested_dissection).map(|(_, operations)| operations)),
         );
         let ((g0, ops0), (g1, ops1)) = (o0?, o1?);
         if let (Some(share), Some(whole)) = (max_critical_share, whole.transpose()?)
@@ -577,7 +540,56 @@ impl TwoDomainCholesky {
         {
             return Ok(None);
         }
+        let own = |g: &[usize], n_own: usize| g[..n_own].to_vec();
         let (n0, n1) = (bisection.parts[0].len(), bisection.parts[1].len());
+        Self::try_from_orders(pattern, [own(&g0, n0), own(&g1, n1)], bisection.separator.clone())
+    }
+
+    /// The split of `pattern` (a pattern of the same dimension, usually this one's grown by contact)
+    /// with this split's domain orders: the nodes (blocks of [`NODE_BLOCK`] unknowns) that a new entry
+    /// couples across the domains move into the separator, and each domain keeps its order of the
+    /// rest. A symbolic analysis without the orderings' cost; `None` if a domain's structure is not
+    /// supernodal.
+    pub(crate) fn try_grown(&self, pattern: &UpperPattern) -> Result<Option<Self>, LinearSolveError> {
+        let n = pattern.n();
+        let mut part = vec![2u8; n];
+        for (p, d) in self.domains.iter().enumerate() {
+            for &u in &d.global[..d.n_own] {
+                part[u] = p as u8;
+            }
+        }
+        let mut moved = Vec::new();
+        for (&r, &c) in pattern.row_idx().iter().zip(pattern.col_idx()) {
+            if part[r] < 2 && part[c] < 2 && part[r] != part[c] {
+                let first = c - c % NODE_BLOCK;
+                for u in first..(first + NODE_BLOCK).min(n) {
+                    if part[u] < 2 {
+                        part[u] = 2;
+                        moved.push(u);
+                    }
+                }
+            }
+        }
+        moved.sort_unstable();
+        let own = |d: &Domain| -> Vec<usize> { d.global[..d.n_own].iter().copied().filter(|&u| part[u] < 2).collect() };
+        let separator: Vec<usize> = self.separator.iter().copied().chain(moved).collect();
+        Self::try_from_orders(pattern, [own(&self.domains[0]), own(&self.domains[1])], separator)
+    }
+
+    /// The split with the given factorisation orders of the domains' own unknowns and the separator.
+    fn try_from_orders(
+        pattern: &UpperPattern,
+        own: [Vec<usize>; 2],
+        separator: Vec<usize>,
+    ) -> Result<Option<Self>, LinearSolveError> {
+        let Some(separator_entries) = separator_entries(pattern, &own, &separator) else {
+            return Ok(None);
+        };
+        let n_sep = separator.len();
+        let [o0, o1] = own;
+        let (n0, n1) = (o0.len(), o1.len());
+        let global = |o: Vec<usize>| o.into_iter().chain(separator.iter().copied()).collect::<Vec<_>>();
+        let (g0, g1) = (global(o0), global(o1));
         let (d0, d1) = rayon::join(|| Domain::try_new(pattern, g0, n0), || Domain::try_new(pattern, g1, n1));
         let (Some(d0), Some(d1)) = (d0?, d1?) else {
             return Ok(None);
@@ -594,7 +606,7 @@ impl TwoDomainCholesky {
         };
         Ok(Some(Self {
             domains: [d0, d1],
-            separator: bisection.separator.clone(),
+            separator,
             separator_entries,
             schur: Mat::zeros(n_sep, n_sep),
             mem,

@@ -145,9 +145,35 @@ impl NewtonSolver {
         settings.validate()?;
         let linear =
             SparseSolver::try_new(pattern, effective_linear_settings(&settings)).map_err(NewtonError::Setup)?;
+        Ok(Self::with_linear(pattern, settings, linear))
+    }
+
+    /// A solver with `settings` for `pattern`, this solver's pattern grown by new couplings (contact):
+    /// the linear solver reuses the fill-reducing orders ([`SparseSolver::try_grown`]).
+    ///
+    /// # Errors
+    /// [`NewtonError::Setup`] if the pattern is malformed.
+    pub fn try_grown(
+        &self,
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        settings: NewtonSettings,
+    ) -> Result<Self, NewtonError> {
+        settings.validate()?;
+        let linear = self
+            .linear
+            .try_grown(pattern, effective_linear_settings(&settings))
+            .map_err(NewtonError::Setup)?;
+        Ok(Self::with_linear(pattern, settings, linear))
+    }
+
+    fn with_linear(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        settings: NewtonSettings,
+        linear: SparseSolver,
+    ) -> Self {
         let n = linear.n();
         let nnz = linear.nnz();
-        Ok(Self {
+        Self {
             settings,
             linear,
             grad: vec![0.0; n],
@@ -165,7 +191,7 @@ impl NewtonSolver {
             shift_scale: vec![0.0; n],
             x_extra: Vec::new(),
             last_shift: 0.0,
-        })
+        }
     }
 
     /// Builds the solver for `problem`'s Hessian pattern.

@@ -1,6 +1,7 @@
 //! The two-domain Cholesky ([`DomainSplit`]): the same solutions as the whole factorisation on
 //! connected and disconnected block patterns, fixed unknowns, failed pivots named in the caller's
-//! numbering, the fall-back to `L B Lᵀ`, and when `Auto` splits.
+//! numbering, the fall-back to `L B Lᵀ`, when `Auto` splits, and patterns grown by contact-like
+//! couplings that reuse the orders.
 
 use cosserat_sparse::{
     DomainSplit, Factorisation, FillOrdering, LinearSolveError, LinearSolverKind, LinearSolverSettings, SparseSolver,
@@ -142,7 +143,7 @@ fn a_negative_pivot_is_named_whichever_domain_or_separator_holds_it_and_auto_fal
 }
 
 #[test]
-fn auto_splits_large_patterns_with_the_amd_ordering_only() {
+fn auto_splits_large_patterns_with_the_amd_or_automatic_ordering_only() {
     let mut r = rng(44);
     let large = block_grid(100, 70, 1e-2, &mut r);
     assert!(large.n() >= DomainSplit::AUTO_MIN_UNKNOWNS);
@@ -159,6 +160,7 @@ fn auto_splits_large_patterns_with_the_amd_ordering_only() {
             .domains
     };
     assert_eq!(domains(&large, FillOrdering::Amd), 2);
+    assert_eq!(domains(&large, FillOrdering::Auto), 2);
     assert_eq!(domains(&large, FillOrdering::Identity), 1);
     assert_eq!(domains(&small, FillOrdering::Amd), 1);
     // The large system is solved to working precision.
@@ -183,4 +185,72 @@ fn auto_splits_large_patterns_with_the_amd_ordering_only() {
     assert!(solver.last_backward_error().unwrap() <= 1e-14);
     let diff = DVector::from_column_slice(&x) - DVector::from_column_slice(&y);
     assert!(diff.norm() <= 1e-10 * DVector::from_column_slice(&y).norm());
+}
+
+/// `a` plus, for every node pair, a random `Gᵀ G` on the pair's six unknowns: the couplings that
+/// contact adds to a Hessian between nodes far apart on the mesh (still SPD).
+fn with_couplings(a: &UpperMatrix, node_pairs: &[(usize, usize)], r: &mut rand_chacha::ChaCha8Rng) -> UpperMatrix {
+    let mut b = PatternBuilder::new(a.n());
+    for (&v, (i, j)) in a.values.iter().zip(a.entries()) {
+        b.add(i, j, v);
+    }
+    let extra = block_grid(2, 1, 0.0, r);
+    for &(p, q) in node_pairs {
+        let dofs: Vec<usize> = (0..3).map(|d| 3 * p + d).chain((0..3).map(|d| 3 * q + d)).collect();
+        for (&v, (i, j)) in extra.values.iter().zip(extra.entries()) {
+            b.add(dofs[i], dofs[j], v);
+        }
+    }
+    b.build()
+}
+
+/// Solves `a x = b` with `solver` (already analysed for `a`'s pattern) and checks the solution against
+/// a fresh whole factorisation.
+fn check_solution(solver: &mut SparseSolver, a: &UpperMatrix, b: &[f64], name: &str) {
+    solver.factorise(&a.values, None).unwrap();
+    let mut x = b.to_vec();
+    solver.solve_in_place(&mut x).unwrap();
+    let res = relative_residual(a, &x, b);
+    assert!(res <= 1e-12, "{name}: relative residual {res:e}");
+    let (whole, _, _) = solve(a, b, settings(LinearSolverKind::Cholesky, DomainSplit::Off), None).unwrap();
+    let diff = DVector::from_column_slice(&x) - DVector::from_column_slice(&whole);
+    let rel = diff.norm() / DVector::from_column_slice(&whole).norm();
+    assert!(rel <= 1e-10, "{name}: differs from a fresh factorisation by {rel:e}");
+}
+
+#[test]
+fn grown_patterns_reuse_the_orders_until_the_factor_grows_and_solve_like_a_fresh_analysis() {
+    let mut r = rng(45);
+    let (nx, ny) = (60, 20);
+    let a = block_grid(nx, ny, 1e-2, &mut r);
+    let n_nodes = nx * ny;
+    // Couplings across the middle of the strip between nodes four columns apart; for the split, between
+    // its two ends (they cross any bisection, so their nodes move into the separator); then many
+    // between the two ends.
+    let across: Vec<(usize, usize)> = [2, 9, 16].iter().map(|&j| (28 * ny + j, 32 * ny + j)).collect();
+    let ends: Vec<(usize, usize)> = [2, 9, 16].iter().map(|&j| (j, n_nodes - 1 - j)).collect();
+    let many: Vec<(usize, usize)> = (0..n_nodes / 3).map(|k| (k, n_nodes - 1 - 2 * k)).collect();
+    let b = random_vector(a.n(), &mut r);
+    for (domains, few) in [(DomainSplit::Off, &across), (DomainSplit::Always, &ends)] {
+        let grown = with_couplings(&a, few, &mut r);
+        let overgrown = with_couplings(&grown, &many, &mut r);
+        let s = settings(LinearSolverKind::Auto, domains);
+        let first = SparseSolver::try_new(a.pattern.as_ref(), s).unwrap();
+        assert!(!first.reuses_orders());
+        let split = first.symmetric_stats().unwrap().domains;
+        assert_eq!(split, if domains == DomainSplit::Off { 1 } else { 2 });
+
+        let mut second = first.try_grown(grown.pattern.as_ref(), s).unwrap();
+        assert!(second.reuses_orders(), "{domains:?}: a few couplings keep the orders");
+        assert_eq!(second.symmetric_stats().unwrap().domains, split);
+        check_solution(&mut second, &grown, &b, &format!("{domains:?}, grown"));
+
+        // Couplings across the whole strip multiply the factor's operations: ordered afresh.
+        let mut third = second.try_grown(overgrown.pattern.as_ref(), s).unwrap();
+        assert!(!third.reuses_orders(), "{domains:?}: the factor grew past the bound");
+        check_solution(&mut third, &overgrown, &b, &format!("{domains:?}, overgrown"));
+        // A new ordering would rather be kept by the next grown pattern (here: the same one).
+        let fourth = third.try_grown(overgrown.pattern.as_ref(), s).unwrap();
+        assert!(fourth.reuses_orders());
+    }
 }
