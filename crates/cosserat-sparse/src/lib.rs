@@ -289,7 +289,6 @@ impl SparseSolver {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         settings: LinearSolverSettings,
     ) -> Result<Self, LinearSolveError> {
-        validate(&settings)?;
         let mut grown = Self::unanalysed(pattern, settings)?;
         let same_orders =
             settings.ordering == self.settings.ordering && settings.parallelism == self.settings.parallelism;
@@ -412,7 +411,8 @@ impl SparseSolver {
         // On two cores the split pays when its critical path is well below the whole factorisation:
         // measured at 0.46 of the whole's operations on the plate strip Tri6 320 × 32 (factorisation
         // 1.9× faster), 0.67 on the Armadillos (two bodies, step 1.3× faster), and 0.73 on the closed
-        // Bunny surface (no faster, and more memory).
+        // Bunny surface cut at a breadth-first level (no faster, and more memory); METIS's separator
+        // cuts the Bunny below the bound.
         TwoDomainCholesky::try_new(
             &self.pattern,
             &bisection,
