@@ -9,6 +9,7 @@ use cosserat_material::element::{ElementDerivatives, accumulate_upper, f_hat, po
 use cosserat_material::kernel::{PointInput, PointShape, point_gradient, point_hessian, point_value};
 use cosserat_material::oracle::{PointContext, local_energy};
 use cosserat_material::strain_space::{DensityMatrix, local_geometry, strain_hessian, strain_offset};
+use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, MaterialParameters, ModelOptions, ShellModel, TermSet};
 use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_main};
 use nalgebra::{Matrix3, Quaternion, SMatrix, SVector, Vector3};
@@ -213,5 +214,39 @@ fn bench_point(c: &mut Criterion) {
     oracle.finish();
 }
 
-criterion_group!(benches, bench_point);
+/// The nonlinear volume term per quadrature point: the closed form against its num-dual oracle.
+fn bench_volume(c: &mut Criterion) {
+    let moduli = MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6).moduli().unwrap();
+    let mut rng = ChaCha8Rng::seed_from_u64(11);
+    let mut v = || Vector3::from_fn(|_, _| rng.random_range(-0.2..0.2));
+    let points: Vec<[Vector3<f64>; 2]> = (0..64).map(|_| [Vector3::x() + v(), Vector3::y() + v()]).collect();
+    let mut group = c.benchmark_group("volume_term_point");
+    group.throughput(Throughput::Elements(points.len() as u64));
+    group.bench_function(BenchmarkId::new("hessian", "closed_form"), |b| {
+        b.iter(|| {
+            for f in &points {
+                black_box(volume_hessian(black_box(f), &moduli));
+            }
+        })
+    });
+    group.bench_function(BenchmarkId::new("hessian", "dual2x6"), |b| {
+        b.iter(|| {
+            for f in &points {
+                let x = SVector::<f64, 6>::from_fn(|i, _| f[i / 3][i % 3]);
+                black_box(num_dual::hessian(
+                    |x: SVector<Dual2SVec64<6>, 6>| {
+                        volume_density(
+                            &[Vector3::new(x[0], x[1], x[2]), Vector3::new(x[3], x[4], x[5])],
+                            &moduli,
+                        )
+                    },
+                    &x,
+                ));
+            }
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, bench_point, bench_volume);
 criterion_main!(benches);
