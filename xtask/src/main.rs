@@ -79,6 +79,11 @@ struct ExperimentsArgs {
     /// Directory of the experiments' OBJ meshes.
     #[arg(long, default_value = "assets/meshes")]
     meshes: PathBuf,
+    /// Take each complete earlier run of exactly the same scene and overrides from out/ instead of
+    /// running it again (the report marks such rows and names the revision that produced them), so
+    /// that `--large` can be completed row by row.
+    #[arg(long)]
+    reuse: bool,
 }
 
 /// The workspace root (xtask lives one level below it).
@@ -149,6 +154,7 @@ fn run_experiments(a: &ExperimentsArgs) -> Result<i32> {
             "out/experiments"
         }),
         render_dir: (!a.quick && !partial).then(|| PathBuf::from("docs/img")),
+        reuse: a.reuse,
     };
     let report = experiments::run_all(&options)?;
     let path = if a.quick || partial {

@@ -12,12 +12,14 @@ pub use check::Check;
 use check::within;
 use cosserat::Simulation;
 use cosserat::io::{RunStatus, RunSummary, VtuFrame, read_pvd, read_pvd_frame};
+use provenance::RunInputs;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 mod check;
 mod comparison;
 mod contact;
+mod provenance;
 
 /// How the experiments run.
 #[derive(Debug, Clone)]
@@ -37,6 +39,9 @@ pub struct Options {
     pub out: PathBuf,
     /// Where to render the README pictures (`None`: no pictures).
     pub render_dir: Option<PathBuf>,
+    /// Take a complete earlier run of exactly the same scene and overrides from the output folder
+    /// instead of running it again (the report names the revision and machine that produced it).
+    pub reuse: bool,
 }
 
 impl Options {
@@ -1002,6 +1007,8 @@ struct Planned {
     dir: PathBuf,
     /// Estimated wall time \[s\] and where the estimate comes from.
     estimate: Option<(f64, Estimate)>,
+    /// The earlier complete run of the same inputs that `--reuse` takes instead of running.
+    reused: Option<RunInputs>,
 }
 
 /// Where a run's time estimate comes from.
@@ -1011,6 +1018,8 @@ enum Estimate {
     EarlierRun,
     /// The paper's total time for the row (a 32-core workstation).
     Paper,
+    /// None: an earlier run is reused.
+    Reused,
 }
 
 /// The runs of the chosen experiments and rows, each with its estimated time: the wall time of an
@@ -1029,15 +1038,22 @@ fn plan(o: &Options, experiments: &[Experiment]) -> Vec<Planned> {
                 .out
                 .join(exp.name)
                 .join(format!("{}_{}", spec.element, spec.variant.replace(' ', "_")));
-            let earlier = cosserat::io::read_summary(&dir.join("summary.json"))
+            let complete = cosserat::io::read_summary(&dir.join("summary.json"))
                 .ok()
-                .filter(|s| s.status == RunStatus::Ok)
-                .map(|s| (s.wall_seconds, Estimate::EarlierRun));
+                .filter(|s| s.status == RunStatus::Ok);
+            let reused = complete.as_ref().filter(|_| o.reuse).and_then(|_| reusable_run(&spec, &dir));
+            let earlier = complete.map(|s| (s.wall_seconds, Estimate::EarlierRun));
             let variant = spec.variant.split(" (").next().unwrap_or("");
             let paper = paper::row(exp.name, variant, &spec.element).map(|p| (p.total_s, Estimate::Paper));
+            let estimate = if reused.is_some() {
+                Some((0.0, Estimate::Reused))
+            } else {
+                earlier.or(if o.quick { None } else { paper })
+            };
             planned.push(Planned {
                 experiment: k,
-                estimate: earlier.or(if o.quick { None } else { paper }),
+                estimate,
+                reused,
                 spec,
                 dir,
             });
@@ -1046,16 +1062,24 @@ fn plan(o: &Options, experiments: &[Experiment]) -> Vec<Planned> {
     planned
 }
 
+/// The inputs of the earlier run in `dir`, if they are those of `spec`.
+fn reusable_run(spec: &RunSpec, dir: &Path) -> Option<RunInputs> {
+    let earlier = RunInputs::read(dir)?;
+    let now = RunInputs::of(spec).ok()?;
+    earlier.same_run(&now).then_some(earlier)
+}
+
 /// Prints the plan and its estimated total before anything runs.
 fn announce(planned: &[Planned], experiments: &[Experiment]) {
     let known: f64 = planned.iter().filter_map(|p| p.estimate.map(|e| e.0)).sum();
     let from = |kind| planned.iter().filter(|p| p.estimate.is_some_and(|e| e.1 == kind)).count();
     let unknown = planned.iter().filter(|p| p.estimate.is_none()).count();
     eprintln!(
-        "{} runs of {} experiments; estimated total {} ({} from earlier runs in the output folder, {} from the paper's Table 1{})",
+        "{} runs of {} experiments; estimated total {} ({} reused, {} estimated from earlier runs in the output folder, {} from the paper's Table 1{})",
         planned.len(),
         experiments.len(),
         duration(known),
+        from(Estimate::Reused),
         from(Estimate::EarlierRun),
         from(Estimate::Paper),
         if unknown > 0 {
@@ -1070,12 +1094,55 @@ fn announce(planned: &[Planned], experiments: &[Experiment]) {
             experiments[p.experiment].name,
             p.spec.variant,
             p.spec.element,
-            p.estimate.map_or_else(|| "–".into(), |(t, _)| duration(t))
+            match p.estimate {
+                Some((_, Estimate::Reused)) => "reused".into(),
+                Some((t, _)) => duration(t),
+                None => "–".into(),
+            }
         );
     }
 }
 
-fn fmt_row(res: &RunResult, name: &str) -> String {
+/// Runs a planned run, recording its inputs first, or reads back the earlier run it reuses.
+fn run_or_reuse(p: &Planned) -> Result<RunResult> {
+    if p.reused.is_some() {
+        return read_run(&p.spec, &p.dir);
+    }
+    RunInputs::of(&p.spec)?.write(&p.dir)?;
+    execute(&p.spec, &p.dir)
+}
+
+/// A finished run read back from its folder.
+fn read_run(spec: &RunSpec, dir: &Path) -> Result<RunResult> {
+    let path = dir.join("summary.json");
+    Ok(RunResult {
+        spec: spec.clone(),
+        summary: cosserat::io::read_summary(&path).with_context(|| format!("reading {}", path.display()))?,
+        probes: ProbeTable::read(&dir.join("probes.csv")).ok(),
+        frame: last_frame(dir),
+        dir: dir.to_path_buf(),
+    })
+}
+
+/// Table rows taken from earlier runs (`--reuse`), with the revision, time and machine of each.
+fn reused_rows(planned: &[Planned], experiments: &[Experiment]) -> String {
+    let mut md = String::new();
+    for p in planned {
+        if let Some(r) = &p.reused {
+            let _ = writeln!(
+                md,
+                "- {} {} ({}): git {}, started {}, {}.",
+                experiments[p.experiment].name, p.spec.variant, p.spec.element, r.rev, r.date_time, r.machine
+            );
+        }
+    }
+    if md.is_empty() {
+        return md;
+    }
+    format!("\nRows marked † are earlier runs of the same scene and overrides, reused (`--reuse`):\n\n{md}")
+}
+
+fn fmt_row(res: &RunResult, name: &str, reused: bool) -> String {
     let s = &res.summary;
     let ours = format!(
         "{} | {} | {} | {} | {:.0} ms | {:.2} | {:.2} s | {:.1} ms | {:.0} % | {:.0} %",
@@ -1102,7 +1169,8 @@ fn fmt_row(res: &RunResult, name: &str) -> String {
     } else {
         format!(" **{:?}: {}**", s.status, s.reason.clone().unwrap_or_default())
     };
-    format!("| {} | {}{status} | {ours} {paper} |", res.spec.variant, name)
+    let mark = if reused { " †" } else { "" };
+    format!("| {}{mark} | {}{status} | {ours} {paper} |", res.spec.variant, name)
 }
 
 /// The report's title, provenance line and the head of the timing table.
@@ -1112,9 +1180,10 @@ fn report_header(o: &Options, seconds: f64) -> Result<String> {
     writeln!(md, "# The paper's experiments\n")?;
     writeln!(
         md,
-        "Generated by `cargo xtask experiments{}{}` on {} (git {}), release build, on {}. Total {:.0} s.\n",
+        "Generated by `cargo xtask experiments{}{}{}` on {} (git {}), release build, on {}. Total {:.0} s.\n",
         if o.quick { " --quick" } else { "" },
         if o.large { " --large" } else { "" },
+        if o.reuse { " --reuse" } else { "" },
         host.date,
         host.rev,
         host.machine(),
@@ -1188,6 +1257,7 @@ pub fn run_all(o: &Options) -> Result<Report> {
     }
     let mut md = report_header(o, started.elapsed().as_secs_f64())?;
     md.push_str(&table);
+    md.push_str(&reused_rows(&planned, &experiments));
     writeln!(md, "\n## What each experiment shows\n{checks}")?;
     md.push_str(&comparison::section(&all_results));
     if !failures.is_empty() {
@@ -1232,7 +1302,7 @@ fn execute_and_record(
     table: &mut String,
     failures: &mut Vec<String>,
 ) -> Result<Option<RunResult>> {
-    match execute(&p.spec, &p.dir) {
+    match run_or_reuse(p) {
         Ok(res) => {
             if res.summary.status != RunStatus::Ok {
                 failures.push(format!(
@@ -1247,7 +1317,7 @@ fn execute_and_record(
                 "  {:?}, {} steps, {:.2} it/step, {:.1} ms/step",
                 res.summary.status, res.summary.n_steps, res.summary.avg_newton_iterations, res.summary.avg_step_ms
             );
-            writeln!(table, "{}", fmt_row(&res, experiment))?;
+            writeln!(table, "{}", fmt_row(&res, experiment, p.reused.is_some()))?;
             Ok(Some(res))
         }
         Err(e) => {

@@ -15,6 +15,7 @@ fn every_experiment_runs_a_few_steps() {
         meshes: root.join("assets/meshes"),
         out: PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("experiments_quick"),
         render_dir: None,
+        reuse: false,
     };
     let report = cosserat_lab::experiments::run_all(&options).unwrap();
     assert!(report.failures.is_empty(), "{:?}", report.failures);
@@ -32,4 +33,18 @@ fn every_experiment_runs_a_few_steps() {
             "{name} missing from the report"
         );
     }
+    // Asked to reuse, a second pass takes the complete runs it just made instead of running them.
+    let again = cosserat_lab::experiments::Options {
+        only: Some("twisting_strip".into()),
+        reuse: true,
+        ..options
+    };
+    let report = cosserat_lab::experiments::run_all(&again).unwrap();
+    assert!(report.failures.is_empty(), "{:?}", report.failures);
+    assert!(
+        report.markdown.contains("| - † | twisting_strip |"),
+        "{}",
+        report.markdown
+    );
+    assert!(report.markdown.contains("reused (`--reuse`)"), "{}", report.markdown);
 }
