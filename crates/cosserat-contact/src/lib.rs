@@ -71,6 +71,7 @@ pub mod parameters;
 pub mod stats;
 pub mod term;
 
+pub use candidate_cache::CacheCounters;
 pub use error::ContactError;
 pub use intersection::{intersecting_pairs, triangles_intersect};
 pub use jet::PairJet;

@@ -55,6 +55,31 @@ impl Default for ContactStats {
     }
 }
 
+impl ContactStats {
+    /// These counters continued from `earlier` ones (a run resumed from a checkpoint): the counts and
+    /// times since construction are summed, the state of the current step is this one's.
+    pub fn continuing(&self, earlier: &ContactStats) -> ContactStats {
+        let (a, b) = (&self.cache, &earlier.cache);
+        ContactStats {
+            n_evaluations: self.n_evaluations + earlier.n_evaluations,
+            n_ccd_queries: self.n_ccd_queries + earlier.n_ccd_queries,
+            n_step_limits: self.n_step_limits + earlier.n_step_limits,
+            step_fraction_sum: self.step_fraction_sum + earlier.step_fraction_sum,
+            n_step_cuts: self.n_step_cuts + earlier.n_step_cuts,
+            cache: CacheCounters {
+                queries: a.queries + b.queries,
+                requeries: a.requeries + b.requeries,
+                builds: a.builds + b.builds,
+                uncached: a.uncached + b.uncached,
+            },
+            broad_phase_time: self.broad_phase_time + earlier.broad_phase_time,
+            ccd_time: self.ccd_time + earlier.ccd_time,
+            energy_time: self.energy_time + earlier.energy_time,
+            ..*self
+        }
+    }
+}
+
 /// Pairs within reach of a configuration, and whether the candidates cover them.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Coverage {

@@ -18,11 +18,13 @@ use crate::contact_run::ContactState;
 use crate::error::SimulationError;
 use crate::record::RunStats;
 use cosserat_assembly::SystemState;
+use cosserat_contact::{CacheCounters, ContactStats};
 use cosserat_io::OutputError;
 use cosserat_io::checkpoint::{Decoder, Encoder};
 use cosserat_scene::spec::SceneSpec;
 use nalgebra::{Quaternion, Vector3};
 use std::path::{Path, PathBuf};
+use std::time::Duration;
 
 /// The folder of a run's output directory that holds its checkpoint.
 pub const CHECKPOINT_DIR: &str = "checkpoint";
@@ -319,6 +321,23 @@ fn save_contact(contact: &ContactState, out: &mut Encoder) {
     let (steps, active_sum, active_max, min_gap) = contact.monitor;
     out.usizes(&[steps, active_sum, active_max]);
     out.f64s(&[min_gap, contact.lags.0, contact.lags.1]);
+    let t = &contact.totals;
+    out.usizes(&[
+        t.n_evaluations,
+        t.n_ccd_queries,
+        t.n_step_limits,
+        t.n_step_cuts,
+        t.cache.queries,
+        t.cache.requeries,
+        t.cache.builds,
+        t.cache.uncached,
+    ]);
+    out.f64s(&[
+        t.step_fraction_sum,
+        t.broad_phase_time.as_secs_f64(),
+        t.ccd_time.as_secs_f64(),
+        t.energy_time.as_secs_f64(),
+    ]);
 }
 
 fn load_contact(input: &mut Decoder) -> Result<ContactState, OutputError> {
@@ -337,11 +356,53 @@ fn load_contact(input: &mut Decoder) -> Result<ContactState, OutputError> {
     else {
         return Err(input.error("the contact statistics have the wrong length"));
     };
+    let totals = load_contact_totals(input)?;
     Ok(ContactState {
         block_pairs: pairs.chunks_exact(2).map(|p| (p[0], p[1])).collect(),
         obstacles,
         monitor: (steps, active_sum, active_max, min_gap),
         lags: (max_lag, last_lag),
+        totals,
+    })
+}
+
+/// The contact term's counters saved by `save_contact`.
+fn load_contact_totals(input: &mut Decoder) -> Result<ContactStats, OutputError> {
+    let counts = input.usizes()?;
+    let values = input.f64s()?;
+    let (
+        &[
+            n_evaluations,
+            n_ccd_queries,
+            n_step_limits,
+            n_step_cuts,
+            queries,
+            requeries,
+            builds,
+            uncached,
+        ],
+        &[step_fraction_sum, broad, ccd, energy],
+    ) = (counts.as_slice(), values.as_slice())
+    else {
+        return Err(input.error("the contact counters have the wrong length"));
+    };
+    let time = |s: f64| Duration::try_from_secs_f64(s).map_err(|_| input.error("a contact time is not a duration"));
+    Ok(ContactStats {
+        n_evaluations,
+        n_ccd_queries,
+        n_step_limits,
+        step_fraction_sum,
+        n_step_cuts,
+        cache: CacheCounters {
+            queries,
+            requeries,
+            builds,
+            uncached,
+        },
+        broad_phase_time: time(broad)?,
+        ccd_time: time(ccd)?,
+        energy_time: time(energy)?,
+        ..ContactStats::default()
     })
 }
 

@@ -13,7 +13,7 @@ use crate::error::SimulationError;
 use crate::model::Model;
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHandle};
-use cosserat_contact::{ContactParameters, ContactSurface, ContactTerm, Coverage, Obstacle};
+use cosserat_contact::{ContactParameters, ContactStats, ContactSurface, ContactTerm, Coverage, Obstacle};
 use cosserat_io::{BroadPhaseRecord, ContactRecord, DataArray, VtuFrame};
 use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
 use nalgebra::Vector3;
@@ -113,6 +113,8 @@ pub struct ContactState {
     pub monitor: (usize, usize, usize, f64),
     /// The largest and the last obstacle lag \[m\].
     pub lags: (f64, f64),
+    /// The contact term's counters and times since the run started.
+    pub totals: ContactStats,
 }
 
 /// The contact of a run: its term in the potential, the kinematic obstacles and the statistics.
@@ -124,6 +126,8 @@ pub struct ContactRun {
     max_lag: f64,
     /// The same at the end of the last step \[m\].
     last_lag: f64,
+    /// The term's counters before the run was resumed (zero for a run from the start).
+    earlier: ContactStats,
 }
 
 impl ContactRun {
@@ -194,6 +198,7 @@ impl ContactRun {
             monitor: ContactMonitor::default(),
             max_lag: 0.0,
             last_lag: 0.0,
+            earlier: ContactStats::default(),
         };
         let coverage = run.coverage(potential);
         if coverage.min_gap.is_nan() || coverage.min_gap <= 0.0 {
@@ -268,7 +273,13 @@ impl ContactRun {
                 .collect(),
             monitor: (m.steps, m.active_sum, m.active_max, m.min_gap),
             lags: (self.max_lag, self.last_lag),
+            totals: self.totals(potential),
         }
+    }
+
+    /// The contact term's counters and times since the run started (across a resume).
+    fn totals(&self, potential: &IncrementalPotential) -> ContactStats {
+        self.term(potential).stats().continuing(&self.earlier)
     }
 
     /// Restores a [`ContactRun::snapshot`] and rebuilds the potential's pattern with its couplings.
@@ -300,6 +311,7 @@ impl ContactRun {
             min_gap,
         };
         (self.max_lag, self.last_lag) = saved.lags;
+        self.earlier = saved.totals;
         let starts = saved.obstacles.iter().map(|(start, _)| start.clone()).collect();
         self.term_mut(potential)
             .restore(saved.block_pairs.iter().copied(), starts)
@@ -326,7 +338,7 @@ impl ContactRun {
     /// The run record's contact section; `step_seconds` is the time of all steps, for the shares.
     pub fn record(&self, potential: &IncrementalPotential, step_seconds: f64) -> ContactRecord {
         let term = potential.term(self.term);
-        let s = term.stats();
+        let s = self.totals(potential);
         let energy = s.energy_time.as_secs_f64();
         let ccd = s.ccd_time.as_secs_f64();
         let broad = s.broad_phase_time.as_secs_f64();

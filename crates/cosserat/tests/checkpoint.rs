@@ -264,6 +264,23 @@ fn a_resumed_contact_run_with_friction_is_bit_identical() {
             b.min_gap.map(f64::to_bits)
         )
     );
+    // The contact term's counters continue across the resume (the restored run asks the broad phase
+    // once more, to rebuild the pattern, so its query count is not compared).
+    assert!(a.n_ccd_queries > 0 && a.n_evaluations > 0);
+    assert_eq!(
+        (
+            a.n_evaluations,
+            a.n_ccd_queries,
+            a.n_step_cuts,
+            a.mean_step_fraction.map(f64::to_bits),
+        ),
+        (
+            b.n_evaluations,
+            b.n_ccd_queries,
+            b.n_step_cuts,
+            b.mean_step_fraction.map(f64::to_bits),
+        )
+    );
 }
 
 #[test]
