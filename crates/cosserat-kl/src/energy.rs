@@ -19,7 +19,7 @@
 //! composed function with one 18-direction second-order dual; the tests compare the two, and the
 //! benchmark `kl_benches` measures both.
 
-use crate::fundamental_form::{N_LOCALS, first_form, inverse2, second_form, strain_locals, vertex};
+use crate::fundamental_form::{N_LOCALS, strain_locals, vertex};
 use crate::material::{MaterialConstants, plane_stress_density};
 use crate::mid_edge::{add_edge_hessian, measure_jet, set_edge_jacobian, unit_normal_jet, weighted_normal_hessian};
 use crate::rest::{StencilRest, ThicknessPoint};
@@ -59,10 +59,22 @@ impl StencilDerivatives {
 }
 
 /// `B = b a⁻¹ b` of the strain locals, as its entries `(B₁₁, B₁₂, B₂₂)`.
+///
+/// Written out in scalars, `B = (b adj(a) b) / det a`: its derivatives are taken with second-order duals
+/// at every stencil, and generic 2×2 matrix products of duals spend most of their time copying them.
 pub fn bending_product<T: Real>(s: &SVector<T, N_LOCALS>) -> SVector<T, 3> {
-    let b = second_form(s);
-    let m = b * inverse2(&first_form(s)) * b;
-    SVector::<T, 3>::new(m[(0, 0)], m[(0, 1)], m[(1, 1)])
+    let (a11, a12, a22) = (s[0], s[1], s[2]);
+    // b = −[[II₀ + II₁, II₀], [II₀, II₀ + II₂]] (`fundamental_form::second_form`).
+    let (b11, b12, b22) = (-(s[3] + s[4]), -s[3], -(s[3] + s[5]));
+    let inv_det = (a11 * a22 - a12 * a12).recip();
+    // The rows of b adj(a).
+    let (r11, r12) = (b11 * a22 - b12 * a12, b12 * a11 - b11 * a12);
+    let (r21, r22) = (b12 * a22 - b22 * a12, b22 * a11 - b12 * a12);
+    SVector::<T, 3>::new(
+        (r11 * b11 + r12 * b12) * inv_det,
+        (r11 * b12 + r12 * b22) * inv_det,
+        (r21 * b12 + r22 * b22) * inv_det,
+    )
 }
 
 /// The entries `(g₁₁, g₁₂, g₂₂)` of `g(ξ) = a − 2ξ b + ξ² B` from the locals and `B = b a⁻¹ b`.
@@ -142,7 +154,10 @@ fn local_derivatives(
     }
     if with_hessian {
         let (_, _, hb) = num_dual::hessian(
-            |s: SVector<Dual2SVec64<N_LOCALS>, N_LOCALS>| bending_product(&s).dot(&weights_b.map(Dual2SVec64::from_re)),
+            |s: SVector<Dual2SVec64<N_LOCALS>, N_LOCALS>| {
+                let m = bending_product(&s);
+                m[0] * weights_b[0] + m[1] * weights_b[1] + m[2] * weights_b[2]
+            },
             s,
         );
         hessian += hb;
@@ -156,10 +171,16 @@ pub fn stencil_energy<T: Real>(x: &SVector<T, N_STENCIL>, rest: &StencilRest, c:
     local_energy(&strain_locals(x, rest.present()), rest, c)
 }
 
+/// The coordinates an edge's measure depends on: the face's three corners and the vertex across the
+/// edge, 12 of the stencil's 18.
+const N_EDGE: usize = 12;
+
 /// What the chain rule needs of one mid-edge measure `IIᵢ = φ(yᵢ)`, `yᵢ = (vᵢ, n_f, n_gᵢ)`.
 struct EdgeJet {
-    /// `∂yᵢ/∂x` (9 × 18).
-    y_jac: SMatrix<f64, 9, N_STENCIL>,
+    /// `∂yᵢ/∂x` (9 × 12) with respect to the coordinates of `(q₀, q₁, q₂, pᵢ)`.
+    y_jac: SMatrix<f64, 9, N_EDGE>,
+    /// The stencil vertex of each block of three columns of `y_jac`.
+    slots: [usize; 4],
     /// `∇φ(yᵢ)`.
     g_phi: SVector<f64, 9>,
     /// `∇²φ(yᵢ)` (zero when only gradients are wanted).
@@ -197,19 +218,27 @@ fn strain_jets(
             _ => neighbour.n[r % 3],
         });
         let (phi, g_phi, h_phi) = measure_jet(&y, with_hessian);
-        let mut y_jac = SMatrix::<f64, 9, N_STENCIL>::zeros();
+        // Columns: q₀, q₁, q₂ in their stencil order, then pᵢ in the fourth block.
+        let slots = [0, 1, 2, 3 + i];
+        let mut y_jac = SMatrix::<f64, 9, N_EDGE>::zeros();
         for c in 0..3 {
             y_jac[(c, 3 * i + c)] = -2.0;
             y_jac[(c, 3 * j + c)] = 1.0;
             y_jac[(c, 3 * k + c)] = 1.0;
         }
         set_edge_jacobian(&mut y_jac, 3, [0, 1, 2], &face.jac);
-        let verts = [k, j, 3 + i];
-        set_edge_jacobian(&mut y_jac, 6, verts, &neighbour.jac);
+        set_edge_jacobian(&mut y_jac, 6, [k, j, 3], &neighbour.jac);
         s[3 + i] = phi;
-        jac.set_row(3 + i, &(y_jac.transpose() * g_phi).transpose());
+        let row = y_jac.transpose() * g_phi;
+        for (slot, &v) in slots.iter().enumerate() {
+            for c in 0..3 {
+                jac[(3 + i, 3 * v + c)] = row[3 * slot + c];
+            }
+        }
+        let verts = [k, j, 3 + i];
         edges[i] = Some(EdgeJet {
             y_jac,
+            slots,
             g_phi,
             h_phi,
             f,
@@ -272,7 +301,13 @@ pub fn stencil_hessian(x: &SVector<f64, N_STENCIL>, rest: &StencilRest, c: &Mate
     for (i, edge) in edges.iter().enumerate() {
         let Some(e) = edge else { continue };
         let w = gs[3 + i];
-        hessian += e.y_jac.transpose() * ((e.h_phi * w) * e.y_jac);
+        let local = e.y_jac.transpose() * ((e.h_phi * w) * e.y_jac);
+        for (r, &vr) in e.slots.iter().enumerate() {
+            for (col, &vc) in e.slots.iter().enumerate() {
+                let mut target = hessian.fixed_view_mut::<3, 3>(3 * vr, 3 * vc);
+                target += local.fixed_view::<3, 3>(3 * r, 3 * col);
+            }
+        }
         face_weights += e.g_phi.fixed_rows::<3>(3) * w;
         let c_neighbour: Vector3<f64> = e.g_phi.fixed_rows::<3>(6) * w;
         add_edge_hessian(

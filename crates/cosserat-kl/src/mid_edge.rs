@@ -129,9 +129,10 @@ pub(crate) fn add_edge_hessian(out: &mut SMatrix<f64, 18, 18>, verts: [usize; 3]
 }
 
 /// Writes the Jacobian `J E` of a function of the edge vectors of vertices `(a, b, c)` into `rows` of
-/// the stencil Jacobian `out` (which must be zero there).
-pub(crate) fn set_edge_jacobian<const R: usize>(
-    out: &mut SMatrix<f64, R, 18>,
+/// the Jacobian `out` (which must be zero there), whose columns are the coordinates of the vertices
+/// (the stencil's, or a subset of them).
+pub(crate) fn set_edge_jacobian<const R: usize, const C: usize>(
+    out: &mut SMatrix<f64, R, C>,
     first_row: usize,
     verts: [usize; 3],
     jac: &SMatrix<f64, 3, 6>,

@@ -244,3 +244,25 @@ fn the_mid_surface_measure_approaches_the_exact_one_at_second_order_in_h_kappa()
     }
     assert!(differences[3] < 2e-4, "{differences:?}");
 }
+
+#[test]
+fn the_bending_product_written_in_scalars_is_b_times_a_inverse_times_b() {
+    use cosserat_kl::energy::bending_product;
+    use cosserat_kl::fundamental_form::{first_form, inverse2, second_form};
+    for k in 0..20 {
+        let t = k as f64;
+        let s = SVector::<f64, 6>::from_fn(|i, _| ((i as f64 + 1.0) * (t + 0.3)).sin());
+        // A positive definite first form.
+        let s = SVector::<f64, 6>::from_fn(|i, _| match i {
+            0 | 2 => 1.0 + s[i].abs(),
+            1 => 0.5 * s[i],
+            _ => s[i],
+        });
+        let (a, b) = (first_form(&s), second_form(&s));
+        let m = b * inverse2(&a) * b;
+        let got = bending_product(&s);
+        let want = SVector::<f64, 3>::new(m[(0, 0)], m[(0, 1)], m[(1, 1)]);
+        assert!((got - want).norm() <= 1e-14 * want.norm().max(1.0), "{got} vs {want}");
+        assert!((m[(0, 1)] - m[(1, 0)]).abs() <= 1e-14 * m.norm(), "B is symmetric");
+    }
+}
