@@ -975,14 +975,7 @@ pub fn execute(spec: &RunSpec, dir: &Path) -> Result<RunResult> {
         }
     };
     let summary = sim.run(dir, &mut progress, &cosserat::StopRequest::new())?;
-    let probes = ProbeTable::read(&dir.join("probes.csv")).ok();
-    Ok(RunResult {
-        spec: spec.clone(),
-        summary,
-        probes,
-        frame: last_frame(dir),
-        dir: dir.to_path_buf(),
-    })
+    Ok(finished_run(spec, summary, dir))
 }
 
 /// How often a long run reports its progress.
@@ -1108,6 +1101,12 @@ fn run_or_reuse(p: &Planned) -> Result<RunResult> {
     if p.reused.is_some() {
         return read_run(&p.spec, &p.dir);
     }
+    // A summary left by an earlier run must not pass for this one's if this one is killed before it
+    // writes its own.
+    let stale = p.dir.join("summary.json");
+    if stale.exists() {
+        std::fs::remove_file(&stale).with_context(|| format!("removing {}", stale.display()))?;
+    }
     RunInputs::of(&p.spec)?.write(&p.dir)?;
     execute(&p.spec, &p.dir)
 }
@@ -1115,13 +1114,19 @@ fn run_or_reuse(p: &Planned) -> Result<RunResult> {
 /// A finished run read back from its folder.
 fn read_run(spec: &RunSpec, dir: &Path) -> Result<RunResult> {
     let path = dir.join("summary.json");
-    Ok(RunResult {
+    let summary = cosserat::io::read_summary(&path).with_context(|| format!("reading {}", path.display()))?;
+    Ok(finished_run(spec, summary, dir))
+}
+
+/// A run's result: its summary and the outputs read back from its folder.
+fn finished_run(spec: &RunSpec, summary: RunSummary, dir: &Path) -> RunResult {
+    RunResult {
         spec: spec.clone(),
-        summary: cosserat::io::read_summary(&path).with_context(|| format!("reading {}", path.display()))?,
+        summary,
         probes: ProbeTable::read(&dir.join("probes.csv")).ok(),
         frame: last_frame(dir),
         dir: dir.to_path_buf(),
-    })
+    }
 }
 
 /// Table rows taken from earlier runs (`--reuse`), with the revision, time and machine of each.
