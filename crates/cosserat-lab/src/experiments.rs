@@ -1129,6 +1129,41 @@ fn finished_run(spec: &RunSpec, summary: RunSummary, dir: &Path) -> RunResult {
     }
 }
 
+/// Rows whose scene holds several copies of the paper's body (the Lotus flower's three layers, the
+/// three Armadillos), recognised by a whole multiple of the paper's cell count: their time per step
+/// per copy beside the paper's, which is for one.
+fn per_copy_rows(all_results: &[(&str, Vec<RunResult>)]) -> String {
+    let mut md = String::new();
+    for (name, results) in all_results {
+        for res in results {
+            let variant = res.spec.variant.split(" (").next().unwrap_or("");
+            let Some(p) = paper::row(name, variant, &res.spec.element) else {
+                continue;
+            };
+            let cells = res.summary.n_cells;
+            if p.cells == 0 || cells <= p.cells || !cells.is_multiple_of(p.cells) {
+                continue;
+            }
+            let copies = cells / p.cells;
+            let per_copy = res.summary.avg_step_ms / copies as f64;
+            let _ = writeln!(
+                md,
+                "- {name} {}: {copies} copies of the paper's {} cells, {per_copy:.1} ms per step per copy against the paper's {:.0} ms ({:.1}× faster).",
+                res.spec.variant,
+                p.cells,
+                p.step_ms,
+                p.step_ms / per_copy
+            );
+        }
+    }
+    if md.is_empty() {
+        return md;
+    }
+    format!(
+        "\nThe paper ran one copy of these bodies per run; the scenes here hold several that do not interact:\n\n{md}"
+    )
+}
+
 /// Table rows taken from earlier runs (`--reuse`), with the revision, time and machine of each.
 fn reused_rows(planned: &[Planned], experiments: &[Experiment]) -> String {
     let mut md = String::new();
@@ -1263,6 +1298,7 @@ pub fn run_all(o: &Options) -> Result<Report> {
     let mut md = report_header(o, started.elapsed().as_secs_f64())?;
     md.push_str(&table);
     md.push_str(&reused_rows(&planned, &experiments));
+    md.push_str(&per_copy_rows(&all_results));
     writeln!(md, "\n## What each experiment shows\n{checks}")?;
     md.push_str(&comparison::section(&all_results));
     if !failures.is_empty() {

@@ -33,6 +33,12 @@ fn every_experiment_runs_a_few_steps() {
             "{name} missing from the report"
         );
     }
+    // The lotus scene holds the paper's three layers, each the size of the paper's one-layer run.
+    assert!(
+        report.markdown.contains("lotus_flower 4x4: 3 copies of the paper's 32 cells"),
+        "{}",
+        report.markdown
+    );
     // Asked to reuse, a second pass takes the complete runs it just made instead of running them.
     let again = cosserat_lab::experiments::Options {
         only: Some("twisting_strip".into()),
