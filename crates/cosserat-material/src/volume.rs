@@ -91,7 +91,7 @@ mod tests {
         ];
         for scale in [0.01, 0.3, 1.0] {
             for _ in 0..20 {
-                let mut v = || Vector3::from_fn(|_, _| rng.gen_range(-1.0..1.0) * scale);
+                let mut v = || Vector3::from_fn(|_, _| rng.random_range(-1.0..1.0) * scale);
                 out.push([Vector3::x() + v(), Vector3::y() + v()]);
             }
         }
