@@ -1057,9 +1057,7 @@ fn plan(o: &Options, experiments: &[Experiment]) -> Vec<Planned> {
 
 /// The inputs of the earlier run in `dir`, if they are those of `spec`.
 fn reusable_run(spec: &RunSpec, dir: &Path) -> Option<RunInputs> {
-    let earlier = RunInputs::read(dir)?;
-    let now = RunInputs::of(spec).ok()?;
-    earlier.same_run(&now).then_some(earlier)
+    RunInputs::read(dir).filter(|earlier| earlier.is_run_of(spec))
 }
 
 /// Prints the plan and its estimated total before anything runs.

@@ -321,7 +321,11 @@ fn save_contact(contact: &ContactState, out: &mut Encoder) {
     let (steps, active_sum, active_max, min_gap) = contact.monitor;
     out.usizes(&[steps, active_sum, active_max]);
     out.f64s(&[min_gap, contact.lags.0, contact.lags.1]);
-    let t = &contact.totals;
+    save_contact_totals(&contact.totals, out);
+}
+
+/// The contact term's counters, read back by `load_contact_totals`.
+fn save_contact_totals(t: &ContactStats, out: &mut Encoder) {
     out.usizes(&[
         t.n_evaluations,
         t.n_ccd_queries,

@@ -43,10 +43,13 @@ impl RunInputs {
         })
     }
 
-    /// Whether a run from `self` computed the same thing as one from `other`: same scene text and
-    /// overrides. The revision, date and machine may differ; the report names them.
-    pub fn same_run(&self, other: &Self) -> bool {
-        self.scene == other.scene && self.scene_text == other.scene_text && self.overrides == other.overrides
+    /// Whether the run these inputs describe is `spec` as it stands now: same scene path, scene text
+    /// and overrides. The revision, date and machine may differ; the report names them. A scene that
+    /// cannot be read matches nothing.
+    pub fn is_run_of(&self, spec: &RunSpec) -> bool {
+        self.scene == spec.scene.display().to_string()
+            && self.overrides == spec.overrides
+            && std::fs::read_to_string(&spec.scene).is_ok_and(|text| text == self.scene_text)
     }
 
     /// Records the inputs in the run's folder (before it runs).
@@ -87,17 +90,14 @@ mod tests {
         let mut other = back.clone();
         other.rev = "0000000".into();
         other.date_time = "earlier".into();
-        assert!(other.same_run(&inputs), "revision and date do not make another run");
+        assert!(other.is_run_of(&spec), "revision and date do not make another run");
         let changed = RunSpec {
             overrides: vec!["time.dt=0.02".into()],
             ..spec.clone()
         };
-        assert!(!RunInputs::of(&changed).unwrap().same_run(&inputs));
+        assert!(!inputs.is_run_of(&changed));
         std::fs::write(&scene, "[time]\nend = 2.0\n").unwrap();
-        assert!(
-            !RunInputs::of(&spec).unwrap().same_run(&inputs),
-            "an edited scene is another run"
-        );
+        assert!(!inputs.is_run_of(&spec), "an edited scene is another run");
         assert!(RunInputs::read(&PathBuf::from("/nonexistent")).is_none());
         std::fs::remove_dir_all(&dir).unwrap();
     }
