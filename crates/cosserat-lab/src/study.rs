@@ -10,7 +10,7 @@
 //! so targets can be re-run one at a time.
 
 use crate::plot::{Mark, Plot, Series};
-use crate::problem::{Interpolation, Pair, Problem, compare, registry};
+use crate::problem::{Discretisation, Interpolation, Pair, Problem, compare, registry};
 use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::{Result, bail};
 use cosserat::RunDescription;
@@ -41,55 +41,7 @@ pub struct StudyArgs {
     pub emit_runs: Option<PathBuf>,
 }
 
-/// One discretisation of the study: an element pair with a strain interpolation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Discretisation {
-    /// The element pair.
-    pub pair: Pair,
-    /// The strain interpolation.
-    pub interpolation: Interpolation,
-}
-
 impl Discretisation {
-    /// Every pair with the paper's interpolation, and the paper's pair with the stabilised projection
-    /// and with Regge membrane strains plus stabilised shear and drilling (the locking-free options
-    /// meant for it).
-    pub const ALL: [Discretisation; 5] = [
-        Discretisation::paper(Pair::Tri3Tri3),
-        Discretisation::paper(Pair::Tri6Tri3),
-        Discretisation {
-            pair: Pair::Tri6Tri3,
-            interpolation: Interpolation::Stabilized,
-        },
-        Discretisation {
-            pair: Pair::Tri6Tri3,
-            interpolation: Interpolation::ReggeStabilized,
-        },
-        Discretisation::paper(Pair::Tri6Tri6),
-    ];
-
-    const fn paper(pair: Pair) -> Self {
-        Self {
-            pair,
-            interpolation: Interpolation::Paper,
-        }
-    }
-
-    /// `Tri6/Tri3` with the paper's interpolation, `Tri6/Tri3 stabilized` with another.
-    pub fn label(self) -> String {
-        match self.interpolation {
-            Interpolation::Paper => self.pair.label().to_string(),
-            other => format!("{} {}", self.pair.label(), other.as_str()),
-        }
-    }
-
-    /// The scene overrides selecting it.
-    pub fn overrides(self) -> Vec<String> {
-        let mut ov = self.pair.overrides();
-        ov.push(self.interpolation.scene_override());
-        ov
-    }
-
     /// Plot colour; `second_model` for the plate model beside the shell's on curved problems.
     fn color(self, second_model: bool) -> usize {
         match (self.interpolation, second_model) {

@@ -3,13 +3,14 @@
 //! 2 % on 8 bands, and the thin Sze 3.1 cantilever (h/L = 1e-3 and 1e-4) within 1 % of the elastica on
 //! 20 × 2 quads; the thin cantilever with Regge membrane strains; the goals that Regge membrane strains
 //! with stabilised shear and drilling reach (pinched cylinder within 5 % on 32 × 16 and 2 % on 64 × 32,
-//! Scordelis–Lo roof within 1 % on 16 × 16, the thin cantilever within 1 % at h/L = 1e-3 and 1e-4); and
-//! in-plane bending of a strip one element wide. Each run takes a few seconds in release.
+//! Scordelis–Lo roof within 1 % on 16 × 16, the thin cantilever within 1 % at h/L = 1e-3 and 1e-4); every
+//! goal of the course with quadratic rotations and `"regge_stabilized"`; and in-plane bending of a strip
+//! one element wide. Each run takes a few seconds to a minute in release.
 
 use cosserat::RunDescription;
 use cosserat_lab::locking::Row;
 use cosserat_lab::obstacle::course;
-use cosserat_lab::problem::{Interpolation, Pair};
+use cosserat_lab::problem::{Discretisation, Interpolation, Pair};
 use cosserat_lab::runner::{Runner, run_described};
 
 fn out(name: &str) -> std::path::PathBuf {
@@ -66,15 +67,24 @@ fn sze_run(row: &Row, h_over_l: f64, extra: &[String], dir: &str) -> (f64, f64) 
 fn regge_thin_cantilevers_are_within_one_percent_of_the_elastica() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
-    for interpolation in [Interpolation::Regge, Interpolation::ReggeStabilized] {
-        for h_over_l in [1e-3, 1e-4] {
-            let row = Row::new(Pair::Tri6Tri3, interpolation, 20, 2);
-            let dir = format!("sze_{}_{h_over_l:e}", interpolation.as_str());
+    // Quadratic rotations need many Newton iterations per level at h/L = 1e-4 (docs/model-notes.md):
+    // that cell is left to the locking study.
+    for (pair, interpolation, thicknesses) in [
+        (Pair::Tri6Tri3, Interpolation::Regge, &[1e-3, 1e-4][..]),
+        (Pair::Tri6Tri3, Interpolation::ReggeStabilized, &[1e-3, 1e-4][..]),
+        (Pair::Tri6Tri6, Interpolation::ReggeStabilized, &[1e-3][..]),
+    ] {
+        for &h_over_l in thicknesses {
+            let row = Row::new(pair, interpolation, 20, 2);
+            let dir = format!(
+                "sze_{}_{h_over_l:e}",
+                Discretisation::new(pair, interpolation).directory()
+            );
             let (ratio, _) = sze_run(&row, h_over_l, &[], &dir);
             assert!(
                 (ratio - 1.0).abs() <= 0.01,
                 "{} h/L = {h_over_l:e}: tip deflection / elastica = {ratio}",
-                interpolation.as_str()
+                row.label()
             );
         }
     }
@@ -116,13 +126,14 @@ fn mixed_integration_points_cut_the_newton_iterations_of_thin_cantilevers() {
     }
 }
 
-/// The error of one obstacle-course benchmark on the ladder rung labelled `mesh`, with an interpolation.
-fn course_error(name: &str, mesh: &str, interpolation: Interpolation) -> f64 {
+/// The error of one obstacle-course benchmark on the ladder rung labelled `mesh`, with a
+/// discretisation.
+fn course_error(name: &str, mesh: &str, discretisation: Discretisation) -> f64 {
     let b = course().into_iter().find(|b| b.name == name).unwrap();
     let (_, mut ov) = b.ladder.iter().find(|(label, _)| label == mesh).unwrap().clone();
-    ov.push(interpolation.scene_override());
+    ov.extend(discretisation.overrides());
     ov.push("output.frames=false".into());
-    let dir = out(&format!("{name}_{mesh}_{}", interpolation.as_str()));
+    let dir = out(&format!("{name}_{mesh}_{}", discretisation.directory()));
     let outcome = run_described(&Runner::InProcess, &RunDescription::new(b.scene, dir, &ov)).unwrap();
     assert!(outcome.is_ok(), "{name} {mesh}: {}", outcome.reason());
     (b.read)(outcome.probes.as_ref().unwrap()).unwrap() / b.reference - 1.0
@@ -137,7 +148,38 @@ fn regge_stabilized_meets_the_cylinder_and_roof_goals() {
         ("pinched_cylinder", "64×32", 0.02),
         ("scordelis_lo_roof", "16×16", 0.01),
     ] {
-        let error = course_error(name, mesh, Interpolation::ReggeStabilized);
+        let error = course_error(
+            name,
+            mesh,
+            Discretisation::new(Pair::Tri6Tri3, Interpolation::ReggeStabilized),
+        );
+        assert!(
+            error.abs() <= within,
+            "{name} {mesh}: {:+.2} % (goal {} %)",
+            100.0 * error,
+            100.0 * within
+        );
+    }
+}
+
+/// Quadratic rotations with Regge membrane strains and stabilised shear and drilling meet every goal
+/// of the obstacle course on its named meshes: the pinched hemisphere within 2 % on 8 bands and 1 % on
+/// 16, the pinched cylinder within 5 % on 32 × 16 and 2 % on 64 × 32, the Scordelis–Lo roof within 2 %
+/// on 8 × 8 and 1 % on 16 × 16.
+#[test]
+fn quadratic_rotations_with_regge_stabilized_meet_every_course_goal() {
+    let root = cosserat_lab::workspace_root();
+    std::env::set_current_dir(&root).unwrap();
+    let discretisation = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
+    for (name, mesh, within) in [
+        ("pinched_hemisphere", "32×10 (8 bands)", 0.02),
+        ("pinched_hemisphere", "64×20 (16 bands)", 0.01),
+        ("pinched_cylinder", "32×16", 0.05),
+        ("pinched_cylinder", "64×32", 0.02),
+        ("scordelis_lo_roof", "8×8", 0.02),
+        ("scordelis_lo_roof", "16×16", 0.01),
+    ] {
+        let error = course_error(name, mesh, discretisation);
         assert!(
             error.abs() <= within,
             "{name} {mesh}: {:+.2} % (goal {} %)",
@@ -160,20 +202,20 @@ fn in_plane_bending_of_a_strip_one_element_wide_matches_the_beam() {
     let scene = "scenes/validation/cantilever_small_load.toml";
     let (l, b, h, e, f): (f64, f64, f64, f64, f64) = (1.0, 0.1, 0.01, 1e9, 1.0);
     let expected = f * l.powi(3) / (3.0 * e * h * b.powi(3) / 12.0) + f * l / (5.0 / 6.0 * 0.5 * e * b * h);
-    for interpolation in [
-        Interpolation::Paper,
-        Interpolation::Regge,
-        Interpolation::ReggeStabilized,
+    for discretisation in [
+        Discretisation::paper(Pair::Tri6Tri3),
+        Discretisation::new(Pair::Tri6Tri3, Interpolation::Regge),
+        Discretisation::new(Pair::Tri6Tri3, Interpolation::ReggeStabilized),
+        Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized),
     ] {
         let mut ov = vec![
-            interpolation.scene_override(),
             "mesh.nx=10".into(),
             "mesh.ny=1".into(),
             format!("load.0.force=[0.0, {f}, 0.0]"),
             "output.frames=false".into(),
         ];
-        ov.extend(Pair::Tri6Tri3.overrides());
-        let run = RunDescription::new(scene, out(&format!("in_plane_{}", interpolation.as_str())), &ov);
+        ov.extend(discretisation.overrides());
+        let run = RunDescription::new(scene, out(&format!("in_plane_{}", discretisation.directory())), &ov);
         let outcome = run_described(&Runner::InProcess, &run).unwrap();
         assert!(outcome.is_ok(), "{}", outcome.reason());
         let uy = outcome.probes.as_ref().unwrap().last("tip.uy").unwrap();
@@ -181,7 +223,7 @@ fn in_plane_bending_of_a_strip_one_element_wide_matches_the_beam() {
         assert!(
             error.abs() <= 0.005,
             "{}: tip deflection {uy:e} against {expected:e} ({:+.2} %)",
-            interpolation.as_str(),
+            discretisation.label(),
             100.0 * error
         );
     }

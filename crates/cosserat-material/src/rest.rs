@@ -36,7 +36,9 @@ pub struct RestOptions {
     pub flat_tolerance: f64,
     /// How the points' strains enter the energy. Default [`StrainInterpolation::Paper`].
     pub interpolation: StrainInterpolation,
-    /// The constants of [`StrainInterpolation::Stabilized`].
+    /// The constants of [`StrainInterpolation::Stabilized`] (those of
+    /// [`StrainInterpolation::ReggeStabilized`] depend on the pair:
+    /// [`StabilizationConstants::regge_stabilized`]).
     pub stabilization: StabilizationConstants,
     /// The parts that take assumed values under [`StrainInterpolation::Assumed`].
     pub assumed_parts: AssumedParts,
@@ -210,7 +212,8 @@ where
             let tied: [PointBasis; N_TYING] = std::array::from_fn(|t| bases[n_qp + t]);
             let mut maps = tying_maps(&tied, &bases[..n_qp], parts, interior);
             if options.interpolation == StrainInterpolation::ReggeStabilized {
-                let alpha = StrainProjection::new(&options.stabilization, moduli.thickness, longest_edge(&nodes));
+                let constants = StabilizationConstants::regge_stabilized(NR);
+                let alpha = StrainProjection::new(&constants, moduli.thickness, longest_edge(&nodes));
                 stabilize_shear_and_drilling(&mut maps, alpha.shear, alpha.drilling);
             }
             tying_map_list.extend(maps);

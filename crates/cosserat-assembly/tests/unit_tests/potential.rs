@@ -146,6 +146,12 @@ fn assembled_derivatives_match_finite_differences() {
         25,
         StrainInterpolation::ReggeStabilized,
     );
+    check_derivatives_with(
+        ElementPair::Tri6Tri6,
+        ShellModel::Shell,
+        26,
+        StrainInterpolation::ReggeStabilized,
+    );
 }
 
 /// `hessian_add` adds onto whatever the buffers hold, and the gradient that comes with a Hessian is the

@@ -619,7 +619,8 @@ pub struct MaterialSection {
     pub axl: Option<AxlName>,
     /// How the quadrature points' strains enter the energy: `"paper"`, `"stabilized"`, `"assumed"`,
     /// `"regge"` or `"regge_stabilized"` (default `"paper"`; docs/model-notes.md compares them on the
-    /// locking benchmarks).
+    /// locking benchmarks). For thin and curved shells on coarse meshes, `"regge_stabilized"` with
+    /// quadratic rotations (`mesh.rotation_element = "tri6"`) is the most accurate per unknown.
     pub strain_interpolation: Option<StrainInterpolationName>,
     /// Rest-curvature normal field (default `"auto"`).
     pub curvature_source: Option<CurvatureSourceName>,
