@@ -335,6 +335,54 @@ pub fn compare(problem: &Problem, probes: &ProbeTable, against_second: bool) -> 
     Ok((Errors { per_component }, table))
 }
 
+/// A discretisation: an element pair with a strain interpolation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Discretisation {
+    /// The element pair.
+    pub pair: Pair,
+    /// The strain interpolation.
+    pub interpolation: Interpolation,
+}
+
+impl Discretisation {
+    /// A pair with a strain interpolation.
+    pub const fn new(pair: Pair, interpolation: Interpolation) -> Self {
+        Self { pair, interpolation }
+    }
+
+    /// A pair with the paper's strain interpolation.
+    pub const fn paper(pair: Pair) -> Self {
+        Self {
+            pair,
+            interpolation: Interpolation::Paper,
+        }
+    }
+
+    /// `Tri6/Tri3` with the paper's interpolation, `Tri6/Tri3 stabilized` with another.
+    pub fn label(self) -> String {
+        match self.interpolation {
+            Interpolation::Paper => self.pair.label().to_string(),
+            other => format!("{} {}", self.pair.label(), other.as_str()),
+        }
+    }
+
+    /// A directory name: `tri6_tri3_paper` etc.
+    pub fn directory(self) -> String {
+        format!(
+            "{}_{}",
+            self.pair.label().to_lowercase().replace('/', "_"),
+            self.interpolation.as_str()
+        )
+    }
+
+    /// The scene overrides selecting it.
+    pub fn overrides(self) -> Vec<String> {
+        let mut ov = self.pair.overrides();
+        ov.push(self.interpolation.scene_override());
+        ov
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -390,70 +438,5 @@ mod tests {
         // −U: error 0.12 over the largest reference −U, 12.
         assert!((e.per_component[0] - 0.01).abs() < 1e-12, "{:?}", e);
         assert!(e.per_component[1] < 1e-12);
-    }
-}
-
-/// One discretisation of the study: an element pair with a strain interpolation.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct Discretisation {
-    /// The element pair.
-    pub pair: Pair,
-    /// The strain interpolation.
-    pub interpolation: Interpolation,
-}
-
-impl Discretisation {
-    /// The discretisations of the speed–accuracy study (`cargo xtask study`): every pair with the
-    /// paper's interpolation, and the paper's pair with the stabilised projection and with Regge
-    /// membrane strains plus stabilised shear and drilling.
-    pub const ALL: [Discretisation; 5] = [
-        Discretisation::paper(Pair::Tri3Tri3),
-        Discretisation::paper(Pair::Tri6Tri3),
-        Discretisation {
-            pair: Pair::Tri6Tri3,
-            interpolation: Interpolation::Stabilized,
-        },
-        Discretisation {
-            pair: Pair::Tri6Tri3,
-            interpolation: Interpolation::ReggeStabilized,
-        },
-        Discretisation::paper(Pair::Tri6Tri6),
-    ];
-
-    /// A pair with a strain interpolation.
-    pub const fn new(pair: Pair, interpolation: Interpolation) -> Self {
-        Self { pair, interpolation }
-    }
-
-    /// A pair with the paper's strain interpolation.
-    pub const fn paper(pair: Pair) -> Self {
-        Self {
-            pair,
-            interpolation: Interpolation::Paper,
-        }
-    }
-
-    /// `Tri6/Tri3` with the paper's interpolation, `Tri6/Tri3 stabilized` with another.
-    pub fn label(self) -> String {
-        match self.interpolation {
-            Interpolation::Paper => self.pair.label().to_string(),
-            other => format!("{} {}", self.pair.label(), other.as_str()),
-        }
-    }
-
-    /// A directory name: `tri6_tri3_paper` etc.
-    pub fn directory(self) -> String {
-        format!(
-            "{}_{}",
-            self.pair.label().to_lowercase().replace('/', "_"),
-            self.interpolation.as_str()
-        )
-    }
-
-    /// The scene overrides selecting it.
-    pub fn overrides(self) -> Vec<String> {
-        let mut ov = self.pair.overrides();
-        ov.push(self.interpolation.scene_override());
-        ov
     }
 }
