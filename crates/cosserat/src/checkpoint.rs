@@ -5,8 +5,9 @@
 //! What the next step depends on, and so what a checkpoint holds:
 //! - the system state: positions, velocities, node and quadrature-point rotations, angular velocities;
 //! - the stepper: time and the time step after reductions (dynamic), the load factor, the level
-//!   reached and the predictor's last increment (quasi-static), and whether the next Newton solve
-//!   starts with the Hessian;
+//!   reached and the predictor's last increment (quasi-static), whether the next Newton solve
+//!   starts with the Hessian and where its search for a shift of an indefinite Hessian starts, and the
+//!   last step's velocities that the next initial guess extrapolates from (dynamic);
 //! - the output schedule, the probe rows and frames written so far, and the run's counters;
 //! - contact: the couplings in the Hessian's pattern, the obstacles' positions and the statistics.
 //!
@@ -70,6 +71,11 @@ pub enum StepperState {
         next_output: f64,
         /// Whether the next Newton solve starts with the Hessian.
         starts_with_hessian: bool,
+        /// Newton's last shift of an indefinite Hessian.
+        last_shift: f64,
+        /// The velocities at the start of the last step and its time step, from which the next step's
+        /// initial guess is extrapolated.
+        last_step: Option<(Vec<f64>, f64)>,
     },
     /// A run through load levels.
     QuasiStatic {
@@ -83,6 +89,8 @@ pub enum StepperState {
         increment_limit: Option<f64>,
         /// Whether the next Newton solve starts with the Hessian.
         starts_with_hessian: bool,
+        /// Newton's last shift of an indefinite Hessian.
+        last_shift: f64,
     },
 }
 
@@ -206,10 +214,17 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             dt,
             next_output,
             starts_with_hessian,
+            last_shift,
+            last_step,
         } => {
             out.usize(0);
-            out.f64s(&[*t, *dt, *next_output]);
+            out.f64s(&[*t, *dt, *next_output, *last_shift]);
             out.bool(*starts_with_hessian);
+            out.bool(last_step.is_some());
+            if let Some((velocities, step)) = last_step {
+                out.f64s(velocities);
+                out.f64(*step);
+            }
         }
         StepperState::QuasiStatic {
             levels_done,
@@ -217,6 +232,7 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             predictor,
             increment_limit,
             starts_with_hessian,
+            last_shift,
         } => {
             out.usize(1);
             out.usize(*levels_done);
@@ -231,6 +247,7 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
                 out.f64(*limit);
             }
             out.bool(*starts_with_hessian);
+            out.f64(*last_shift);
         }
     }
 }
@@ -239,14 +256,22 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
     match input.usize()? {
         0 => {
             let values = input.f64s()?;
-            let &[t, dt, next_output] = values.as_slice() else {
+            let &[t, dt, next_output, last_shift] = values.as_slice() else {
                 return Err(input.error("the time stepper's state has the wrong length"));
+            };
+            let starts_with_hessian = input.bool()?;
+            let last_step = if input.bool()? {
+                Some((input.f64s()?, input.f64()?))
+            } else {
+                None
             };
             Ok(StepperState::Dynamic {
                 t,
                 dt,
                 next_output,
-                starts_with_hessian: input.bool()?,
+                starts_with_hessian,
+                last_shift,
+                last_step,
             })
         }
         1 => {
@@ -264,6 +289,7 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
                 predictor,
                 increment_limit,
                 starts_with_hessian: input.bool()?,
+                last_shift: input.f64()?,
             })
         }
         kind => Err(input.error(format!("unknown stepper kind {kind}"))),

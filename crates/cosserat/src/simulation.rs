@@ -400,6 +400,8 @@ impl Simulation {
                     dt: stepper.dt(),
                     next_output: schedule.next(),
                     starts_with_hessian: stepper.solver().starts_with_hessian(),
+                    last_shift: stepper.solver().last_shift(),
+                    last_step: stepper.last_step().cloned(),
                 };
                 self.write_checkpoint(writer, state)?;
             }
@@ -468,6 +470,7 @@ impl Simulation {
                     predictor: stepper.predictor().map(|(du, step)| (du.to_vec(), step)),
                     increment_limit: stepper.increment_limit(),
                     starts_with_hessian: stepper.solver().starts_with_hessian(),
+                    last_shift: stepper.solver().last_shift(),
                 };
                 self.write_checkpoint(writer, state)?;
             }

@@ -264,8 +264,9 @@ impl Ctx<'_> {
                 Some(DomainSplitName::Always) => DomainSplit::Always,
             },
             initial_guess: match s.initial_guess {
-                None | Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
+                Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
                 Some(InitialGuessName::Zero) => InitialGuess::Zero,
+                None | Some(InitialGuessName::Extrapolated) => InitialGuess::Extrapolated,
             },
             project_pd: s.project_pd.unwrap_or(d.project_pd),
             indefinite_hessian: match s.indefinite_hessian {
@@ -346,7 +347,7 @@ fn default_solver(time: &TimeSpec) -> SolverSpec {
         max_line_search_iterations: 20,
         linear_solver: LinearSolverKind::Auto,
         domain_split: DomainSplit::Auto,
-        initial_guess: InitialGuess::PreviousVelocity,
+        initial_guess: InitialGuess::Extrapolated,
         project_pd: false,
         indefinite_hessian: IndefiniteHessian::Shift,
         max_step_reductions: 8,

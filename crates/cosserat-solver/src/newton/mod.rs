@@ -211,9 +211,9 @@ impl NewtonSolver {
         Ok(solver)
     }
 
-    /// Whether the next solve assembles the Hessian with its first gradient: the one piece of state a
-    /// solve leaves for the next (a checkpoint saves it so that a resumed run repeats the same
-    /// evaluations).
+    /// Whether the next solve assembles the Hessian with its first gradient: with
+    /// [`NewtonSolver::last_shift`], the state a solve leaves for the next (a checkpoint saves both so
+    /// that a resumed run repeats the same evaluations).
     pub fn starts_with_hessian(&self) -> bool {
         self.start_with_hessian
     }
@@ -221,6 +221,17 @@ impl NewtonSolver {
     /// Sets what [`NewtonSolver::starts_with_hessian`] reports (to resume a run from a checkpoint).
     pub fn set_starts_with_hessian(&mut self, hessian: bool) {
         self.start_with_hessian = hessian;
+    }
+
+    /// The last shift that made an indefinite Hessian positive definite, where the next search for a
+    /// shift starts (0 before any).
+    pub fn last_shift(&self) -> f64 {
+        self.last_shift
+    }
+
+    /// Sets what [`NewtonSolver::last_shift`] reports (to resume a run from a checkpoint).
+    pub fn set_last_shift(&mut self, shift: f64) {
+        self.last_shift = shift;
     }
 
     /// The settings.

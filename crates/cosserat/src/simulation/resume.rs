@@ -149,6 +149,8 @@ impl Simulation {
             dt,
             next_output,
             starts_with_hessian,
+            last_shift,
+            ref last_step,
         } = checkpoint.stepper
         else {
             return Err(SimulationError::Setup(
@@ -161,7 +163,9 @@ impl Simulation {
         }
         stepper.set_time(t);
         stepper.set_dt(dt);
+        stepper.set_last_step(last_step.clone());
         stepper.solver_mut().set_starts_with_hessian(starts_with_hessian);
+        stepper.solver_mut().set_last_shift(last_shift);
         schedule.resume_at(next_output);
         Ok(())
     }
@@ -179,6 +183,7 @@ impl Simulation {
             predictor,
             increment_limit,
             starts_with_hessian,
+            last_shift,
         } = checkpoint.stepper.clone()
         else {
             return Err(SimulationError::Setup("resuming: not a quasi-static checkpoint".into()));
@@ -195,6 +200,7 @@ impl Simulation {
             .resume(load_factor, predictor, increment_limit)
             .map_err(|reason| SimulationError::Setup(format!("resuming: {reason}")))?;
         stepper.solver_mut().set_starts_with_hessian(starts_with_hessian);
+        stepper.solver_mut().set_last_shift(last_shift);
         Ok((stepper, levels_done))
     }
 }
