@@ -96,8 +96,8 @@ pub use linear::{
     LinearSolverSettings, SparseSolver,
 };
 pub use newton::{
-    Convergence, Criterion, FactorisationCounts, IndefiniteHessian, NewtonReport, NewtonSettings, NewtonSolver,
-    Tolerance,
+    CarriedState, Convergence, Criterion, FactorisationCounts, IndefiniteHessian, NewtonReport, NewtonSettings,
+    NewtonSolver, Tolerance,
 };
 pub use problem::NewtonProblem;
 pub use statics::{

@@ -23,6 +23,7 @@ use cosserat_contact::{CacheCounters, ContactStats};
 use cosserat_io::OutputError;
 use cosserat_io::checkpoint::{Decoder, Encoder};
 use cosserat_scene::spec::SceneSpec;
+use cosserat_solver::CarriedState;
 use nalgebra::{Quaternion, Vector3};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -69,10 +70,8 @@ pub enum StepperState {
         dt: f64,
         /// The time of the next frame \[s\].
         next_output: f64,
-        /// Whether the next Newton solve starts with the Hessian.
-        starts_with_hessian: bool,
-        /// Newton's last shift of an indefinite Hessian.
-        last_shift: f64,
+        /// What the last Newton solve left for the next.
+        newton: CarriedState,
         /// The velocities at the start of the last step and its time step, from which the next step's
         /// initial guess is extrapolated.
         last_step: Option<(Vec<f64>, f64)>,
@@ -87,10 +86,8 @@ pub enum StepperState {
         predictor: Option<(Vec<f64>, f64)>,
         /// The largest load increment of the next solve (`None`: the whole next level).
         increment_limit: Option<f64>,
-        /// Whether the next Newton solve starts with the Hessian.
-        starts_with_hessian: bool,
-        /// Newton's last shift of an indefinite Hessian.
-        last_shift: f64,
+        /// What the last Newton solve left for the next.
+        newton: CarriedState,
     },
 }
 
@@ -213,13 +210,12 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             t,
             dt,
             next_output,
-            starts_with_hessian,
-            last_shift,
+            newton,
             last_step,
         } => {
             out.usize(0);
-            out.f64s(&[*t, *dt, *next_output, *last_shift]);
-            out.bool(*starts_with_hessian);
+            out.f64s(&[*t, *dt, *next_output]);
+            save_newton(newton, out);
             out.bool(last_step.is_some());
             if let Some((velocities, step)) = last_step {
                 out.f64s(velocities);
@@ -231,8 +227,7 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             load_factor,
             predictor,
             increment_limit,
-            starts_with_hessian,
-            last_shift,
+            newton,
         } => {
             out.usize(1);
             out.usize(*levels_done);
@@ -246,20 +241,31 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             if let Some(limit) = increment_limit {
                 out.f64(*limit);
             }
-            out.bool(*starts_with_hessian);
-            out.f64(*last_shift);
+            save_newton(newton, out);
         }
     }
+}
+
+fn save_newton(newton: &CarriedState, out: &mut Encoder) {
+    out.bool(newton.starts_with_hessian);
+    out.f64(newton.last_shift);
+}
+
+fn load_newton(input: &mut Decoder) -> Result<CarriedState, OutputError> {
+    Ok(CarriedState {
+        starts_with_hessian: input.bool()?,
+        last_shift: input.f64()?,
+    })
 }
 
 fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
     match input.usize()? {
         0 => {
             let values = input.f64s()?;
-            let &[t, dt, next_output, last_shift] = values.as_slice() else {
+            let &[t, dt, next_output] = values.as_slice() else {
                 return Err(input.error("the time stepper's state has the wrong length"));
             };
-            let starts_with_hessian = input.bool()?;
+            let newton = load_newton(input)?;
             let last_step = if input.bool()? {
                 Some((input.f64s()?, input.f64()?))
             } else {
@@ -269,8 +275,7 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
                 t,
                 dt,
                 next_output,
-                starts_with_hessian,
-                last_shift,
+                newton,
                 last_step,
             })
         }
@@ -288,8 +293,7 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
                 load_factor,
                 predictor,
                 increment_limit,
-                starts_with_hessian: input.bool()?,
-                last_shift: input.f64()?,
+                newton: load_newton(input)?,
             })
         }
         kind => Err(input.error(format!("unknown stepper kind {kind}"))),

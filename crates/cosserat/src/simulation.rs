@@ -399,8 +399,7 @@ impl Simulation {
                     t: stepper.time(),
                     dt: stepper.dt(),
                     next_output: schedule.next(),
-                    starts_with_hessian: stepper.solver().starts_with_hessian(),
-                    last_shift: stepper.solver().last_shift(),
+                    newton: stepper.solver().carried(),
                     last_step: stepper.last_step().cloned(),
                 };
                 self.write_checkpoint(writer, state)?;
@@ -469,8 +468,7 @@ impl Simulation {
                     load_factor: stepper.load_factor(),
                     predictor: stepper.predictor().map(|(du, step)| (du.to_vec(), step)),
                     increment_limit: stepper.increment_limit(),
-                    starts_with_hessian: stepper.solver().starts_with_hessian(),
-                    last_shift: stepper.solver().last_shift(),
+                    newton: stepper.solver().carried(),
                 };
                 self.write_checkpoint(writer, state)?;
             }

@@ -45,6 +45,17 @@ pub(crate) use evaluation::{round_off_scale, weighted_max_abs};
 pub use report::{FactorisationCounts, NewtonReport};
 pub use settings::{IndefiniteHessian, NewtonSettings};
 
+/// What one solve leaves for the next ([`NewtonSolver::carried`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CarriedState {
+    /// Whether the next solve assembles the Hessian with its first gradient (see
+    /// [`NewtonSolver::solve`]).
+    pub starts_with_hessian: bool,
+    /// The last shift that made an indefinite Hessian positive definite, where the next search for a
+    /// shift starts (0 before any).
+    pub last_shift: f64,
+}
+
 /// Newton's method with all buffers and the symbolic factorisation of one Hessian pattern.
 ///
 /// Build it once per pattern with [`try_new`](Self::try_new) or [`for_problem`](Self::for_problem)
@@ -211,27 +222,19 @@ impl NewtonSolver {
         Ok(solver)
     }
 
-    /// Whether the next solve assembles the Hessian with its first gradient: with
-    /// [`NewtonSolver::last_shift`], the state a solve leaves for the next (a checkpoint saves both so
-    /// that a resumed run repeats the same evaluations).
-    pub fn starts_with_hessian(&self) -> bool {
-        self.start_with_hessian
+    /// The state a solve leaves for the next (a checkpoint saves it so that a resumed run repeats the
+    /// same evaluations).
+    pub fn carried(&self) -> CarriedState {
+        CarriedState {
+            starts_with_hessian: self.start_with_hessian,
+            last_shift: self.last_shift,
+        }
     }
 
-    /// Sets what [`NewtonSolver::starts_with_hessian`] reports (to resume a run from a checkpoint).
-    pub fn set_starts_with_hessian(&mut self, hessian: bool) {
-        self.start_with_hessian = hessian;
-    }
-
-    /// The last shift that made an indefinite Hessian positive definite, where the next search for a
-    /// shift starts (0 before any).
-    pub fn last_shift(&self) -> f64 {
-        self.last_shift
-    }
-
-    /// Sets what [`NewtonSolver::last_shift`] reports (to resume a run from a checkpoint).
-    pub fn set_last_shift(&mut self, shift: f64) {
-        self.last_shift = shift;
+    /// Sets what [`NewtonSolver::carried`] reports (to resume a run from a checkpoint).
+    pub fn restore(&mut self, carried: CarriedState) {
+        self.start_with_hessian = carried.starts_with_hessian;
+        self.last_shift = carried.last_shift;
     }
 
     /// The settings.

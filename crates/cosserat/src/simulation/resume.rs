@@ -148,8 +148,7 @@ impl Simulation {
             t,
             dt,
             next_output,
-            starts_with_hessian,
-            last_shift,
+            newton,
             ref last_step,
         } = checkpoint.stepper
         else {
@@ -164,8 +163,7 @@ impl Simulation {
         stepper.set_time(t);
         stepper.set_dt(dt);
         stepper.set_last_step(last_step.clone());
-        stepper.solver_mut().set_starts_with_hessian(starts_with_hessian);
-        stepper.solver_mut().set_last_shift(last_shift);
+        stepper.solver_mut().restore(newton);
         schedule.resume_at(next_output);
         Ok(())
     }
@@ -182,8 +180,7 @@ impl Simulation {
             load_factor,
             predictor,
             increment_limit,
-            starts_with_hessian,
-            last_shift,
+            newton,
         } = checkpoint.stepper.clone()
         else {
             return Err(SimulationError::Setup("resuming: not a quasi-static checkpoint".into()));
@@ -199,8 +196,7 @@ impl Simulation {
         stepper
             .resume(load_factor, predictor, increment_limit)
             .map_err(|reason| SimulationError::Setup(format!("resuming: {reason}")))?;
-        stepper.solver_mut().set_starts_with_hessian(starts_with_hessian);
-        stepper.solver_mut().set_last_shift(last_shift);
+        stepper.solver_mut().restore(newton);
         Ok((stepper, levels_done))
     }
 }
