@@ -197,8 +197,21 @@ impl TimeStepper {
     }
 
     /// Sets what [`TimeStepper::last_step`] returned (to resume a run from a checkpoint).
-    pub fn set_last_step(&mut self, last_step: Option<(Vec<f64>, f64)>) {
+    ///
+    /// # Errors
+    /// Velocities whose length is not the number of unknowns (nothing is set).
+    pub fn set_last_step(&mut self, last_step: Option<(Vec<f64>, f64)>) -> Result<(), String> {
+        if let Some((velocities, _)) = &last_step
+            && velocities.len() != self.u.len()
+        {
+            return Err(format!(
+                "the last step's velocities have {} entries, the scene has {} unknowns",
+                velocities.len(),
+                self.u.len()
+            ));
+        }
         self.last_step = last_step;
+        Ok(())
     }
 
     /// The Newton solver, mutably (to resume a run from a checkpoint).
@@ -399,9 +412,7 @@ impl TimeStepper {
             InitialGuess::Extrapolated => {
                 state_velocities(potential, &mut self.u);
                 let dt = potential.dt();
-                if let Some((start, last_dt)) = &self.last_step
-                    && start.len() == self.u.len()
-                {
+                if let Some((start, last_dt)) = &self.last_step {
                     let ratio = dt / last_dt;
                     for (u, v0) in self.u.iter_mut().zip(start) {
                         *u += ratio * (*u - v0);

@@ -162,7 +162,9 @@ impl Simulation {
         }
         stepper.set_time(t);
         stepper.set_dt(dt);
-        stepper.set_last_step(last_step.clone());
+        stepper
+            .set_last_step(last_step.clone())
+            .map_err(|reason| SimulationError::Setup(format!("resuming: {reason}")))?;
         stepper.solver_mut().restore(newton);
         schedule.resume_at(next_output);
         Ok(())
