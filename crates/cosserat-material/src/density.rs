@@ -11,8 +11,9 @@
 //! - `W_curv(A) = μ L_c² (b₁ |sym A|² + b₂ |skew A|² + b₃ (tr A)²)` (eq. 7).
 //!
 //! Every strain-quadratic term is a homogeneous quadratic form of `(E, Γ)`, so the density's Hessian with
-//! respect to the strains is a constant matrix for given rest data. `density_table` computes it once with
-//! num-dual from [`density`]; the fast kernels chain it with the strain maps.
+//! respect to the strains is a constant matrix for given rest data: `strain_space::strain_hessian` writes
+//! it in closed form, the oracle differentiates [`density`] with num-dual, and the fast kernels chain it
+//! with the strain maps.
 
 use crate::model::{EnergyTerm, TermSet};
 use crate::parameters::Moduli;

@@ -8,11 +8,12 @@ use crate::density::{PointGeometry, density};
 use crate::kernel::{PointShape, axial};
 use crate::model::{AxlVariant, TermSet};
 use crate::parameters::Moduli;
-use crate::strain_space::StrainVector;
+use crate::strain_space::{StrainMatrix, StrainVector, unpack};
 use crate::volume::volume_density;
 use cosserat_geometry::Real;
 use cosserat_geometry::rotation::{quaternion_update, rotation_matrix};
-use nalgebra::{Matrix3, Quaternion, Vector3};
+use nalgebra::{Matrix3, Quaternion, SVector, Vector3};
+use num_dual::Dual2SVec64;
 
 /// Everything a point's energy depends on besides its unknowns.
 #[derive(Debug, Clone, Copy)]
@@ -110,4 +111,19 @@ pub fn element_point_energy<T: Real, const NU: usize, const NR: usize>(
 ) -> T {
     let positions: [Vector3<T>; NU] = std::array::from_fn(|i| x_start[i].cast::<T>() + velocity[i] * T::from(ctx.dt));
     local_energy(ctx, &f_hat_of(ctx.shape, &positions), omega) * T::from(ctx.shape.weight)
+}
+
+/// The Hessian of [`density`] with respect to the strain vector, by differentiating it with num-dual:
+/// the check of the closed form [`crate::strain_space::strain_hessian`], which does not go through
+/// [`density`].
+pub fn density_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
+    let zero = SVector::<f64, 18>::zeros();
+    let (_, _, h) = num_dual::hessian(
+        |s: SVector<Dual2SVec64<18>, 18>| {
+            let (e, g) = unpack(&s);
+            density(terms, &e, &g, geom, moduli)
+        },
+        &zero,
+    );
+    h
 }

@@ -9,11 +9,10 @@
 //! Layout of a [`StrainVector`]: `Ê` column-major in entries 0–8, `Γ̂` column-major in 9–17.
 //! [`VARIABLE_STRAINS`] lists the 12 entries that depend on the unknowns.
 
-use crate::density::{PointGeometry, density};
-use crate::model::TermSet;
+use crate::density::PointGeometry;
+use crate::model::{EnergyTerm, TermSet};
 use crate::parameters::Moduli;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
-use num_dual::Dual2SVec64;
 
 /// The 18 strain numbers `(vec Ê, vec Γ̂)`.
 pub type StrainVector = SVector<f64, 18>;
@@ -70,19 +69,115 @@ pub fn strain_offset(
     pack(&a, &g)
 }
 
-/// The Hessian `D` of the strain-quadratic density with respect to the strain vector, computed with
-/// num-dual from [`density`]. The density is a homogeneous quadratic form, so `Ψ(s) = ½ sᵀ D s` exactly.
+/// The Hessian `D` of the strain-quadratic density with respect to the strain vector, in closed form.
+///
+/// Each strain-quadratic term of eqs. 1–7 is `f W(A, B)`: a scalar factor `f` of the thickness and the
+/// rest curvature, one of the isotropic bilinear forms of eqs. 4–7, `W(A, B) = vec(A)ᵀ M vec(B)`, and
+/// arguments linear in the strain vector, `vec A = L_A s` (with `vec(X Y Z) = (Zᵀ ⊗ X) vec Y`). Its
+/// Hessian is `f (L_Aᵀ M L_B + L_Bᵀ M L_A)`. The density is a homogeneous quadratic form, so
+/// `Ψ(s) = ½ sᵀ D s` exactly; [`crate::oracle::density_hessian`] differentiates [`density`] instead,
+/// and the tests compare the two.
 pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
-    let zero = SVector::<f64, 18>::zeros();
-    let (_, _, h) = num_dual::hessian(
-        |s: SVector<Dual2SVec64<18>, 18>| {
-            let (e, g) = unpack(&s);
-            density(terms, &e, &g, geom, moduli)
-        },
-        &zero,
-    );
+    let mut d = StrainMatrix::zeros();
+    for t in terms.terms().iter().filter(|t| t.term.is_strain_quadratic()) {
+        if let Some(form) = TermForm::of(t.term, geom, moduli) {
+            form.add_hessian(t.factor, &mut d);
+        }
+    }
     // Symmetric by construction up to round-off; make it exact.
-    (h + h.transpose()) * 0.5
+    (d + d.transpose()) * 0.5
+}
+
+/// A map from the strain vector to `vec` of a 3 × 3 argument.
+type ArgumentMap = SMatrix<f64, 9, 18>;
+/// An isotropic bilinear form on `vec` of 3 × 3 tensors.
+type Form = SMatrix<f64, 9, 9>;
+
+/// One strain-quadratic term as `factor · W(L_A s, L_B s)`.
+struct TermForm {
+    factor: f64,
+    form: Form,
+    a: ArgumentMap,
+    b: ArgumentMap,
+}
+
+impl TermForm {
+    /// The term's factor, form and arguments (`None` for a term that is not strain-quadratic).
+    fn of(term: EnergyTerm, geom: &PointGeometry, m: &Moduli) -> Option<Self> {
+        let h = m.thickness;
+        let (h3, h5) = (h * h * h, h * h * h * h * h);
+        let k = geom.gaussian;
+        let (b, c) = (geom.b, geom.c);
+        let i3 = Matrix3::identity();
+        let e = arguments(&i3, &Form::zeros());
+        let gamma = |right: &Matrix3<f64>, left: &Matrix3<f64>| arguments(&Matrix3::zeros(), &kron(right, left));
+        let membrane = isotropic(m.mu, m.mu_c, m.plane_lambda);
+        let curv = {
+            let [b1, b2, b3] = m.curvature_coefficients;
+            let l2 = m.mu * m.length_scale * m.length_scale;
+            isotropic(l2 * b1, l2 * b2, l2 * b3)
+        };
+        let quadratic = |factor: f64, form: Form, a: ArgumentMap| Self { factor, form, a, b: a };
+        Some(match term {
+            EnergyTerm::NonlinearVolume => return None,
+            EnergyTerm::Membrane => quadratic(h, membrane, e),
+            EnergyTerm::MembraneNoTrace => quadratic(h, isotropic(m.mu, m.mu_c, 0.0), e),
+            EnergyTerm::Bending => quadratic(h3 / 12.0, membrane, gamma(&i3, &c)),
+            EnergyTerm::Curvature => quadratic(h, curv, gamma(&i3, &i3)),
+            EnergyTerm::CurvedMembrane1 => quadratic(h - k * h3 / 12.0, membrane, e),
+            // vec(E b + c Γ) = (bᵀ ⊗ I) vec E + (I ⊗ c) vec Γ.
+            EnergyTerm::CurvedMembrane2 => {
+                quadratic(h3 / 12.0 - k * h5 / 80.0, membrane, arguments(&b, &kron(&i3, &c)))
+            }
+            // W_mixt(E, c Γ (b − 2H I)).
+            EnergyTerm::CurvedMembrane3 => Self {
+                factor: h3 / 6.0,
+                form: membrane,
+                a: e,
+                b: gamma(&(b - i3 * (2.0 * geom.mean)), &c),
+            },
+            // W_mp(E b² + c Γ b): λ/2 on the trace.
+            EnergyTerm::CurvedMembrane4 => quadratic(
+                h5 / 80.0,
+                isotropic(m.mu, m.mu_c, 0.5 * m.lambda),
+                arguments(&(b * b), &kron(&b, &c)),
+            ),
+            EnergyTerm::CurvedBending1 => quadratic(h - k * h3 / 12.0, curv, gamma(&i3, &i3)),
+            EnergyTerm::CurvedBending2 => quadratic(h3 / 12.0 - k * h5 / 80.0, curv, gamma(&b, &i3)),
+            EnergyTerm::CurvedBending3 => quadratic(h5 / 80.0, curv, gamma(&(b * b), &i3)),
+        })
+    }
+
+    /// Adds `weight · factor · (L_Aᵀ M L_B + L_Bᵀ M L_A)` to `d`.
+    fn add_hessian(&self, weight: f64, d: &mut StrainMatrix) {
+        let ab = self.a.transpose() * self.form * self.b;
+        *d += (ab + ab.transpose()) * (weight * self.factor);
+    }
+}
+
+/// The argument map `s ↦ vec(Ê r) + gamma vec Γ̂`: its `Ê` block is the matrix of `Ê ↦ Ê r`.
+fn arguments(right: &Matrix3<f64>, gamma: &Form) -> ArgumentMap {
+    let mut l = ArgumentMap::zeros();
+    l.fixed_view_mut::<9, 9>(0, 0).copy_from(&kron(right, &Matrix3::identity()));
+    l.fixed_view_mut::<9, 9>(0, 9).copy_from(gamma);
+    l
+}
+
+/// `vec(L X R) = (Rᵀ ⊗ L) vec X`: the matrix of `X ↦ L X R`.
+fn kron(right: &Matrix3<f64>, left: &Matrix3<f64>) -> Form {
+    Form::from_fn(|r, c| right[(c / 3, r / 3)] * left[(r % 3, c % 3)])
+}
+
+/// `vec(A)ᵀ M vec(B) = μ sym A : sym B + μ_c skew A : skew B + t tr A tr B`.
+fn isotropic(mu: f64, mu_c: f64, t: f64) -> Form {
+    Form::from_fn(|r, c| {
+        let (ra, rb, ca, cb) = (r % 3, r / 3, c % 3, c / 3);
+        // sym A : sym B = vec(A)ᵀ ½ (I + T) vec(B), skew likewise with ½ (I − T); T transposes.
+        let identity = if r == c { 1.0 } else { 0.0 };
+        let transpose = if ra == cb && rb == ca { 1.0 } else { 0.0 };
+        let trace = if ra == rb && ca == cb { 1.0 } else { 0.0 };
+        0.5 * mu * (identity + transpose) + 0.5 * mu_c * (identity - transpose) + t * trace
+    })
 }
 
 /// One nonzero entry of a density Hessian.
