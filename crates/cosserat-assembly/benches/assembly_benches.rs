@@ -5,6 +5,7 @@
 #![allow(missing_docs)]
 
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
+use cosserat_fem::QuadratureRule;
 use cosserat_fem::mesh::procedural;
 use cosserat_geometry::rotation::{exp_map, quaternion_from_matrix};
 use cosserat_material::rest::RestOptions;
@@ -15,7 +16,14 @@ use std::cell::RefCell;
 use std::hint::black_box;
 use std::time::Duration;
 
-fn system(pair: ElementPair, model: ShellModel, interpolation: StrainInterpolation, nx: usize, ny: usize) -> System {
+fn system(
+    pair: ElementPair,
+    model: ShellModel,
+    interpolation: StrainInterpolation,
+    quadrature: Option<QuadratureRule>,
+    nx: usize,
+    ny: usize,
+) -> System {
     // A quarter cylinder for the shell model (every point curved), a flat strip for the plate.
     let generated = match model {
         ShellModel::Plate => procedural::rectangle_grid(0.1, 0.1 * ny as f64 / nx as f64, nx, ny).unwrap(),
@@ -29,7 +37,7 @@ fn system(pair: ElementPair, model: ShellModel, interpolation: StrainInterpolati
         pair,
         material: MaterialParameters::new(2e-3, 70e9, 0.35, 2700.0, 2e-6),
         rest,
-        quadrature: None,
+        quadrature,
         damping: 0.0,
         angular_inertia_density: 0.0,
     };
@@ -80,28 +88,49 @@ fn bench(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(2));
     // The paper's discretisation for every pair, the stabilised strain projection and the assumed
     // strains (MITC6-style and Regge) for the paper's pair, and Regge with stabilised shear for quadratic
-    // rotations (their cost relative to the paper's is reported in docs/model-notes.md).
+    // rotations, on the pair's rule and on the 3-point rule (their cost relative to the paper's is
+    // reported in docs/model-notes.md).
     let paper = StrainInterpolation::Paper;
-    for (pair, interpolation, label) in [
-        (ElementPair::Tri3Tri3, paper, "tri3_tri3"),
-        (ElementPair::Tri6Tri3, paper, "tri6_tri3"),
-        (ElementPair::Tri6Tri6, paper, "tri6_tri6"),
+    let three_points = Some(QuadratureRule::interior_p2());
+    for (pair, interpolation, quadrature, label) in [
+        (ElementPair::Tri3Tri3, paper, None, "tri3_tri3"),
+        (ElementPair::Tri6Tri3, paper, None, "tri6_tri3"),
+        (ElementPair::Tri6Tri6, paper, None, "tri6_tri6"),
         (
             ElementPair::Tri6Tri3,
             StrainInterpolation::Stabilized,
+            None,
             "tri6_tri3_stabilized",
         ),
-        (ElementPair::Tri6Tri3, StrainInterpolation::Assumed, "tri6_tri3_assumed"),
-        (ElementPair::Tri6Tri3, StrainInterpolation::Regge, "tri6_tri3_regge"),
+        (
+            ElementPair::Tri6Tri3,
+            StrainInterpolation::Assumed,
+            None,
+            "tri6_tri3_assumed",
+        ),
+        (
+            ElementPair::Tri6Tri3,
+            StrainInterpolation::Regge,
+            None,
+            "tri6_tri3_regge",
+        ),
         (
             ElementPair::Tri6Tri3,
             StrainInterpolation::ReggeStabilized,
+            None,
             "tri6_tri3_regge_stabilized",
         ),
         (
             ElementPair::Tri6Tri6,
             StrainInterpolation::ReggeStabilized,
+            None,
             "tri6_tri6_regge_stabilized",
+        ),
+        (
+            ElementPair::Tri6Tri6,
+            StrainInterpolation::ReggeStabilized,
+            three_points,
+            "tri6_tri6_regge_stabilized_three_points",
         ),
     ] {
         for (model, m) in [(ShellModel::Plate, "plate"), (ShellModel::Shell, "shell")] {
@@ -109,7 +138,7 @@ fn bench(c: &mut Criterion) {
             let fixture = RefCell::new(None::<Fixture>);
             let with_fixture = |f: &mut dyn FnMut(&mut Fixture)| {
                 let mut slot = fixture.borrow_mut();
-                f(slot.get_or_insert_with(|| Fixture::new(system(pair, model, interpolation, NX, NY))));
+                f(slot.get_or_insert_with(|| Fixture::new(system(pair, model, interpolation, quadrature, NX, NY))));
             };
             // The throughput is known without the system: two Tri3 triangles per quad either way.
             group.throughput(Throughput::Elements((2 * NX * NY) as u64));

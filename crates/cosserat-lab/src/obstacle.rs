@@ -4,7 +4,7 @@
 //! reference over unknowns and wall time.
 
 use crate::postprocess::ProbeTable;
-use crate::problem::{Discretisation, Interpolation, Pair};
+use crate::problem::{Discretisation, Interpolation, Mesh, Pair};
 use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
 use cosserat::RunDescription;
@@ -26,8 +26,8 @@ pub struct Benchmark {
     pub quantity: &'static str,
     /// Reads the compared value (in the benchmark's load scale) from the probes.
     pub read: fn(&ProbeTable) -> Result<f64>,
-    /// Meshes, coarse to fine: label and overrides.
-    pub ladder: Vec<(String, Vec<String>)>,
+    /// Meshes, coarse to fine.
+    pub ladder: Vec<Mesh>,
 }
 
 /// The discretisations compared: the paper's pair with every strain interpolation, and quadratic
@@ -40,34 +40,44 @@ pub const DISCRETISATIONS: [Discretisation; 5] = [
     Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized),
 ];
 
-fn hemisphere_ladder() -> Vec<(String, Vec<String>)> {
+fn hemisphere_ladder() -> Vec<Mesh> {
+    // The shell spans 72° of meridian of a sphere of radius 10 in `4 n_lat / 5` bands.
+    let meridian = 10.0 * 72f64.to_radians();
     [(16, 5), (32, 10), (64, 20), (128, 40)]
         .into_iter()
         .map(|(lon, lat)| {
-            (
-                format!("{lon}×{lat} ({} bands)", lat * 4 / 5),
-                vec![format!("mesh.n_lon={lon}"), format!("mesh.n_lat={lat}")],
-            )
+            let bands = lat * 4 / 5;
+            Mesh {
+                label: format!("{lon}×{lat} ({bands} bands)"),
+                overrides: vec![format!("mesh.n_lon={lon}"), format!("mesh.n_lat={lat}")],
+                h: meridian / bands as f64,
+            }
         })
         .collect()
 }
 
-fn cylinder_ladder() -> Vec<(String, Vec<String>)> {
+fn cylinder_ladder() -> Vec<Mesh> {
+    // Radius 300: the element's side around the circumference (the longer one; 600 along).
+    let circumference = 2.0 * std::f64::consts::PI * 300.0;
     [(16, 8), (32, 16), (64, 32)]
         .into_iter()
-        .map(|(a, l)| {
-            (
-                format!("{a}×{l}"),
-                vec![format!("mesh.n_around={a}"), format!("mesh.n_along={l}")],
-            )
+        .map(|(a, l)| Mesh {
+            label: format!("{a}×{l}"),
+            overrides: vec![format!("mesh.n_around={a}"), format!("mesh.n_along={l}")],
+            h: circumference / a as f64,
         })
         .collect()
 }
 
-fn roof_ladder() -> Vec<(String, Vec<String>)> {
+fn roof_ladder() -> Vec<Mesh> {
+    // The panel is 50 along the axis (the longer side) by 34.9 of arc.
     [4, 8, 16, 32]
         .into_iter()
-        .map(|n| (format!("{n}×{n}"), vec![format!("mesh.nx={n}"), format!("mesh.ny={n}")]))
+        .map(|n| Mesh {
+            label: format!("{n}×{n}"),
+            overrides: vec![format!("mesh.nx={n}"), format!("mesh.ny={n}")],
+            h: 50.0 / n as f64,
+        })
         .collect()
 }
 
@@ -124,15 +134,15 @@ pub struct CourseRun {
 pub fn run_benchmark(b: &Benchmark, runner: &Runner, out: &Path, quick: bool) -> Result<Vec<CourseRun>> {
     let mut runs = Vec::new();
     for discretisation in DISCRETISATIONS {
-        for (i, (mesh, overrides)) in b.ladder.iter().enumerate() {
+        for (i, mesh) in b.ladder.iter().enumerate() {
             if quick && i >= 2 {
                 continue;
             }
-            let mut ov = overrides.clone();
+            let mut ov = mesh.overrides.clone();
             ov.extend(discretisation.overrides());
             ov.push("output.frames=false".into());
             let dir = out.join(b.name).join(format!("{}_{i}", discretisation.directory()));
-            eprintln!("{}: {} {mesh} ...", b.name, discretisation.label());
+            eprintln!("{}: {} {} ...", b.name, discretisation.label(), mesh.label);
             let outcome = run_described(runner, &RunDescription::new(b.scene, dir, &ov))?;
             let value = outcome
                 .probes
@@ -141,7 +151,7 @@ pub fn run_benchmark(b: &Benchmark, runner: &Runner, out: &Path, quick: bool) ->
                 .and_then(|p| (b.read)(p).ok());
             runs.push(CourseRun {
                 discretisation,
-                mesh: mesh.clone(),
+                mesh: mesh.label.clone(),
                 outcome,
                 value,
             });

@@ -212,7 +212,7 @@ where
             let tied: [PointBasis; N_TYING] = std::array::from_fn(|t| bases[n_qp + t]);
             let mut maps = tying_maps(&tied, &bases[..n_qp], parts, interior);
             if options.interpolation == StrainInterpolation::ReggeStabilized {
-                let constants = StabilizationConstants::regge_stabilized(NR);
+                let constants = StabilizationConstants::regge_stabilized(NR, n_qp);
                 let alpha = StrainProjection::new(&constants, moduli.thickness, longest_edge(&nodes));
                 stabilize_shear_and_drilling(&mut maps, alpha.shear, alpha.drilling);
             }

@@ -92,3 +92,14 @@ fn the_assumed_strains_leave_only_the_rigid_modes() {
         }
     }
 }
+
+/// Quadratic rotations with `"regge_stabilized"` on the 3-point rule (the faster choice of
+/// docs/model-notes.md, whose interior tying points are the rule's points) keep exactly the six rigid
+/// modes too.
+#[test]
+fn regge_stabilized_quadratic_rotations_on_three_points_leave_only_the_rigid_modes() {
+    for model in [ShellModel::Plate, ShellModel::Shell] {
+        let n = zero_modes_with(ElementPair::Tri6Tri6, model, 2, StrainInterpolation::ReggeStabilized);
+        assert_eq!(n, 6, "{model:?}");
+    }
+}

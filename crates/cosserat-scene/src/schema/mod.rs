@@ -335,7 +335,10 @@ pub struct MeshSection {
     pub element: Option<ElementName>,
     /// Rotation element (default `"tri3"`, the paper's).
     pub rotation_element: Option<ElementName>,
-    /// Quadrature degree override (default: the model's pairing).
+    /// Quadrature degree override (default: the model's pairing, degree 2 for Tri3/Tri3 and Tri6/Tri3
+    /// and 4 for Tri6/Tri6). With `rotation_element = "tri6"` and `material.strain_interpolation =
+    /// "regge_stabilized"`, `2` is the faster choice for shells down to h/L of about 1e-4
+    /// (docs/model-notes.md).
     pub quadrature_degree: Option<usize>,
     /// Rectangle size along x \[m\].
     pub lx: Option<f64>,
