@@ -734,6 +734,38 @@ mod tests {
         assert_eq!(pareto_front(&pts), vec![3, 0, 2]);
     }
 
+    /// The bound is the cheapest of the paper's pairs' most expensive runs; runs of other
+    /// interpolations do not count, and without any run of the paper's interpolation there is none.
+    #[test]
+    fn unreached_bound_is_the_cheapest_finest_paper_run() {
+        let run = |discretisation: Discretisation, seconds: f64| StudyRun {
+            discretisation,
+            model: "shell",
+            mesh: String::new(),
+            h: 1.0,
+            outcome: RunOutcome {
+                summary: None,
+                probes: None,
+                peak_rss_kib: None,
+                outer_seconds: seconds,
+                failure: None,
+            },
+            quantity: None,
+            error: None,
+        };
+        let regge = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
+        let runs = [
+            run(Discretisation::paper(Pair::Tri3Tri3), 0.1),
+            run(Discretisation::paper(Pair::Tri3Tri3), 2.5),
+            run(Discretisation::paper(Pair::Tri6Tri3), 0.4),
+            run(Discretisation::paper(Pair::Tri6Tri3), 1.5),
+            run(Discretisation::paper(Pair::Tri6Tri6), 4.0),
+            run(regge, 0.2),
+        ];
+        assert_eq!(unreached_bound(&runs), Some(1.5));
+        assert_eq!(unreached_bound(&[run(regge, 0.2)]), None);
+    }
+
     #[test]
     fn observed_orders_of_a_power_law() {
         let pts: Vec<(f64, f64)> = [1.0, 0.5, 0.25].iter().map(|&h| (h, 2.0 * h * h * h)).collect();

@@ -75,8 +75,8 @@ pub fn strain_offset(
 /// rest curvature, one of the isotropic bilinear forms of eqs. 4–7, `W(A, B) = vec(A)ᵀ M vec(B)`, and
 /// arguments linear in the strain vector, `vec A = L_A s` (with `vec(X Y Z) = (Zᵀ ⊗ X) vec Y`). Its
 /// Hessian is `f (L_Aᵀ M L_B + L_Bᵀ M L_A)`. The density is a homogeneous quadratic form, so
-/// `Ψ(s) = ½ sᵀ D s` exactly; [`crate::oracle::density_hessian`] differentiates [`density`] instead,
-/// and the tests compare the two.
+/// `Ψ(s) = ½ sᵀ D s` exactly; [`crate::oracle::density_hessian`] differentiates
+/// [`density`](crate::density::density) instead, and the tests compare the two.
 pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
     let mut d = StrainMatrix::zeros();
     for t in terms.terms().iter().filter(|t| t.term.is_strain_quadratic()) {
