@@ -79,7 +79,7 @@ pub fn strain_offset(
 /// [`density`](crate::density::density) instead, and the tests compare the two.
 pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
     let mut d = StrainMatrix::zeros();
-    for t in terms.terms().iter().filter(|t| t.term.is_strain_quadratic()) {
+    for t in terms.terms() {
         if let Some(form) = TermForm::of(t.term, geom, moduli) {
             form.add_hessian(t.factor, &mut d);
         }
