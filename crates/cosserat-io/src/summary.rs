@@ -128,7 +128,7 @@ pub enum ModelRecord {
 /// The linear solves of a run.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, Default)]
 pub struct LinearSolverRecord {
-    /// Numerical factorisations performed.
+    /// Numerical factorisations performed (every solve counted, failed attempts included).
     pub factorisations: usize,
     /// The symmetric factor of the last symbolic analysis (direct solvers).
     pub factor: Option<FactorRecord>,
@@ -280,7 +280,9 @@ pub struct RunSummary {
     pub n_steps: usize,
     /// Number of frames written.
     pub n_frames: usize,
-    /// Average number of Newton iterations per completed step.
+    /// Average number of Newton iterations per completed step: a time step counts every solve of its
+    /// accepted attempt (one solved again after its contact candidates grew counts both), a load level
+    /// every solve towards it (intermediate and failed ones included).
     pub avg_newton_iterations: f64,
     /// Most Newton iterations of a completed step.
     pub max_newton_iterations: usize,
@@ -295,9 +297,9 @@ pub struct RunSummary {
     pub wall_seconds: f64,
     /// Average wall-clock time per completed step \[ms\].
     pub avg_step_ms: f64,
-    /// Fraction of the time in steps spent in assembly (0 to 1).
+    /// Fraction of the time in steps spent in assembly (0 to 1), failed attempts included.
     pub assembly_share: f64,
-    /// Fraction of the time in steps spent in linear solves (0 to 1).
+    /// Fraction of the time in steps spent in linear solves (0 to 1), failed attempts included.
     pub linear_solve_share: f64,
     /// The process's peak resident memory \[MB\], where the operating system reports it.
     pub peak_memory_mb: Option<f64>,

@@ -97,7 +97,7 @@ pub use linear::{
 };
 pub use newton::{
     CarriedState, Convergence, Criterion, FactorisationCounts, IndefiniteHessian, NewtonReport, NewtonSettings,
-    NewtonSolver, Tolerance,
+    NewtonSolver, SolveCost, Tolerance,
 };
 pub use problem::NewtonProblem;
 pub use statics::{

@@ -9,7 +9,7 @@
 //! increments smaller, and increments grow back where Newton converges quickly.
 
 use crate::error::{NewtonError, ScriptError};
-use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
+use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::PotentialProblem;
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
@@ -72,6 +72,8 @@ pub struct LoadLevelReport {
     pub load_factor: f64,
     /// Newton's report of the solve that reached this level.
     pub newton: NewtonReport,
+    /// What every solve towards this level cost (intermediate and failed ones included).
+    pub cost: SolveCost,
     /// Failed solves that were retried at a halved increment.
     pub bisections: usize,
     /// Intermediate levels solved on the way (after bisections or from the increment control).
@@ -242,6 +244,7 @@ impl QuasiStaticStepper {
         // No more increments per level than bisection alone could make.
         let smallest = (target - level_start) * 0.5f64.powi(self.settings.max_bisections as i32);
         let mut tally = Tally::default();
+        let before = self.solver.spent();
         loop {
             let (from, lambda) = (self.current, next_level(self.current, target, self.limit));
             let fail = |error: LevelFailure, tally: &Tally| StaticError {
@@ -266,6 +269,7 @@ impl QuasiStaticStepper {
                         return Ok(LoadLevelReport {
                             load_factor: target,
                             newton,
+                            cost: self.solver.spent().since(&before),
                             bisections: tally.bisections,
                             sub_levels: tally.sub_levels,
                             total_iterations: tally.iterations,
@@ -351,7 +355,9 @@ impl QuasiStaticStepper {
             residuals: Vec::new(),
         })?;
         if changed {
-            self.solver = NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings())?;
+            let spent = self.solver.spent();
+            self.solver =
+                NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings())?.continuing(spent);
         }
         Ok(())
     }

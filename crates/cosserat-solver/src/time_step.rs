@@ -9,7 +9,7 @@
 
 use crate::error::{NewtonError, ScriptError};
 use crate::linear::{DomainSplit, LinearSolverKind};
-use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver};
+use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::PotentialProblem;
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
@@ -129,8 +129,13 @@ pub struct StepReport {
     pub t: f64,
     /// The time step that succeeded \[s\].
     pub dt: f64,
-    /// Newton's report of the successful attempt.
+    /// Newton's report of the successful attempt's last solve (an attempt solves again when the
+    /// converged state reached contacts outside the prepared candidates).
     pub newton: NewtonReport,
+    /// Newton iterations of the successful attempt, over all of its solves.
+    pub iterations: usize,
+    /// What every solve of the step cost (failed attempts included).
+    pub cost: SolveCost,
     /// Failed attempts before it (each halved `Δt`).
     pub reductions: usize,
     /// Newton iterations spent in failed attempts.
@@ -266,8 +271,8 @@ impl TimeStepper {
         scripts: &mut dyn FnMut(&mut IncrementalPotential, f64, f64) -> Result<(), ScriptError>,
     ) -> Result<StepReport, StepError> {
         let mut attempts = Vec::new();
-        let mut wasted = 0;
         let mut dt = self.dt;
+        let before = self.solver.spent();
         loop {
             potential.set_time_step(dt);
             if let Err(source) = scripts(potential, self.t, dt) {
@@ -281,14 +286,25 @@ impl TimeStepper {
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
             // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
+            let attempt = self.solver.spent();
             let error = match self.prepare_dynamic(potential) {
                 Err(error) => error,
                 Ok(()) => match self.solve_attempt(potential) {
-                    Ok(newton) => return Ok(self.accept(potential, dt, newton, attempts.len(), wasted)),
-                    Err(error) => {
-                        wasted += error.residuals().len().saturating_sub(1);
-                        error
+                    Ok(newton) => {
+                        let iterations = self.solver.spent().since(&attempt).iterations;
+                        self.accept(potential, dt);
+                        let cost = self.solver.spent().since(&before);
+                        return Ok(StepReport {
+                            t: self.t,
+                            dt,
+                            newton,
+                            iterations,
+                            cost,
+                            reductions: attempts.len(),
+                            wasted_iterations: cost.iterations - iterations,
+                        });
                     }
+                    Err(error) => error,
                 },
             };
             attempts.push(FailedAttempt { dt, error });
@@ -327,14 +343,7 @@ impl TimeStepper {
 
     /// Commits the converged attempt of length `dt`, advances the time and sets the next time step
     /// (grown after an adaptive step, the set one otherwise).
-    fn accept(
-        &mut self,
-        potential: &mut IncrementalPotential,
-        dt: f64,
-        newton: NewtonReport,
-        reductions: usize,
-        wasted_iterations: usize,
-    ) -> StepReport {
+    fn accept(&mut self, potential: &mut IncrementalPotential, dt: f64) {
         if self.settings.initial_guess == InitialGuess::Extrapolated {
             let mut start = self.last_step.take().map(|(v, _)| v).unwrap_or_default();
             start.resize(self.u.len(), 0.0);
@@ -348,13 +357,6 @@ impl TimeStepper {
         } else {
             self.settings.dt
         };
-        StepReport {
-            t: self.t,
-            dt,
-            newton,
-            reductions,
-            wasted_iterations,
-        }
     }
 
     /// Prepares the dynamic terms (contact) for an attempt from the initial guess and limits the guess

@@ -19,9 +19,10 @@ pub struct ConvergenceStats {
 }
 
 impl ConvergenceStats {
-    /// Records a converged Newton solve (a time step or a load level).
-    pub(crate) fn record_newton(&mut self, report: &NewtonReport) {
-        self.shifted_iterations += report.shifted_iterations;
+    /// Records the converged Newton solve of a time step or a load level, whose solves shifted the
+    /// Hessian in `shifted_iterations` iterations in all.
+    pub(crate) fn record_newton(&mut self, report: &NewtonReport, shifted_iterations: usize) {
+        self.shifted_iterations += shifted_iterations;
         self.record(&report.convergence, report.residual());
     }
 

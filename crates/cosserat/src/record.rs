@@ -4,7 +4,7 @@
 use crate::convergence::ConvergenceStats;
 use cosserat_io::checkpoint::{Decoder, Encoder};
 use cosserat_io::{EnergyHistory, FactorRecord, LinearSolverRecord, OutputError};
-use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, PathPoint, StepReport};
+use cosserat_solver::{FactorStats, LoadLevelReport, NewtonReport, PathPoint, SolveCost, StepReport};
 
 /// Counters collected over a run.
 #[derive(Debug, Clone)]
@@ -72,31 +72,32 @@ impl Default for RunStats {
 impl RunStats {
     /// Adds a completed time step.
     pub fn record_step(&mut self, r: &StepReport, seconds: f64) {
-        self.add_step(&r.newton, r.newton.iterations, seconds);
+        self.add_step(&r.newton, &r.cost, r.iterations, seconds);
         self.wasted_iterations += r.wasted_iterations;
         self.reductions += r.reductions;
     }
 
     /// Adds a reached load level (a level counts as a step).
     pub fn record_level(&mut self, r: &LoadLevelReport, seconds: f64) {
-        self.add_step(&r.newton, r.total_iterations, seconds);
+        self.add_step(&r.newton, &r.cost, r.total_iterations, seconds);
         self.wasted_iterations += r.wasted_iterations;
         self.reductions += r.bisections;
         self.intermediate_levels += r.sub_levels;
     }
 
-    fn add_step(&mut self, newton: &NewtonReport, iterations: usize, seconds: f64) {
+    /// Adds a step whose last solve `newton` converged, after solves that cost `cost` in all
+    /// (`iterations` of them count as the step's).
+    fn add_step(&mut self, newton: &NewtonReport, cost: &SolveCost, iterations: usize, seconds: f64) {
         self.steps += 1;
         self.newton_iterations += iterations;
         self.max_newton_iterations = self.max_newton_iterations.max(iterations);
-        self.assembly_seconds += newton.assembly_seconds;
-        self.solve_seconds += newton.linear_solve_seconds;
-        self.factorisation_seconds += newton.factorisation_seconds;
+        self.assembly_seconds += cost.assembly_seconds;
+        self.solve_seconds += cost.linear_solve_seconds;
+        self.factorisation_seconds += cost.factorisation_seconds;
         self.step_seconds += seconds;
-        let f = &newton.factorisations;
-        self.factorisations += f.llt + f.lblt + f.lu;
-        self.cg_iterations += newton.cg_iterations;
-        self.convergence.record_newton(newton);
+        self.factorisations += cost.factorisations.factorised();
+        self.cg_iterations += cost.cg_iterations;
+        self.convergence.record_newton(newton, cost.shifted_iterations);
     }
 
     /// Adds an equilibrium of an arc-length path (a step of the path counts as a step; its iterations

@@ -42,7 +42,7 @@ pub(crate) use convergence::ConvergenceTest;
 pub use convergence::{Convergence, Criterion, Tolerance};
 use evaluation::problem_error;
 pub(crate) use evaluation::{round_off_scale, weighted_max_abs};
-pub use report::{FactorisationCounts, NewtonReport};
+pub use report::{FactorisationCounts, NewtonReport, SolveCost};
 pub use settings::{IndefiniteHessian, NewtonSettings};
 
 /// What one solve leaves for the next ([`NewtonSolver::carried`]).
@@ -92,6 +92,8 @@ pub struct NewtonSolver {
     /// The last shift `μ` that made an indefinite Hessian positive definite (the next one starts near
     /// it).
     last_shift: f64,
+    /// The cost of every solve so far, converged or failed.
+    spent: SolveCost,
 }
 
 /// What is known at the current iterate `x`.
@@ -174,7 +176,7 @@ impl NewtonSolver {
             .linear
             .try_grown(pattern, effective_linear_settings(&settings))
             .map_err(NewtonError::Setup)?;
-        Ok(Self::with_linear(pattern, settings, linear))
+        Ok(Self::with_linear(pattern, settings, linear).continuing(self.spent))
     }
 
     fn with_linear(
@@ -202,6 +204,7 @@ impl NewtonSolver {
             shift_scale: vec![0.0; n],
             x_extra: Vec::new(),
             last_shift: 0.0,
+            spent: SolveCost::default(),
         }
     }
 
@@ -246,6 +249,19 @@ impl NewtonSolver {
     /// changed linear-solver ordering redoes the symbolic analysis there.
     pub fn settings_mut(&mut self) -> &mut NewtonSettings {
         &mut self.settings
+    }
+
+    /// The cost of every solve this solver ran, converged or failed (a solver grown from another
+    /// continues its sum): the difference over a time step or a load level is what all of its solves
+    /// cost.
+    pub fn spent(&self) -> SolveCost {
+        self.spent
+    }
+
+    /// This solver continuing the sum `spent` of the one it replaces.
+    pub(crate) fn continuing(mut self, spent: SolveCost) -> Self {
+        self.spent = spent;
+        self
     }
 
     /// The sparse linear solver (for its statistics).
@@ -315,6 +331,12 @@ impl NewtonSolver {
             measured_scale,
         };
         let result = self.minimise(problem, x, &mut run);
+        // A failed solve counts the iterations whose step was taken, as its residual history does.
+        let taken = match &result {
+            Ok(_) => run.iterations,
+            Err(_) => run.residuals.len().saturating_sub(1),
+        };
+        self.spent.add(taken, &run.report);
         if result.is_err() {
             problem.abandon_rebase();
         }

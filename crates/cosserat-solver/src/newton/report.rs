@@ -17,6 +17,29 @@ pub struct FactorisationCounts {
 }
 
 impl FactorisationCounts {
+    /// The counts since `earlier`, a count this one continues.
+    fn since(&self, earlier: &Self) -> Self {
+        Self {
+            llt: self.llt - earlier.llt,
+            lblt: self.lblt - earlier.lblt,
+            lu: self.lu - earlier.lu,
+            cg: self.cg - earlier.cg,
+        }
+    }
+
+    /// Adds the counts of `other`.
+    fn add(&mut self, other: &Self) {
+        self.llt += other.llt;
+        self.lblt += other.lblt;
+        self.lu += other.lu;
+        self.cg += other.cg;
+    }
+
+    /// Numerical factorisations among the counted steps (every step but the conjugate-gradient ones).
+    pub fn factorised(&self) -> usize {
+        self.llt + self.lblt + self.lu
+    }
+
     pub(super) fn record(&mut self, f: Factorisation) {
         match f {
             Factorisation::Llt => self.llt += 1,
@@ -109,5 +132,59 @@ impl NewtonReport {
     /// The final residual over the load scale.
     pub fn relative_residual(&self) -> f64 {
         self.convergence.relative_residual(self.residual())
+    }
+}
+
+/// What Newton solves cost, summed over solves. A [`NewtonSolver`](super::NewtonSolver) keeps the sum
+/// over every solve it ran, converged or failed ([`NewtonSolver::spent`](super::NewtonSolver::spent)),
+/// so that a time step or a load level reports all of its solves: failed attempts, solves repeated
+/// after contact candidates grew, and intermediate load levels, where a [`NewtonReport`] describes one
+/// solve.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct SolveCost {
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Iterations whose Hessian was shifted.
+    pub shifted_iterations: usize,
+    /// Which factorisation solved each step, counted.
+    pub factorisations: FactorisationCounts,
+    /// Conjugate-gradient iterations.
+    pub cg_iterations: usize,
+    /// Wall-clock seconds in Hessian assembly.
+    pub assembly_seconds: f64,
+    /// Wall-clock seconds in energy and gradient evaluations.
+    pub evaluation_seconds: f64,
+    /// Wall-clock seconds in linear solves.
+    pub linear_solve_seconds: f64,
+    /// The part of `linear_solve_seconds` spent in numerical factorisations.
+    pub factorisation_seconds: f64,
+}
+
+impl SolveCost {
+    /// Adds a solve of `iterations` Newton iterations whose counters are those of `report` (a failed
+    /// solve's report holds its counters but not its iteration count).
+    pub(super) fn add(&mut self, iterations: usize, report: &NewtonReport) {
+        self.iterations += iterations;
+        self.shifted_iterations += report.shifted_iterations;
+        self.factorisations.add(&report.factorisations);
+        self.cg_iterations += report.cg_iterations;
+        self.assembly_seconds += report.assembly_seconds;
+        self.evaluation_seconds += report.evaluation_seconds;
+        self.linear_solve_seconds += report.linear_solve_seconds;
+        self.factorisation_seconds += report.factorisation_seconds;
+    }
+
+    /// The cost of the solves since `earlier`, a sum this one continues.
+    pub fn since(&self, earlier: &Self) -> Self {
+        Self {
+            iterations: self.iterations - earlier.iterations,
+            shifted_iterations: self.shifted_iterations - earlier.shifted_iterations,
+            factorisations: self.factorisations.since(&earlier.factorisations),
+            cg_iterations: self.cg_iterations - earlier.cg_iterations,
+            assembly_seconds: self.assembly_seconds - earlier.assembly_seconds,
+            evaluation_seconds: self.evaluation_seconds - earlier.evaluation_seconds,
+            linear_solve_seconds: self.linear_solve_seconds - earlier.linear_solve_seconds,
+            factorisation_seconds: self.factorisation_seconds - earlier.factorisation_seconds,
+        }
     }
 }

@@ -1,6 +1,6 @@
 //! Time stepping: rest, free fall, free spin.
 
-use super::common::strip_system;
+use super::common::{FailsOnce, strip_system};
 use cosserat_assembly::ElementPair;
 use cosserat_material::MaterialParameters;
 use cosserat_solver::{InitialGuess, TimeStepSettings, TimeStepper, Tolerance};
@@ -264,6 +264,30 @@ fn a_failed_step_is_retried_with_half_the_time_step_and_then_stops_with_a_diagno
     );
     assert_eq!(sys.potential.parts.state, before);
     assert_eq!(stepper.time(), 0.0);
+}
+
+/// A step's report counts every solve of the step: the iterations, factorisations and times of a
+/// failed attempt belong to the step that retried it.
+#[test]
+fn a_step_reports_the_cost_of_its_failed_attempts() {
+    let g = Vector3::new(0.0, 0.0, -9.81);
+    let mut sys = strip_system(ElementPair::Tri6Tri3, (0.1, 0.02), (8, 1), steel_like(), g, true, 0.2);
+    // The first attempt fails in its second iteration, after one full Newton iteration.
+    sys.potential.insert(FailsOnce::at_hessian(2));
+    let mut stepper = TimeStepper::new(&sys.potential, TimeStepSettings::fixed(0.2)).unwrap();
+    let report = stepper.step(&mut sys.potential, &mut |_, _, _| {}).unwrap();
+    assert_eq!(report.reductions, 1, "the first attempt must fail");
+    assert_eq!(report.wasted_iterations, 1);
+    assert_eq!(report.iterations, report.newton.iterations);
+    assert_eq!(report.cost.iterations, report.iterations + report.wasted_iterations);
+    let (all, accepted) = (&report.cost, &report.newton);
+    assert_eq!(
+        all.factorisations.factorised(),
+        accepted.factorisations.factorised() + 1,
+        "the failed attempt's factorisation"
+    );
+    assert!(all.assembly_seconds > accepted.assembly_seconds);
+    assert!(all.linear_solve_seconds > accepted.linear_solve_seconds);
 }
 
 #[test]

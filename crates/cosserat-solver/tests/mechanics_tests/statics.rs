@@ -1,6 +1,6 @@
 //! Quasi-static equilibria against beam theory: small tip load, end-moment roll-up, rest curvature.
 
-use super::common::{disp_nodes_where, rot_nodes_where, strip_system};
+use super::common::{FailsOnce, disp_nodes_where, rot_nodes_where, strip_system};
 use cosserat_assembly::boundary::{PositionConstraint, RotationPenalty};
 use cosserat_assembly::{ElementPair, IncrementalPotential, System};
 use cosserat_material::MaterialParameters;
@@ -95,6 +95,41 @@ fn cantilever_under_a_small_tip_load_matches_euler_bernoulli() {
     eprintln!(
         "cantilever small load, deflection / Euler-Bernoulli: Tri6/Tri3 20x2 {tri6:.5}, Tri3/Tri3 20x2 {tri3:.5}"
     );
+}
+
+/// A level's report counts every solve towards it: the failed solve and the intermediate level after
+/// the bisection, not only the solve that reached it.
+#[test]
+fn a_load_level_reports_the_cost_of_all_its_solves() {
+    let (l, w) = (1.0, 0.1);
+    let material = MaterialParameters::new(0.01, 1e6, 0.0, 1000.0, 1e-5);
+    let (mut sys, tip_nodes, _) = cantilever(ElementPair::Tri6Tri3, l, w, (10, 1), material);
+    // A tip force that bends the strip by about a third of its length: several Newton iterations.
+    let f = material.strip_bending_stiffness() * w / (l * l);
+    // The first solve fails in its third iteration.
+    sys.potential.insert(FailsOnce::at_hessian(3));
+    let share = f / tip_nodes.len() as f64;
+    let reports = solve_quasi_static(
+        &mut sys.potential,
+        &[1.0],
+        &QuasiStaticSettings::default(),
+        &mut |p, lambda| {
+            for &i in &tip_nodes {
+                p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, share * lambda);
+            }
+        },
+        &mut |_, _| {},
+    )
+    .unwrap();
+    let r = &reports[0];
+    assert_eq!(r.bisections, 1, "the first solve must fail");
+    assert!(r.sub_levels >= 1);
+    assert_eq!(r.wasted_iterations, 2);
+    // The tally of iterations (from the solves' residual histories) and the solver's own sum agree.
+    assert_eq!(r.cost.iterations, r.total_iterations);
+    assert!(r.total_iterations > r.newton.iterations + r.wasted_iterations);
+    assert!(r.cost.factorisations.factorised() >= r.newton.factorisations.factorised() + 2);
+    assert!(r.cost.assembly_seconds > r.newton.assembly_seconds);
 }
 
 /// Fits the curvature of the circle through three points.

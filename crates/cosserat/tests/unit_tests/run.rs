@@ -173,6 +173,40 @@ fn a_newton_failure_stops_the_run_and_reports_every_attempt() {
     }
 }
 
+/// A quasi-static level reached through bisections and intermediate levels: the summary's counters
+/// cover every solve towards it, not only the one that reached it.
+#[test]
+fn a_quasi_static_summary_counts_every_solve_of_a_level() {
+    let d = dir("quasi_static_counts");
+    let time = "mode = \"dynamic\"\ndt = 0.01\nend = 0.1\nadaptive = false\noutput_fps = 50.0";
+    assert!(STRIP.contains(time));
+    // Without inertia the clamp holds all three directors.
+    let statics = STRIP
+        .replace(time, "mode = \"quasi_static\"\nn_levels = 1")
+        .replace("directors = [3]", "directors = [1, 2, 3]")
+        .replace(
+            "force = [0.0, 0.0, -0.01]\nscale = \"ramp(t, 0, 0.05)\"",
+            "force = [0.0, 0.0, -2e-4]\nscale = \"t\"",
+        );
+    assert!(!statics.contains("ramp"));
+    let scene = write_scene(&d, &statics);
+    let out = d.join("out");
+    // The whole load (a tip deflection of a quarter of the length) in one level with few iterations
+    // allowed: bisections and intermediate levels.
+    let overrides = ["solver.max_newton_iterations=8", "time.adaptive=false"];
+    assert_eq!(run_scene(&args(scene, out.clone(), &overrides)).unwrap(), 0);
+    let summary = read_summary(&out.join("summary.json")).unwrap();
+    assert!(
+        summary.n_step_reductions > 0 && summary.n_intermediate_levels > 0,
+        "{summary:?}"
+    );
+    assert!(summary.wasted_newton_iterations > 0);
+    // Without factorisation reuse every Newton iteration factorises once: failed and intermediate
+    // solves' included.
+    let iterations = (summary.avg_newton_iterations * summary.n_steps as f64).round() as usize;
+    assert_eq!(summary.linear_solver.factorisations, iterations);
+}
+
 #[test]
 fn a_run_that_fails_later_keeps_every_complete_step() {
     let d = dir("late_failure");
