@@ -4,7 +4,7 @@ use super::common::{FailsOnce, disp_nodes_where, rot_nodes_where, strip_system};
 use cosserat_assembly::boundary::{PositionConstraint, RotationPenalty};
 use cosserat_assembly::{ElementPair, IncrementalPotential, System};
 use cosserat_material::MaterialParameters;
-use cosserat_solver::{QuasiStaticSettings, solve_quasi_static};
+use cosserat_solver::{LoadLevelReport, QuasiStaticSettings, solve_quasi_static};
 use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 
@@ -58,6 +58,24 @@ fn cantilever(
     (sys, tip_nodes, tip_rots)
 }
 
+/// Solves for the equilibrium under a transverse force `f` shared equally by `tip_nodes`, in one
+/// requested level.
+fn solve_tip_force(sys: &mut System, tip_nodes: &[usize], f: f64) -> Vec<LoadLevelReport> {
+    let share = f / tip_nodes.len() as f64;
+    solve_quasi_static(
+        &mut sys.potential,
+        &[1.0],
+        &QuasiStaticSettings::default(),
+        &mut |p, lambda| {
+            for &i in tip_nodes {
+                p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, share * lambda);
+            }
+        },
+        &mut |_, _| {},
+    )
+    .unwrap()
+}
+
 /// Tip deflection of a cantilever under a small tip force, relative to Euler–Bernoulli `F L³/(3 B w)`.
 fn small_load_deflection_ratio(pair: ElementPair, n: (usize, usize)) -> f64 {
     let (l, w, h) = (1.0, 0.1, 0.01);
@@ -66,19 +84,7 @@ fn small_load_deflection_ratio(pair: ElementPair, n: (usize, usize)) -> f64 {
     let b = material.strip_bending_stiffness() * w;
     let f = 1e-4 * 3.0 * b / (l * l); // tip deflection 1e-4 L: linear regime
     let (mut sys, tip_nodes, _) = cantilever(pair, l, w, n, material);
-    let share = f / tip_nodes.len() as f64;
-    let reports = solve_quasi_static(
-        &mut sys.potential,
-        &[1.0],
-        &QuasiStaticSettings::default(),
-        &mut |p, lambda| {
-            for &i in &tip_nodes {
-                p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, share * lambda);
-            }
-        },
-        &mut |_, _| {},
-    )
-    .unwrap();
+    let reports = solve_tip_force(&mut sys, &tip_nodes, f);
     assert_eq!(reports.len(), 1);
     let deflection = tip(&sys.potential, &tip_nodes).z;
     deflection / (f * l * l * l / (3.0 * b))
@@ -108,19 +114,7 @@ fn a_load_level_reports_the_cost_of_all_its_solves() {
     let f = material.strip_bending_stiffness() * w / (l * l);
     // The first solve fails in its third iteration.
     sys.potential.insert(FailsOnce::at_hessian(3));
-    let share = f / tip_nodes.len() as f64;
-    let reports = solve_quasi_static(
-        &mut sys.potential,
-        &[1.0],
-        &QuasiStaticSettings::default(),
-        &mut |p, lambda| {
-            for &i in &tip_nodes {
-                p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, share * lambda);
-            }
-        },
-        &mut |_, _| {},
-    )
-    .unwrap();
+    let reports = solve_tip_force(&mut sys, &tip_nodes, f);
     let r = &reports[0];
     assert_eq!(r.bisections, 1, "the first solve must fail");
     assert!(r.sub_levels >= 1);
