@@ -200,7 +200,7 @@ impl PySimulation {
             t: report.t,
             end: self.end,
             dt: report.dt,
-            newton_iterations: report.iterations,
+            newton_iterations: report.iterations(),
             residual: report.newton.residual(),
         })
     }

@@ -132,14 +132,19 @@ pub struct StepReport {
     /// Newton's report of the successful attempt's last solve (an attempt solves again when the
     /// converged state reached contacts outside the prepared candidates).
     pub newton: NewtonReport,
-    /// Newton iterations of the successful attempt, over all of its solves.
-    pub iterations: usize,
     /// What every solve of the step cost (failed attempts included).
     pub cost: SolveCost,
     /// Failed attempts before it (each halved `Δt`).
     pub reductions: usize,
     /// Newton iterations spent in failed attempts.
     pub wasted_iterations: usize,
+}
+
+impl StepReport {
+    /// Newton iterations of the successful attempt, over all of its solves.
+    pub fn iterations(&self) -> usize {
+        self.cost.iterations - self.wasted_iterations
+    }
 }
 
 /// Advances an incremental potential in time.
@@ -286,22 +291,20 @@ impl TimeStepper {
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
             // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
-            let attempt = self.solver.spent();
+            let attempt_start = self.solver.spent();
             let error = match self.prepare_dynamic(potential) {
                 Err(error) => error,
                 Ok(()) => match self.solve_attempt(potential) {
                     Ok(newton) => {
-                        let iterations = self.solver.spent().since(&attempt).iterations;
+                        let wasted_iterations = attempt_start.since(&before).iterations;
                         self.accept(potential, dt);
-                        let cost = self.solver.spent().since(&before);
                         return Ok(StepReport {
                             t: self.t,
                             dt,
                             newton,
-                            iterations,
-                            cost,
+                            cost: self.solver.spent().since(&before),
                             reductions: attempts.len(),
-                            wasted_iterations: cost.iterations - iterations,
+                            wasted_iterations,
                         });
                     }
                     Err(error) => error,

@@ -72,7 +72,7 @@ impl Default for RunStats {
 impl RunStats {
     /// Adds a completed time step.
     pub fn record_step(&mut self, r: &StepReport, seconds: f64) {
-        self.add_step(&r.newton, &r.cost, r.iterations, seconds);
+        self.add_step(&r.newton, &r.cost, r.iterations(), seconds);
         self.wasted_iterations += r.wasted_iterations;
         self.reductions += r.reductions;
     }

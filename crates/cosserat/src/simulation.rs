@@ -387,7 +387,7 @@ impl Simulation {
                 t: report.t,
                 end,
                 dt: report.dt,
-                newton_iterations: report.iterations,
+                newton_iterations: report.iterations(),
                 residual: report.newton.residual(),
             };
             progress(&info, &mut self.scripts);
