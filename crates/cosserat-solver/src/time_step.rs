@@ -290,8 +290,8 @@ impl TimeStepper {
             }
             self.solver.settings_mut().residual_scale = dt;
             self.initial_guess(potential);
-            // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
             let attempt_start = self.solver.spent();
+            // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
             let error = match self.prepare_dynamic(potential) {
                 Err(error) => error,
                 Ok(()) => match self.solve_attempt(potential) {
