@@ -101,7 +101,7 @@ pub use newton::{
 };
 pub use problem::NewtonProblem;
 pub use statics::{
-    IncrementControl, LevelFailure, LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, StaticError,
-    solve_quasi_static,
+    IncrementControl, LevelFailure, LevelIncrement, LoadLevelReport, PredictorMemory, QuasiStaticSettings,
+    QuasiStaticStepper, StaticError, solve_quasi_static,
 };
 pub use time_step::{InitialGuess, StepError, StepReport, TimeStepSettings, TimeStepper};

@@ -5,7 +5,7 @@
 //! What the next step depends on, and so what a checkpoint holds:
 //! - the system state: positions, velocities, node and quadrature-point rotations, angular velocities;
 //! - the stepper: time and the time step after reductions (dynamic), the load factor, the level
-//!   reached and the predictor's last increment (quasi-static), whether the next Newton solve
+//!   reached and the predictor's memory (quasi-static), whether the next Newton solve
 //!   starts with the Hessian and where its search for a shift of an indefinite Hessian starts, and the
 //!   last step's velocities that the next initial guess extrapolates from (dynamic);
 //! - the output schedule, the probe rows and frames written so far, and the run's counters;
@@ -23,7 +23,7 @@ use cosserat_contact::{CacheCounters, ContactStats};
 use cosserat_io::OutputError;
 use cosserat_io::checkpoint::{Decoder, Encoder};
 use cosserat_scene::spec::SceneSpec;
-use cosserat_solver::CarriedState;
+use cosserat_solver::{CarriedState, LevelIncrement, PredictorMemory};
 use nalgebra::{Quaternion, Vector3};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -82,8 +82,8 @@ pub enum StepperState {
         levels_done: usize,
         /// The load factor of the last equilibrium.
         load_factor: f64,
-        /// The predictor's last increment and its load step.
-        predictor: Option<(Vec<f64>, f64)>,
+        /// The predictor's memory.
+        predictor: PredictorMemory,
         /// The largest load increment of the next solve (`None`: the whole next level).
         increment_limit: Option<f64>,
         /// What the last Newton solve left for the next.
@@ -232,10 +232,11 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             out.usize(1);
             out.usize(*levels_done);
             out.f64(*load_factor);
-            out.bool(predictor.is_some());
-            if let Some((du, step)) = predictor {
-                out.f64s(du);
-                out.f64(*step);
+            out.bool(predictor.is_quadratic());
+            out.usize(predictor.increments().len());
+            for increment in predictor.increments() {
+                out.f64s(&increment.du);
+                out.f64(increment.step);
             }
             out.bool(increment_limit.is_some());
             if let Some(limit) = increment_limit {
@@ -282,11 +283,16 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
         1 => {
             let levels_done = input.usize()?;
             let load_factor = input.f64()?;
-            let predictor = if input.bool()? {
-                Some((input.f64s()?, input.f64()?))
-            } else {
-                None
-            };
+            let quadratic = input.bool()?;
+            let increments = (0..input.usize()?)
+                .map(|_| {
+                    Ok(LevelIncrement {
+                        du: input.f64s()?,
+                        step: input.f64()?,
+                    })
+                })
+                .collect::<Result<Vec<_>, OutputError>>()?;
+            let predictor = PredictorMemory::new(increments, quadratic);
             let increment_limit = if input.bool()? { Some(input.f64()?) } else { None };
             Ok(StepperState::QuasiStatic {
                 levels_done,

@@ -466,7 +466,7 @@ impl Simulation {
                 let state = StepperState::QuasiStatic {
                     levels_done: index + 1,
                     load_factor: stepper.load_factor(),
-                    predictor: stepper.predictor().map(|(du, step)| (du.to_vec(), step)),
+                    predictor: stepper.predictor().clone(),
                     increment_limit: stepper.increment_limit(),
                     newton: stepper.solver().carried(),
                 };

@@ -118,7 +118,12 @@ pub(crate) struct ConvergenceTest {
     /// from), so that the iterates' reactions do not enter it.
     scale_measured: bool,
     floor: f64,
-    /// `|Π|` at the start of the solve and at the latest iterate: the energy's size for the decrement.
+    /// `|Π|` at the state the solve starts from (a prediction's start, where there is one).
+    reference_energy: f64,
+    /// The larger of `reference_energy` and `|Π|` at the latest iterate: the energy's size for the
+    /// decrement. Not the largest over the iterates: a prediction or an early iterate far from the
+    /// solution can carry a stretch energy many orders of magnitude above the solution's, whose
+    /// round-off would then pass the decrement of a state still far from its minimum.
     energy_scale: f64,
 }
 
@@ -130,6 +135,7 @@ impl ConvergenceTest {
             load_scale: external_load.max(first_residual),
             scale_measured: false,
             floor: 0.0,
+            reference_energy: energy.abs(),
             energy_scale: energy.abs(),
         }
     }
@@ -137,12 +143,15 @@ impl ConvergenceTest {
     /// A test whose load scale `scale` was measured before the solve, at the state its initial iterate
     /// is predicted from (the external load, the residual and the reactions there): the residual and
     /// the reactions of the iterates, a prediction's among them, are errors of the iterates and not
-    /// forces of the problem, and do not enter it.
-    pub(crate) fn with_measured_scale(tolerance: Tolerance, scale: f64, energy: f64) -> Self {
-        Self {
+    /// forces of the problem, and do not enter it. For the same reason the energy scale's reference is
+    /// the energy `start_energy` there; `energy` is the first iterate's.
+    pub(crate) fn with_measured_scale(tolerance: Tolerance, scale: f64, start_energy: f64, energy: f64) -> Self {
+        let mut test = Self {
             scale_measured: true,
-            ..Self::new(tolerance, scale, 0.0, energy)
-        }
+            ..Self::new(tolerance, scale, 0.0, start_energy)
+        };
+        test.observe_energy(energy);
+        test
     }
 
     /// Takes the reactions (the largest gradient entry of the eliminated unknowns) of a new iterate
@@ -153,9 +162,9 @@ impl ConvergenceTest {
         }
     }
 
-    /// Takes the energy of a new iterate into the energy scale.
+    /// The energy of the latest iterate sets the energy scale (never below the reference).
     pub(crate) fn observe_energy(&mut self, energy: f64) {
-        self.energy_scale = self.energy_scale.max(energy.abs());
+        self.energy_scale = self.reference_energy.max(energy.abs());
     }
 
     /// Takes `max_i Σ_j |H_ij| m_j` of a new Hessian (residual units) into the round-off floor.
@@ -253,5 +262,23 @@ mod tests {
         assert!(!test.stagnated(&flat, None, false));
         // A line search that cannot move counts as no progress.
         assert!(test.stagnated(&[1.0, 2e-6], Some(tiny), true));
+    }
+
+    #[test]
+    fn a_prediction_s_energy_does_not_set_the_round_off_of_the_iterates() {
+        // A prediction far from the solution (energy 1e9) from a start of energy 1: once the iterates
+        // are back at energies of order one, a decrement of 1e-9 is far above their energy's
+        // round-off, and the solve has not stagnated.
+        let flat = [1e3, 2e-3, 1.9e-3, 2.1e-3, 1.95e-3];
+        let mut test = ConvergenceTest::with_measured_scale(Tolerance::Relative(1e-6), 1.0, 1.0, 1e9);
+        assert!(
+            test.stagnated(&flat, Some(1e-9), false),
+            "at the prediction the energy is 1e9"
+        );
+        test.observe_energy(2.0);
+        assert!(!test.stagnated(&flat, Some(1e-9), false));
+        // Nor does the energy scale fall below the start's.
+        test.observe_energy(1e-30);
+        assert!(test.stagnated(&flat, Some(f64::EPSILON), false));
     }
 }

@@ -129,14 +129,23 @@ struct Run {
     /// Whether the next direction is a chord step with the current factors (the last step was full
     /// and cut the residual by the factor of [`NewtonSettings::reuse_max_ratio`]).
     reuse: bool,
-    /// The load scale measured before the solve (see [`NewtonSolver::solve_from_prediction`]).
-    measured_scale: Option<f64>,
+    /// The state measured before the solve (see [`NewtonSolver::solve_from_prediction`]).
+    measured: Option<MeasuredStart>,
 }
 
 impl Run {
     fn last_residual(&self) -> f64 {
         self.residuals.last().copied().unwrap_or(f64::NAN)
     }
+}
+
+/// What [`NewtonSolver::solve_from_prediction`] measured at the state its prediction starts from.
+#[derive(Debug, Clone, Copy)]
+struct MeasuredStart {
+    /// The largest of its residual and reactions.
+    load_scale: f64,
+    /// Its energy.
+    energy: f64,
 }
 
 /// How the line search of one iteration ended.
@@ -286,12 +295,15 @@ impl NewtonSolver {
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, start)?;
         self.grad.fill(0.0);
-        problem
+        let energy = problem
             .gradient(start, &mut self.grad)
             .map_err(|source| problem_error(0, source))?;
         self.check_gradient(&self.grad, 0)?;
-        let scale = self.residual(&self.grad).max(self.reactions());
-        self.solve_with_scale(problem, x, Some(scale))
+        let measured = MeasuredStart {
+            load_scale: self.residual(&self.grad).max(self.reactions()),
+            energy,
+        };
+        self.solve_with_scale(problem, x, Some(measured))
     }
 
     /// Minimises `problem` starting from `x`, which holds the solution on success. On failure `x`
@@ -313,7 +325,7 @@ impl NewtonSolver {
         &mut self,
         problem: &mut P,
         x: &mut [f64],
-        measured_scale: Option<f64>,
+        measured: Option<MeasuredStart>,
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, x)?;
         problem.clear_predicted_strains();
@@ -328,7 +340,7 @@ impl NewtonSolver {
             indefinite: false,
             shift_from_now: false,
             reuse: self.carry_factors,
-            measured_scale,
+            measured,
         };
         let result = self.minimise(problem, x, &mut run);
         // A failed solve counts the iterations whose step was taken, as its residual history does.
@@ -405,6 +417,10 @@ impl NewtonSolver {
                 && let Step::Full { alpha } | Step::Backtracked { alpha } = step
             {
                 problem.advance_predicted_strains(alpha);
+            }
+            if run.iterations == 1 {
+                run.report.indefinite_start =
+                    (run.shifted || run.indefinite) && !matches!(step, Step::Full { alpha } if alpha == 1.0);
             }
             let retry_shifted = self.shift_after(&step, r, run);
             match step {
@@ -485,8 +501,13 @@ impl NewtonSolver {
         let r0 = self.residual(&self.grad);
         run.residuals.push(r0);
         let load = problem.load_scale() / self.settings.residual_scale;
-        run.test = match run.measured_scale {
-            Some(scale) => ConvergenceTest::with_measured_scale(self.settings.tolerance, load.max(scale), energy),
+        run.test = match run.measured {
+            Some(start) => ConvergenceTest::with_measured_scale(
+                self.settings.tolerance,
+                load.max(start.load_scale),
+                start.energy,
+                energy,
+            ),
             None => ConvergenceTest::new(self.settings.tolerance, load, r0, energy),
         };
         run.test.observe_reactions(self.reactions());

@@ -71,6 +71,9 @@ pub struct NewtonReport {
     /// Iterations whose Hessian was not positive definite and was shifted
     /// ([`IndefiniteHessian`](crate::IndefiniteHessian)).
     pub shifted_iterations: usize,
+    /// The Hessian at the initial iterate was not positive definite, and the step from it was not
+    /// taken in full: the start lies where Newton's quadratic model of the energy fails.
+    pub indefinite_start: bool,
     /// Doublings of shifted steps along negative curvature.
     pub extrapolations: usize,
     /// The test the solve passed, its tolerance, load scale and round-off floor.
@@ -106,6 +109,7 @@ impl NewtonReport {
             feasibility_halvings: 0,
             direction_flips: 0,
             shifted_iterations: 0,
+            indefinite_start: false,
             extrapolations: 0,
             convergence: Convergence {
                 criterion: Criterion::Residual,

@@ -7,34 +7,47 @@ use cosserat_assembly::{
 };
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel};
+use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
 use nalgebra::Vector3;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// A flat rectangular strip `[−lx/2, lx/2] × [−ly/2, ly/2]` in z = 0.
 pub fn strip_system(
     pair: ElementPair,
-    (lx, ly): (f64, f64),
-    (nx, ny): (usize, usize),
+    dims: (f64, f64),
+    n: (usize, usize),
     material: MaterialParameters,
     gravity: Vector3<f64>,
     dynamic: bool,
     dt: f64,
 ) -> System {
+    let input = strip_input(pair, dims, n, material, StrainInterpolation::Paper);
+    let mut system = build_system(&[input], &SystemOptions { gravity, dynamic }).unwrap();
+    system.potential.set_time_step(dt);
+    system
+}
+
+/// The plate input of a flat rectangular strip `[−lx/2, lx/2] × [−ly/2, ly/2]` in z = 0.
+pub fn strip_input(
+    pair: ElementPair,
+    (lx, ly): (f64, f64),
+    (nx, ny): (usize, usize),
+    material: MaterialParameters,
+    interpolation: StrainInterpolation,
+) -> ShellInput {
     let grid = procedural::rectangle_grid(lx, ly, nx, ny).unwrap();
-    let input = ShellInput {
+    let mut rest = RestOptions::new(ModelOptions::new(ShellModel::Plate));
+    rest.interpolation = interpolation;
+    ShellInput {
         name: "strip".into(),
         mesh: ShellMesh::from_tri3(grid.mesh, pair, chord_placement),
         pair,
         material,
-        rest: RestOptions::new(ModelOptions::new(ShellModel::Plate)),
+        rest,
         quadrature: None,
         damping: 0.0,
         angular_inertia_density: 0.0,
-    };
-    let mut system = build_system(&[input], &SystemOptions { gravity, dynamic }).unwrap();
-    system.potential.set_time_step(dt);
-    system
+    }
 }
 
 /// Local displacement nodes of the first shell whose rest x satisfies `pred`.

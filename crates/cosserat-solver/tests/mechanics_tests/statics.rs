@@ -1,10 +1,10 @@
 //! Quasi-static equilibria against beam theory: small tip load, end-moment roll-up, rest curvature.
 
-use super::common::{FailsOnce, disp_nodes_where, rot_nodes_where, strip_system};
+use super::common::{FailsOnce, disp_nodes_where, rot_nodes_where, strip_input};
 use cosserat_assembly::boundary::{PositionConstraint, RotationPenalty};
-use cosserat_assembly::{ElementPair, IncrementalPotential, System};
-use cosserat_material::MaterialParameters;
-use cosserat_solver::{LoadLevelReport, QuasiStaticSettings, solve_quasi_static};
+use cosserat_assembly::{ElementPair, IncrementalPotential, System, SystemOptions, build_system};
+use cosserat_material::{MaterialParameters, StrainInterpolation};
+use cosserat_solver::{LoadLevelReport, QuasiStaticSettings, QuasiStaticStepper, solve_quasi_static};
 use nalgebra::{Matrix3, Vector3};
 use rand::SeedableRng;
 
@@ -44,7 +44,24 @@ fn cantilever(
     n: (usize, usize),
     material: MaterialParameters,
 ) -> (System, Vec<usize>, Vec<usize>) {
-    let mut sys = strip_system(pair, (l, w), n, material, Vector3::zeros(), false, 1.0);
+    cantilever_interpolated(pair, StrainInterpolation::Paper, l, w, n, material)
+}
+
+/// [`cantilever`] with another strain interpolation.
+fn cantilever_interpolated(
+    pair: ElementPair,
+    interpolation: StrainInterpolation,
+    l: f64,
+    w: f64,
+    n: (usize, usize),
+    material: MaterialParameters,
+) -> (System, Vec<usize>, Vec<usize>) {
+    let input = strip_input(pair, (l, w), n, material, interpolation);
+    let options = SystemOptions {
+        gravity: Vector3::zeros(),
+        dynamic: false,
+    };
+    let mut sys = build_system(&[input], &options).unwrap();
     // Shift so the clamp sits at x = 0.
     for x in &mut sys.potential.parts.state.x {
         x.x += 0.5 * l;
@@ -124,6 +141,51 @@ fn a_load_level_reports_the_cost_of_all_its_solves() {
     assert!(r.total_iterations > r.newton.iterations + r.wasted_iterations);
     assert!(r.cost.factorisations.factorised() >= r.newton.factorisations.factorised() + 2);
     assert!(r.cost.assembly_seconds > r.newton.assembly_seconds);
+}
+
+/// Runs the Sze 3.1 cantilever (L = 10, width 1, ν = 0, E = 1200/h³ so that EI = 100) to the tip load
+/// P = 4 (α = P L²/EI = 4) in ten levels on 20 × 2 quads; returns the tip deflection over the
+/// inextensible elastica's (w/L = 0.66996, Mattiasson 1981), whether the predictions became
+/// quadratic, and the Newton iterations per level.
+fn sze_cantilever(pair: ElementPair, interpolation: StrainInterpolation, h: f64) -> (f64, bool, f64) {
+    let (l, w) = (10.0, 1.0);
+    let material = MaterialParameters::new(h, 1200.0 / (h * h * h), 0.0, 1000.0, 1e-3 * h);
+    let (mut sys, tip_nodes, _) = cantilever_interpolated(pair, interpolation, l, w, (20, 2), material);
+    let share = 4.0 / tip_nodes.len() as f64;
+    let mut stepper = QuasiStaticStepper::new(&mut sys.potential, &QuasiStaticSettings::default()).unwrap();
+    let mut iterations = 0;
+    for k in 1..=10 {
+        let report = stepper
+            .advance(&mut sys.potential, f64::from(k) / 10.0, &mut |p, lambda| {
+                for &i in &tip_nodes {
+                    p.parts.loads.forces[i] = Vector3::new(0.0, 0.0, share * lambda);
+                }
+                Ok(())
+            })
+            .unwrap_or_else(|e| panic!("h = {h}: {e}"));
+        iterations += report.total_iterations;
+    }
+    let ratio = tip(&sys.potential, &tip_nodes).z / (0.66996 * l);
+    (ratio, stepper.predictor().is_quadratic(), iterations as f64 / 10.0)
+}
+
+/// A thin shell whose secant predictions start Newton at strongly indefinite Hessians switches to
+/// quadratic predictions and reaches the elastica; a thicker one keeps the secant.
+#[test]
+fn a_thin_cantilever_switches_to_quadratic_predictions_and_a_thick_one_does_not() {
+    let (thin, thin_quadratic, thin_iterations) =
+        sze_cantilever(ElementPair::Tri6Tri6, StrainInterpolation::ReggeStabilized, 0.01);
+    let (thick, thick_quadratic, thick_iterations) =
+        sze_cantilever(ElementPair::Tri6Tri6, StrainInterpolation::ReggeStabilized, 0.1);
+    eprintln!(
+        "Sze 3.1, Tri6/Tri6 regge_stabilized 20x2: h/L = 1e-3 W/W_el {thin:.5} ({thin_iterations:.1} it./level), \
+         h/L = 1e-2 W/W_el {thick:.5} ({thick_iterations:.1} it./level)"
+    );
+    assert!(thin_quadratic, "h/L = 1e-3: the predictions stayed secant");
+    assert!(!thick_quadratic, "h/L = 1e-2: the predictions became quadratic");
+    assert!((thin - 1.0).abs() < 0.01, "h/L = 1e-3: W/W_elastica {thin}");
+    // The thicker strip is further from the inextensible elastica by its own stretching.
+    assert!((thick - 1.0).abs() < 0.01, "h/L = 1e-2: W/W_elastica {thick}");
 }
 
 /// Fits the curvature of the circle through three points.

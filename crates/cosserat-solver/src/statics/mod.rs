@@ -8,6 +8,10 @@
 //! load increment also follows Newton's effort: a level that needs many iterations makes the next
 //! increments smaller, and increments grow back where Newton converges quickly.
 
+mod predictor;
+
+pub use predictor::{LevelIncrement, PredictorMemory};
+
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::PotentialProblem;
@@ -21,8 +25,11 @@ pub struct QuasiStaticSettings {
     pub newton: NewtonSettings,
     /// How many times an increment may be bisected in total for one requested level.
     pub max_bisections: usize,
-    /// Start each solve from the previous increment scaled to the new load step (a secant predictor)
-    /// instead of from zero. Smooth loading paths then start close to the solution.
+    /// Start each solve from a prediction extrapolated from the last converged increments instead of
+    /// from zero: the quadratic through the last three equilibria, the secant after the first level.
+    /// Smooth loading paths then start close to the solution; a secant alone leaves out the path's
+    /// curvature, which on a thin shell that turns under its load is a stretch whose forces lie
+    /// orders of magnitude above the loads.
     pub extrapolate: bool,
     /// Intermediate levels where Newton needs many iterations; `None` inserts them only when a solve
     /// fails (bisection).
@@ -120,8 +127,8 @@ pub struct QuasiStaticStepper {
     solver: NewtonSolver,
     settings: QuasiStaticSettings,
     u: Vec<f64>,
-    /// The last converged increment and its load step, for the predictor.
-    previous: Option<(Vec<f64>, f64)>,
+    /// The last converged increments, for the prediction.
+    predictor: PredictorMemory,
     /// The load factor of the last equilibrium.
     current: f64,
     /// The largest load increment the next solve may take (`None`: the whole next level).
@@ -159,7 +166,7 @@ impl QuasiStaticStepper {
             solver,
             settings: *settings,
             u: vec![0.0; potential.n_dofs()],
-            previous: None,
+            predictor: PredictorMemory::default(),
             current: 0.0,
             limit: None,
         })
@@ -180,10 +187,10 @@ impl QuasiStaticStepper {
         &mut self.solver
     }
 
-    /// The predictor's memory: the last converged increment and its load step (`None` after a
-    /// bisection or before the first level).
-    pub fn predictor(&self) -> Option<(&[f64], f64)> {
-        self.previous.as_ref().map(|(du, step)| (du.as_slice(), *step))
+    /// The predictor's memory: the last converged increments (none after a bisection or before the
+    /// first level, at most two) and the kind of prediction.
+    pub fn predictor(&self) -> &PredictorMemory {
+        &self.predictor
     }
 
     /// The largest load increment the next solve may take (`None`: the whole next level).
@@ -198,18 +205,11 @@ impl QuasiStaticStepper {
     /// # Errors
     /// A predictor increment whose length is not the number of unknowns, or a limit that is not a
     /// positive number (as a message).
-    pub fn resume(
-        &mut self,
-        load_factor: f64,
-        predictor: Option<(Vec<f64>, f64)>,
-        limit: Option<f64>,
-    ) -> Result<(), String> {
-        if let Some((du, _)) = &predictor
-            && du.len() != self.u.len()
-        {
+    pub fn resume(&mut self, load_factor: f64, predictor: PredictorMemory, limit: Option<f64>) -> Result<(), String> {
+        if let Some(increment) = predictor.increments().iter().find(|i| i.du.len() != self.u.len()) {
             return Err(format!(
                 "the predictor increment has {} entries, the system {} unknowns",
-                du.len(),
+                increment.du.len(),
                 self.u.len()
             ));
         }
@@ -219,7 +219,7 @@ impl QuasiStaticStepper {
             return Err(format!("the load increment limit {limit} is not a positive number"));
         }
         self.current = load_factor;
-        self.previous = predictor;
+        self.predictor = predictor;
         self.limit = limit;
         Ok(())
     }
@@ -287,7 +287,7 @@ impl QuasiStaticStepper {
                     }
                     tally.bisections += 1;
                     // A failed predictor is not trusted for the bisected step.
-                    self.previous = None;
+                    self.predictor.clear();
                     self.limit = Some(0.5 * (lambda - from));
                 }
             }
@@ -322,7 +322,11 @@ impl QuasiStaticStepper {
         Ok(match result {
             Ok(report) => {
                 potential.commit(&self.u);
-                self.previous = Some((self.u.clone(), lambda - self.current));
+                let increment = LevelIncrement {
+                    du: self.u.clone(),
+                    step: lambda - self.current,
+                };
+                self.predictor.push(increment, predicted && report.indefinite_start);
                 self.current = lambda;
                 Attempt::Converged(report)
             }
@@ -330,20 +334,14 @@ impl QuasiStaticStepper {
         })
     }
 
-    /// The starting point for level `lambda`: the last increment scaled to the new load step (a secant
-    /// predictor), or zero. Returns whether it predicted.
+    /// The starting point for level `lambda`: the increment extrapolated from the last ones (see the
+    /// `predictor` module), or zero. Returns whether it predicted.
     fn predict(&mut self, lambda: f64) -> bool {
-        match (&self.previous, self.settings.extrapolate) {
-            (Some((du, step)), true) if *step != 0.0 => {
-                let scale = (lambda - self.current) / step;
-                self.u.iter_mut().zip(du).for_each(|(u, d)| *u = d * scale);
-                true
-            }
-            _ => {
-                self.u.fill(0.0);
-                false
-            }
+        let predicted = self.settings.extrapolate && self.predictor.predict(lambda - self.current, &mut self.u);
+        if !predicted {
+            self.u.fill(0.0);
         }
+        predicted
     }
 
     /// Lets the dynamic terms prepare around the starting point; a grown pattern gets a new symbolic
