@@ -16,9 +16,10 @@
 //! strains, so its stress is added to the quadrature point's and its Jacobian is the quadrature point's.
 
 use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap, TyingTwins};
+use crate::kernel::PointShape;
 use crate::kernel::strain_vector;
 use crate::model::AxlVariant;
-use crate::projected::{ElementPoint, ValuePoint, add_first_order};
+use crate::projected::{ElementPoint, ValuePoint, add_first_order, membrane_jacobian};
 use crate::strain_space::StrainVector;
 use nalgebra::{Matrix3, SMatrix, SVector};
 
@@ -95,35 +96,105 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
     (value, sigma)
 }
 
+/// The strain Jacobians of an element's points in its unknowns (transposed, row = unknown), as the
+/// first-order part reads them: the tying maps read the columns of `Ê` of every point, and the columns
+/// of `Γ̂` of the quadrature points only.
+pub(crate) struct TiedJacobians<const NE: usize> {
+    /// The columns of `Ê` of each point of the element (`None` for a point that no map reads).
+    membrane: Vec<Option<SMatrix<f64, NE, TIED>>>,
+    /// The columns of `Γ̂` of each quadrature point.
+    curvature: Vec<SMatrix<f64, NE, 6>>,
+}
+
+impl<const NE: usize> TiedJacobians<NE> {
+    /// No point yet, room for `points` points of which `quadrature` are quadrature points.
+    pub(crate) fn with_capacity(points: usize, quadrature: usize) -> Self {
+        Self {
+            membrane: Vec::with_capacity(points),
+            curvature: Vec::with_capacity(quadrature),
+        }
+    }
+
+    /// The next point is read by no map.
+    pub(crate) fn skip(&mut self) {
+        self.membrane.push(None);
+    }
+
+    /// Adds the next point from its transposed Jacobian `jac_t` in its locals and `QᵀRᵀ` (see
+    /// [`crate::kernel::strain_jacobian`]); the columns of `Γ̂` are kept for a `quadrature` point.
+    pub(crate) fn push<const NU: usize, const NR: usize, const NL: usize>(
+        &mut self,
+        shape: &PointShape<NU, NR>,
+        jac_t: &SMatrix<f64, NL, 12>,
+        qrt: &Matrix3<f64>,
+        dt: f64,
+        quadrature: bool,
+    ) {
+        self.membrane.push(Some(membrane_jacobian(shape, jac_t, qrt, dt)));
+        if quadrature {
+            self.curvature.push(curvature_jacobian::<NU, NR, NL, NE>(jac_t));
+        }
+    }
+}
+
+/// The columns of `Γ̂` of a point's transposed Jacobian in the element's unknowns: `Γ̂` does not depend on
+/// the displacements, and its rotation rows are those of `jac_t`.
+fn curvature_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    jac_t: &SMatrix<f64, NL, 12>,
+) -> SMatrix<f64, NE, 6> {
+    let mut g = SMatrix::<f64, NE, 6>::zeros();
+    for s in 0..6 {
+        for r in 0..3 * NR {
+            g[(3 * NU + r, s)] = jac_t[(6 + r, 6 + s)];
+        }
+    }
+    g
+}
+
 /// Adds `Σ_p w_p G̃_pᵀ D_p G̃_p` to the upper block triangle of `h`.
 pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE: usize>(
     points: &[ElementPoint<'_, NU, NR>],
-    jacobians: &[SMatrix<f64, NE, 12>],
+    jacobians: &TiedJacobians<NE>,
     maps: &[TyingMap],
     twins: &TyingTwins,
     h: &mut SMatrix<f64, NE, NE>,
 ) {
     let first = points.len() - N_TYING;
-    for ((p, g), m) in points.iter().zip(jacobians).zip(maps) {
+    let membrane = &jacobians.membrane;
+    for (q, (p, m)) in points.iter().zip(maps).enumerate() {
+        let own = membrane[q].as_ref().expect("a quadrature point is evaluated");
         // `Ê` columns of G̃_p: Σ_t J_t M_pt^T over the tying points t, plus the point's own through
         // `K_p`. A tying point that the map does not use (the centroid under moment ties) costs nothing.
-        let mut tied = g.fixed_columns::<TIED>(0) * m.own.transpose();
         // The maps' blocks are sparse (a membrane tie reads only the tangential entries, a shear or
-        // drilling mean only its own), so they are applied entry by entry.
+        // drilling mean only its own, `K_p` keeps a part or none), so they are applied entry by entry.
+        let mut tied = SMatrix::<f64, NE, TIED>::zeros();
+        add_tied_columns(&mut tied, own, &m.own);
         for t in 0..N_TYING {
-            let jt = &jacobians[twins.source(t, first)];
             let block = m.tied.fixed_columns::<TIED>(TIED * t);
-            for j in 0..TIED {
-                for i in 0..TIED {
-                    let v = block[(i, j)];
-                    if v != 0.0 {
-                        tied.column_mut(i).axpy(v, &jt.column(j), 1.0);
-                    }
-                }
+            match &membrane[twins.source(t, first)] {
+                Some(jt) => add_tied_columns(&mut tied, jt, &block),
+                None => debug_assert!(block.iter().all(|&x| x == 0.0), "a tying point read is evaluated"),
             }
         }
-        let mut gt = *g;
-        gt.fixed_columns_mut::<TIED>(0).copy_from(&tied);
-        add_first_order(p.density, &gt, p.shape.weight, h);
+        add_first_order(p.density, &tied, &jacobians.curvature[q], 3 * NU, p.shape.weight, h);
+    }
+}
+
+/// `out += J Mᵀ` for the `Ê` columns `J` of a point's Jacobian in the element's unknowns, over the
+/// nonzero entries of the 6 × 6 map `M`.
+fn add_tied_columns<const NE: usize, S>(
+    out: &mut SMatrix<f64, NE, TIED>,
+    jacobian: &SMatrix<f64, NE, TIED>,
+    map: &nalgebra::Matrix<f64, nalgebra::Const<TIED>, nalgebra::Const<TIED>, S>,
+) where
+    S: nalgebra::storage::Storage<f64, nalgebra::Const<TIED>, nalgebra::Const<TIED>>,
+{
+    for j in 0..TIED {
+        for i in 0..TIED {
+            let v = map[(i, j)];
+            if v != 0.0 {
+                out.column_mut(i).axpy(v, &jacobian.column(j), 1.0);
+            }
+        }
     }
 }

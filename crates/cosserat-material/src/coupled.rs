@@ -7,18 +7,22 @@
 //! modules.
 
 use crate::assumed::{N_TYING, TIED, TyingMap, TyingTwins};
-use crate::element::{ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper};
+use crate::assumed_kernel::TiedJacobians;
+use crate::element::{
+    ElementDerivatives, accumulate_gradient, accumulate_upper, accumulate_upper_without_stretch_block, assign_upper,
+};
 use crate::kernel::{
-    LocalDerivatives, add_second_order_terms, gradient_from_stress, point_strains, strain_jacobian, stress_of,
+    LocalDerivatives, add_second_order_terms, gradient_from_stress, membrane_strain_jacobian, point_strains,
+    second_order_terms_into, strain_jacobian, stress_of,
 };
 use crate::model::AxlVariant;
 use crate::parameters::Moduli;
-use crate::projected::{ElementPoint, ProjectedFirstOrder, ValuePoint, element_jacobian};
+use crate::projected::{ElementPoint, ProjectedFirstOrder, ValuePoint};
 use crate::projection::StrainProjection;
 use crate::strain_space::StrainVector;
 use crate::volume::{volume_density, volume_hessian};
 use crate::{assumed_kernel, projected};
-use nalgebra::{Matrix3, SMatrix, SVector};
+use nalgebra::{Matrix3, SVector};
 
 /// The first-order (Gauss-Newton) part of a coupled element's Hessian while its points are visited.
 // One lives on the stack per element evaluation; boxing the larger variant would allocate in the
@@ -28,7 +32,7 @@ enum FirstOrder<'a, const NE: usize> {
     /// The projection's point-local products and element-level sums.
     Projected(ProjectedFirstOrder<'a, NE>),
     /// The tying maps and the points' Jacobians in the element's unknowns, combined at the end.
-    Tied(&'a [TyingMap], Vec<SMatrix<f64, NE, 12>>),
+    Tied(&'a [TyingMap], TiedJacobians<NE>),
 }
 
 /// How an element's points' strains are combined.
@@ -141,12 +145,18 @@ impl Coupling<'_> {
             // kept.
             if self.is_unused(n, first_tying, &unused) {
                 if let FirstOrder::Tied(_, jacobians) = &mut first_order {
-                    jacobians.push(SMatrix::zeros());
+                    jacobians.skip();
                 }
                 continue;
             }
             let st = stress_of(p.shape, &p.input, x, sg, variant);
-            let (mut jac_t, qrt) = strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant);
+            // A tying point's curvature strains are read by no map.
+            let tying_point = self.is_tying_point(n, first_tying);
+            let (mut jac_t, qrt) = if tying_point {
+                membrane_strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
+            } else {
+                strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
+            };
             local.value = 0.0;
             local.gradient = gradient_from_stress(p.shape, &p.input, &st);
             let st = match &predicted_sigma {
@@ -155,27 +165,36 @@ impl Coupling<'_> {
             };
             // The first-order term: point-local for the projection, gathered for the tying maps (see
             // `ProjectedFirstOrder`, `assumed_kernel`).
-            match &mut first_order {
+            // So the local Hessian of a tied point is its second-order terms alone, without a `F̂F̂`
+            // block unless the volume term adds one.
+            let point_local = match &mut first_order {
                 FirstOrder::Projected(projected) => {
                     projected.add_point(p.shape, &mut jac_t, &qrt, p.density, &mut local.hessian);
+                    add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
+                    true
                 }
                 FirstOrder::Tied(_, jacobians) => {
-                    local.hessian.fill(0.0);
-                    jacobians.push(element_jacobian(p.shape, &jac_t, &qrt, dt));
+                    jacobians.push(p.shape, &jac_t, &qrt, dt, !tying_point);
+                    second_order_terms_into(p.shape, &p.input, &st, &mut local.hessian);
+                    false
                 }
-            }
-            add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
-            if let Some(m) = volume.filter(|_| p.shape.weight > 0.0) {
+            };
+            let volume = volume.filter(|_| p.shape.weight > 0.0);
+            if let Some(m) = volume {
                 self.add_volume_term(p, m, local);
             }
             let weight = self.stress_weight(p);
             for (sum, w) in node_weights.iter_mut().zip(&st.ru) {
                 *sum += w * weight;
             }
-            if n == 0 {
-                assign_upper(p.shape, local, dt, weight, out);
+            if point_local || volume.is_some() {
+                if n == 0 {
+                    assign_upper(p.shape, local, dt, weight, out);
+                } else {
+                    accumulate_upper(p.shape, local, dt, weight, out);
+                }
             } else {
-                accumulate_upper(p.shape, local, dt, weight, out);
+                accumulate_upper_without_stretch_block(p.shape, local, dt, weight, n == 0, out);
             }
         }
         out.value += value;
@@ -206,7 +225,7 @@ impl Coupling<'_> {
             Self::Projection(projection) => {
                 FirstOrder::Projected(ProjectedFirstOrder::<NE>::new(projection, shared, dt))
             }
-            Self::Tying(maps, _) => FirstOrder::Tied(maps, Vec::with_capacity(points.len())),
+            Self::Tying(maps, _) => FirstOrder::Tied(maps, TiedJacobians::with_capacity(points.len(), maps.len())),
         }
     }
 
@@ -244,6 +263,11 @@ impl Coupling<'_> {
     /// whose `unused` is all false).
     fn is_unused(self, n: usize, first_tying: usize, unused: &[bool; N_TYING]) -> bool {
         n >= first_tying && unused[n - first_tying]
+    }
+
+    /// Point `n` of the element is a tying point (none under the projection).
+    fn is_tying_point(self, n: usize, first_tying: usize) -> bool {
+        matches!(self, Self::Tying(..)) && n >= first_tying
     }
 
     /// The tying points read at quadrature points (none under the projection).

@@ -125,7 +125,7 @@ pub fn accumulate_upper<const NU: usize, const NR: usize, const NL: usize, const
     weight: f64,
     out: &mut ElementDerivatives<NE>,
 ) {
-    map_upper::<NU, NR, NL, NE, false>(shape, local, dt, weight, out);
+    map_upper::<NU, NR, NL, NE, false, true>(shape, local, dt, weight, out);
 }
 
 /// [`accumulate_upper`] for an element's first point: the upper block triangle of the Hessian is
@@ -138,11 +138,38 @@ pub fn assign_upper<const NU: usize, const NR: usize, const NL: usize, const NE:
     weight: f64,
     out: &mut ElementDerivatives<NE>,
 ) {
-    map_upper::<NU, NR, NL, NE, true>(shape, local, dt, weight, out);
+    map_upper::<NU, NR, NL, NE, true, true>(shape, local, dt, weight, out);
 }
 
+/// [`accumulate_upper`] (or, with `assign`, [`assign_upper`]) for local derivatives whose `F̂F̂` block is
+/// zero (a point's second-order terms alone): the blocks of the displacements are left untouched (set
+/// to zero with `assign`), which saves mapping a zero block to each of them.
+pub fn accumulate_upper_without_stretch_block<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    local: &LocalDerivatives<NL>,
+    dt: f64,
+    weight: f64,
+    assign: bool,
+    out: &mut ElementDerivatives<NE>,
+) {
+    if assign {
+        map_upper::<NU, NR, NL, NE, true, false>(shape, local, dt, weight, out);
+    } else {
+        map_upper::<NU, NR, NL, NE, false, false>(shape, local, dt, weight, out);
+    }
+}
+
+/// The map of [`accumulate_upper`] (`ASSIGN` for [`assign_upper`]); without `STRETCH`, the local
+/// Hessian's `F̂F̂` block is taken as zero.
 #[inline]
-fn map_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const ASSIGN: bool>(
+fn map_upper<
+    const NU: usize,
+    const NR: usize,
+    const NL: usize,
+    const NE: usize,
+    const ASSIGN: bool,
+    const STRETCH: bool,
+>(
     shape: &PointShape<NU, NR>,
     local: &LocalDerivatives<NL>,
     dt: f64,
@@ -175,8 +202,12 @@ fn map_upper<const NU: usize, const NR: usize, const NL: usize, const NE: usize,
         let k0 = (hff[0][0] * b[(0, i)] + hff[1][0] * b[(1, i)]) * s2;
         let k1 = (hff[0][1] * b[(0, i)] + hff[1][1] * b[(1, i)]) * s2;
         for j in i..NU {
-            let blk = k0 * b[(0, j)] + k1 * b[(1, j)];
-            put(&mut out.hessian, 3 * i, 3 * j, &blk);
+            if STRETCH {
+                let blk = k0 * b[(0, j)] + k1 * b[(1, j)];
+                put(&mut out.hessian, 3 * i, 3 * j, &blk);
+            } else if ASSIGN {
+                put(&mut out.hessian, 3 * i, 3 * j, &Matrix3::zeros());
+            }
         }
         let (b0, b1) = (b[(0, i)] * s1, b[(1, i)] * s1);
         for k in 0..NR {

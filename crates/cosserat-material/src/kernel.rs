@@ -201,6 +201,8 @@ pub(crate) struct Stress<const NR: usize> {
     yz: Matrix3<f64>,
     /// The interpolated rotation gradients `X_γ = Σ_k C_kγ R_k`.
     x: [Matrix3<f64>; 2],
+    /// The stress has no `Γ̂` part, so every `R U_k` is zero.
+    curvature_free: bool,
 }
 
 #[inline]
@@ -273,6 +275,7 @@ pub(crate) fn stress_of<const NU: usize, const NR: usize>(
         ru,
         yz,
         x,
+        curvature_free: sigma.fixed_rows::<6>(9).iter().all(|&s| s == 0.0),
     }
 }
 
@@ -546,6 +549,28 @@ pub(crate) fn strain_jacobian<const NU: usize, const NR: usize, const NL: usize>
     x: &[Matrix3<f64>; 2],
     variant: AxlVariant,
 ) -> (SMatrix<f64, NL, 12>, Matrix3<f64>) {
+    strain_jacobian_columns::<NU, NR, NL, true>(shape, input, x, variant)
+}
+
+/// [`strain_jacobian`] on the columns of `Ê` only (those of `Γ̂` are left zero), for a point whose
+/// curvature strains nothing reads (a tying point of the assumed strains).
+pub(crate) fn membrane_strain_jacobian<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    x: &[Matrix3<f64>; 2],
+    variant: AxlVariant,
+) -> (SMatrix<f64, NL, 12>, Matrix3<f64>) {
+    strain_jacobian_columns::<NU, NR, NL, false>(shape, input, x, variant)
+}
+
+/// [`strain_jacobian`], with the columns of `Γ̂` if `CURVATURE` (zero otherwise).
+#[inline]
+fn strain_jacobian_columns<const NU: usize, const NR: usize, const NL: usize, const CURVATURE: bool>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    x: &[Matrix3<f64>; 2],
+    variant: AxlVariant,
+) -> (SMatrix<f64, NL, 12>, Matrix3<f64>) {
     let jet = input.point_jet;
     let qt = shape.frame.transpose();
     let rt = jet.r.transpose();
@@ -560,7 +585,9 @@ pub(crate) fn strain_jacobian<const NU: usize, const NR: usize, const NL: usize>
         for gamma in 0..2 {
             // Qᵀ (∂R/∂ω_i)ᵀ F̂_γ = QᵀRᵀ [ξ_i]×ᵀ F̂_γ = QᵀRᵀ (F̂_γ × ξ_i).
             de_dp[gamma][i] = qrt * input.f_hat[gamma].cross(&xi);
-            dg_dp[gamma][i] = qt * axial(&(rit * x[gamma]), variant);
+            if CURVATURE {
+                dg_dp[gamma][i] = qt * axial(&(rit * x[gamma]), variant);
+            }
         }
     }
     for k in 0..NR {
@@ -569,13 +596,19 @@ pub(crate) fn strain_jacobian<const NU: usize, const NR: usize, const NL: usize>
         for i in 0..3 {
             let col = 6 + 3 * k + i;
             // Derivative of axl(Rᵀ R_k) along ω_k,i, shared by both columns γ.
-            let dn = qt * axial(&(rt * nj.d1[i]), variant);
+            let dn = if CURVATURE {
+                qt * axial(&(rt * nj.d1[i]), variant)
+            } else {
+                Vector3::zeros()
+            };
             for gamma in 0..2 {
                 let de = de_dp[gamma][i] * mk;
                 let dg = dg_dp[gamma][i] * mk + dn * shape.rot_grad[(gamma, k)];
                 for a in 0..3 {
                     jac_t[(col, 3 * gamma + a)] = de[a];
-                    jac_t[(col, 6 + 3 * gamma + a)] = dg[a];
+                    if CURVATURE {
+                        jac_t[(col, 6 + 3 * gamma + a)] = dg[a];
+                    }
                 }
             }
         }
@@ -592,6 +625,38 @@ pub(crate) fn add_second_order_terms<const NU: usize, const NR: usize, const NL:
     st: &Stress<NR>,
     hessian: &mut SMatrix<f64, NL, NL>,
 ) {
+    second_order_terms::<NU, NR, NL, false>(shape, input, st, hessian);
+}
+
+/// [`add_second_order_terms`] written into every entry of a point's local Hessian (its `F̂F̂` block,
+/// which the bilinear maps do not reach, is zero): the local Hessian of a point whose first-order
+/// part is gathered elsewhere (the assumed strains).
+pub(crate) fn second_order_terms_into<const NU: usize, const NR: usize, const NL: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    st: &Stress<NR>,
+    hessian: &mut SMatrix<f64, NL, NL>,
+) {
+    hessian.fixed_view_mut::<6, 6>(0, 0).fill(0.0);
+    second_order_terms::<NU, NR, NL, true>(shape, input, st, hessian);
+}
+
+/// The second-order terms, added to the blocks of `hessian` they reach or, with `ASSIGN`, written into
+/// them (each of their entries receives one term).
+#[inline]
+fn second_order_terms<const NU: usize, const NR: usize, const NL: usize, const ASSIGN: bool>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    st: &Stress<NR>,
+    hessian: &mut SMatrix<f64, NL, NL>,
+) {
+    let put = |h: &mut SMatrix<f64, NL, NL>, r: usize, c: usize, v: f64| {
+        if ASSIGN {
+            h[(r, c)] = v;
+        } else {
+            h[(r, c)] += v;
+        }
+    };
     let jet = input.point_jet;
     let r = &jet.r;
     // (∂R/∂ω_i) w_γ = ξ_i × R w_γ.
@@ -608,14 +673,29 @@ pub(crate) fn add_second_order_terms<const NU: usize, const NR: usize, const NL:
             for gamma in 0..2 {
                 let v = d1w[i][gamma] * mk;
                 for a in 0..3 {
-                    hessian[(3 * gamma + a, col)] += v[a];
-                    hessian[(col, 3 * gamma + a)] += v[a];
+                    put(hessian, 3 * gamma + a, col, v[a]);
+                    put(hessian, col, 3 * gamma + a, v[a]);
                 }
             }
         }
     }
     // ⟨R_ij, Y + Z⟩, symmetric in i, j.
     let hpp = jet.second_contraction(&st.yz);
+    // A stress without curvature part (at a tying point, whose curvature strains nothing reads) has no
+    // nodal rotation weights, so the point rotation couples to the nodal rotations through `hpp` only.
+    if st.curvature_free {
+        for k in 0..NR {
+            for l in 0..NR {
+                let mkml = shape.rot_values[k] * shape.rot_values[l];
+                for i in 0..3 {
+                    for j in 0..3 {
+                        put(hessian, 6 + 3 * k + i, 6 + 3 * l + j, mkml * hpp[i][j]);
+                    }
+                }
+            }
+        }
+        return;
+    }
     // cross[k][i][j] = ⟨R_i U_k, R_k,j⟩: point rotation direction i, node k direction j. With
     // R_i = [ξ_i]× R this is ξ_i · m(R_k,j, R U_k).
     let mut cross = [[[0.0; 3]; 3]; NR];
@@ -635,8 +715,8 @@ pub(crate) fn add_second_order_terms<const NU: usize, const NR: usize, const NL:
             let mkml = mk * ml;
             for i in 0..3 {
                 for j in 0..3 {
-                    hessian[(6 + 3 * k + i, 6 + 3 * l + j)] +=
-                        mkml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
+                    let v = mkml * hpp[i][j] + mk * cross[l][i][j] + ml * cross[k][j][i];
+                    put(hessian, 6 + 3 * k + i, 6 + 3 * l + j, v);
                 }
             }
         }

@@ -114,6 +114,18 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
     g
 }
 
+/// The columns of `Ê` of [`element_jacobian`].
+pub(crate) fn membrane_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    jac_t: &SMatrix<f64, NL, 12>,
+    qrt: &Matrix3<f64>,
+    dt: f64,
+) -> SMatrix<f64, NE, 6> {
+    let mut g = SMatrix::<f64, NE, 6>::zeros();
+    add_element_jacobian(shape, jac_t, qrt, dt, 1.0, &mut g);
+    g
+}
+
 /// `out += G` for the transposed Jacobian `G` of a point's variable strains with respect to the
 /// element's unknowns, with its displacement rows scaled by `f_disp` (`Δt`, times a weight) and its
 /// rotation rows by `f_rot` (the weight): `∂Ê_γ,a/∂v_i,c = (QᵀRᵀ)_ac Δt ∂N_i/∂t_γ`, and the rotation
@@ -364,30 +376,46 @@ fn kept_columns(d: &DensityMatrix, projection: &StrainProjection) -> SMatrix<f64
 }
 
 /// Adds `w G̃ᵀ D G̃` to the upper block triangle of `h`, for the transposed Jacobian `G̃` of a point's
-/// 12 variable strains with respect to the element's unknowns.
+/// 12 variable strains with respect to the element's unknowns: its columns of `Ê` are `membrane`, those
+/// of `Γ̂` are `curvature`.
+///
+/// Entry `(r, c)` is the dot product of row `r` of `G̃` with row `c` of `w G̃ D`, twelve numbers that the
+/// compiler keeps in vector registers. `Γ̂` does not depend on the displacements, so on the displacement
+/// rows (before `first_rotation`) the columns of `Γ̂` are zero and the dot product is six long.
 pub(crate) fn add_first_order<const NE: usize>(
     density: &DensityMatrix,
-    gt: &SMatrix<f64, NE, 12>,
+    membrane: &SMatrix<f64, NE, 6>,
+    curvature: &SMatrix<f64, NE, 6>,
+    first_rotation: usize,
     w: f64,
     h: &mut SMatrix<f64, NE, NE>,
 ) {
-    // Column `r` of `dg` is row `r` of `D G̃`.
+    let columns: [&[f64]; 12] = std::array::from_fn(|s| {
+        if s < 6 {
+            &membrane.as_slice()[s * NE..(s + 1) * NE]
+        } else {
+            &curvature.as_slice()[(s - 6) * NE..(s - 5) * NE]
+        }
+    });
+    // `D G̃ᵀ` transposed (column `s` is row `s` of `D G̃ᵀ`), as sums of scaled contiguous columns of `G̃`.
     let mut dg = SMatrix::<f64, NE, 12>::zeros();
     for e in density.variable_entries() {
-        let (r, c) = (e.row as usize, e.col as usize);
-        let mut col = dg.column_mut(r);
-        col.axpy(e.value, &gt.column(c), 1.0);
+        let dst = &mut dg.as_mut_slice()[e.row as usize * NE..(e.row as usize + 1) * NE];
+        for (o, x) in dst.iter_mut().zip(columns[e.col as usize]) {
+            *o += e.value * x;
+        }
     }
-    for c in 0..NE {
+    let g: [[f64; 12]; NE] = std::array::from_fn(|r| std::array::from_fn(|s| columns[s][r]));
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    for (c, dst) in h.as_mut_slice().chunks_exact_mut(NE).enumerate() {
         let rows = 3 * (c / 3) + 3;
-        for s in 0..12 {
-            let f = w * dg[(c, s)];
-            if f == 0.0 {
-                continue;
-            }
-            for r in 0..rows {
-                h[(r, c)] += f * gt[(r, s)];
-            }
+        let dc: [f64; 12] = std::array::from_fn(|s| w * dg[(c, s)]);
+        let displacement = rows.min(first_rotation);
+        for (o, gr) in dst[..displacement].iter_mut().zip(&g) {
+            *o += dot(&gr[..6], &dc[..6]);
+        }
+        for (o, gr) in dst[displacement..rows].iter_mut().zip(&g[displacement..]) {
+            *o += dot(gr, &dc);
         }
     }
 }
