@@ -19,7 +19,7 @@ use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap, TyingTwins};
 use crate::kernel::PointShape;
 use crate::kernel::strain_vector;
 use crate::model::AxlVariant;
-use crate::projected::{ElementPoint, ValuePoint, add_first_order, membrane_jacobian};
+use crate::projected::{ElementPoint, FirstOrderPoint, ValuePoint, add_first_order, membrane_jacobian};
 use crate::strain_space::StrainVector;
 use nalgebra::{Matrix3, SMatrix, SVector};
 
@@ -161,23 +161,34 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
 ) {
     let first = points.len() - N_TYING;
     let membrane = &jacobians.membrane;
-    for (q, (p, m)) in points.iter().zip(maps).enumerate() {
+    let mut tied = vec![SMatrix::<f64, NE, TIED>::zeros(); maps.len()];
+    for (q, (m, tied)) in maps.iter().zip(tied.iter_mut()).enumerate() {
         let own = membrane[q].as_ref().expect("a quadrature point is evaluated");
         // `Ê` columns of G̃_p: Σ_t J_t M_pt^T over the tying points t, plus the point's own through
         // `K_p`. A tying point that the map does not use (the centroid under moment ties) costs nothing.
         // The maps' blocks are sparse (a membrane tie reads only the tangential entries, a shear or
         // drilling mean only its own, `K_p` keeps a part or none), so they are applied entry by entry.
-        let mut tied = SMatrix::<f64, NE, TIED>::zeros();
-        add_tied_columns(&mut tied, own, &m.own);
+        add_tied_columns(tied, own, &m.own);
         for t in 0..N_TYING {
             let block = m.tied.fixed_columns::<TIED>(TIED * t);
             match &membrane[twins.source(t, first)] {
-                Some(jt) => add_tied_columns(&mut tied, jt, &block),
+                Some(jt) => add_tied_columns(tied, jt, &block),
                 None => debug_assert!(block.iter().all(|&x| x == 0.0), "a tying point read is evaluated"),
             }
         }
-        add_first_order(p.density, &tied, &jacobians.curvature[q], 3 * NU, p.shape.weight, h);
     }
+    let tied_points: Vec<FirstOrderPoint<'_, NE>> = points
+        .iter()
+        .zip(&tied)
+        .zip(&jacobians.curvature)
+        .map(|((p, membrane), curvature)| FirstOrderPoint {
+            density: p.density,
+            membrane,
+            curvature,
+            weight: p.shape.weight,
+        })
+        .collect();
+    add_first_order(&tied_points, 3 * NU, h);
 }
 
 /// `out += J Mᵀ` for the `Ê` columns `J` of a point's Jacobian in the element's unknowns, over the

@@ -375,47 +375,95 @@ fn kept_columns(d: &DensityMatrix, projection: &StrainProjection) -> SMatrix<f64
     pd
 }
 
-/// Adds `w G̃ᵀ D G̃` to the upper block triangle of `h`, for the transposed Jacobian `G̃` of a point's
+/// A point's share `w G̃ᵀ D G̃` of an element's first-order part, for the transposed Jacobian `G̃` of its
 /// 12 variable strains with respect to the element's unknowns: its columns of `Ê` are `membrane`, those
 /// of `Γ̂` are `curvature`.
+pub(crate) struct FirstOrderPoint<'a, const NE: usize> {
+    pub(crate) density: &'a DensityMatrix,
+    pub(crate) membrane: &'a SMatrix<f64, NE, 6>,
+    pub(crate) curvature: &'a SMatrix<f64, NE, 6>,
+    pub(crate) weight: f64,
+}
+
+/// Adds `Σ_p w_p G̃_pᵀ D_p G̃_p` over the `points` to the upper block triangle of `h`.
 ///
-/// Entry `(r, c)` is the dot product of row `r` of `G̃` with row `c` of `w G̃ D`, twelve numbers that the
-/// compiler keeps in vector registers. `Γ̂` does not depend on the displacements, so on the displacement
-/// rows (before `first_rotation`) the columns of `Γ̂` are zero and the dot product is six long.
+/// Entry `(r, c)` is the dot product of row `r` of `[G̃₁ G̃₂ …]` with row `c` of `[w₁ G̃₁ D₁ w₂ G̃₂ D₂ …]`,
+/// taken over up to three points at once. `Γ̂` does not depend on the displacements, so on the
+/// displacement rows (before `first_rotation`) the columns of `Γ̂` are zero and only those of `Ê` enter.
 pub(crate) fn add_first_order<const NE: usize>(
-    density: &DensityMatrix,
-    membrane: &SMatrix<f64, NE, 6>,
-    curvature: &SMatrix<f64, NE, 6>,
+    points: &[FirstOrderPoint<'_, NE>],
     first_rotation: usize,
-    w: f64,
     h: &mut SMatrix<f64, NE, NE>,
 ) {
-    let columns: [&[f64]; 12] = std::array::from_fn(|s| {
-        if s < 6 {
-            &membrane.as_slice()[s * NE..(s + 1) * NE]
-        } else {
-            &curvature.as_slice()[(s - 6) * NE..(s - 5) * NE]
-        }
-    });
-    // `D G̃ᵀ` transposed (column `s` is row `s` of `D G̃ᵀ`), as sums of scaled contiguous columns of `G̃`.
-    let mut dg = SMatrix::<f64, NE, 12>::zeros();
-    for e in density.variable_entries() {
-        let dst = &mut dg.as_mut_slice()[e.row as usize * NE..(e.row as usize + 1) * NE];
-        for (o, x) in dst.iter_mut().zip(columns[e.col as usize]) {
-            *o += e.value * x;
+    for chunk in points.chunks(3) {
+        match chunk {
+            [a] => add_first_order_of::<NE, 1>([a], first_rotation, h),
+            [a, b] => add_first_order_of::<NE, 2>([a, b], first_rotation, h),
+            [a, b, c] => add_first_order_of::<NE, 3>([a, b, c], first_rotation, h),
+            _ => unreachable!("chunks of one to three points"),
         }
     }
-    let g: [[f64; 12]; NE] = std::array::from_fn(|r| std::array::from_fn(|s| columns[s][r]));
-    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+}
+
+/// [`add_first_order`] over `P` points.
+fn add_first_order_of<const NE: usize, const P: usize>(
+    points: [&FirstOrderPoint<'_, NE>; P],
+    first_rotation: usize,
+    h: &mut SMatrix<f64, NE, NE>,
+) {
+    // `D G̃ᵀ` of each point, transposed (column `s` is row `s` of `D G̃ᵀ`), as sums of scaled contiguous
+    // columns of `G̃`.
+    let mut dg = [SMatrix::<f64, NE, 12>::zeros(); P];
+    for (p, dg) in points.iter().zip(dg.iter_mut()) {
+        for e in p.density.variable_entries() {
+            let c = e.col as usize;
+            let src = if c < 6 {
+                p.membrane.column(c)
+            } else {
+                p.curvature.column(c - 6)
+            };
+            dg.column_mut(e.row as usize).axpy(e.value, &src, 1.0);
+        }
+    }
+    // The rows of `G̃` and of `w G̃ D`, the points side by side, for `Ê` and `Γ̂` apart.
+    let rows_of = |columns: [&SMatrix<f64, NE, 6>; P]| -> [[[f64; 6]; P]; NE] {
+        std::array::from_fn(|r| {
+            let mut row = [[0.0; 6]; P];
+            for (x, m) in row.iter_mut().zip(columns) {
+                for (s, v) in x.iter_mut().enumerate() {
+                    *v = m[(r, s)];
+                }
+            }
+            row
+        })
+    };
+    let g_membrane = rows_of(points.map(|p| p.membrane));
+    let g_curvature = rows_of(points.map(|p| p.curvature));
+    let weighted = |c: usize, first: usize| -> [[f64; 6]; P] {
+        let mut row = [[0.0; 6]; P];
+        for ((x, p), dg) in row.iter_mut().zip(points).zip(&dg) {
+            for (s, v) in x.iter_mut().enumerate() {
+                *v = p.weight * dg[(c, first + s)];
+            }
+        }
+        row
+    };
+    let dot = |a: &[[f64; 6]; P], b: &[[f64; 6]; P]| {
+        a.as_flattened().iter().zip(b.as_flattened()).map(|(x, y)| x * y).sum::<f64>()
+    };
     for (c, dst) in h.as_mut_slice().chunks_exact_mut(NE).enumerate() {
         let rows = 3 * (c / 3) + 3;
-        let dc: [f64; 12] = std::array::from_fn(|s| w * dg[(c, s)]);
+        let (dc_membrane, dc_curvature) = (weighted(c, 0), weighted(c, 6));
         let displacement = rows.min(first_rotation);
-        for (o, gr) in dst[..displacement].iter_mut().zip(&g) {
-            *o += dot(&gr[..6], &dc[..6]);
+        for (o, gr) in dst[..displacement].iter_mut().zip(&g_membrane) {
+            *o += dot(gr, &dc_membrane);
         }
-        for (o, gr) in dst[displacement..rows].iter_mut().zip(&g[displacement..]) {
-            *o += dot(gr, &dc);
+        for ((o, gm), gc) in dst[displacement..rows]
+            .iter_mut()
+            .zip(&g_membrane[displacement..])
+            .zip(&g_curvature[displacement..])
+        {
+            *o += dot(gm, &dc_membrane) + dot(gc, &dc_curvature);
         }
     }
 }
