@@ -19,7 +19,7 @@ use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap, TyingTwins};
 use crate::kernel::PointShape;
 use crate::kernel::strain_vector;
 use crate::model::AxlVariant;
-use crate::projected::{ElementPoint, FirstOrderPoint, ValuePoint, add_first_order, membrane_jacobian};
+use crate::projected::{ElementPoint, FirstOrderPoint, ValuePoint, add_element_jacobian, add_first_order};
 use crate::strain_space::StrainVector;
 use nalgebra::{Matrix3, SMatrix, SVector};
 
@@ -130,25 +130,21 @@ impl<const NE: usize> TiedJacobians<NE> {
         dt: f64,
         quadrature: bool,
     ) {
-        self.membrane.push(Some(membrane_jacobian(shape, jac_t, qrt, dt)));
+        // Written in place: the matrices are large enough for the moves to count.
+        self.membrane.push(Some(SMatrix::zeros()));
+        let membrane = self.membrane.last_mut().and_then(Option::as_mut).expect("just added");
+        add_element_jacobian(shape, jac_t, qrt, dt, 1.0, membrane);
         if quadrature {
-            self.curvature.push(curvature_jacobian::<NU, NR, NL, NE>(jac_t));
+            // `Γ̂` does not depend on the displacements, and its rotation rows are those of `jac_t`.
+            self.curvature.push(SMatrix::zeros());
+            let curvature = self.curvature.last_mut().expect("just added");
+            for s in 0..6 {
+                for r in 0..3 * NR {
+                    curvature[(3 * NU + r, s)] = jac_t[(6 + r, 6 + s)];
+                }
+            }
         }
     }
-}
-
-/// The columns of `Γ̂` of a point's transposed Jacobian in the element's unknowns: `Γ̂` does not depend on
-/// the displacements, and its rotation rows are those of `jac_t`.
-fn curvature_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
-    jac_t: &SMatrix<f64, NL, 12>,
-) -> SMatrix<f64, NE, 6> {
-    let mut g = SMatrix::<f64, NE, 6>::zeros();
-    for s in 0..6 {
-        for r in 0..3 * NR {
-            g[(3 * NU + r, s)] = jac_t[(6 + r, 6 + s)];
-        }
-    }
-    g
 }
 
 /// Adds `Σ_p w_p G̃_pᵀ D_p G̃_p` to the upper block triangle of `h`.

@@ -12,8 +12,8 @@ use crate::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, accumulate_upper_without_stretch_block, assign_upper,
 };
 use crate::kernel::{
-    LocalDerivatives, add_second_order_terms, gradient_from_stress, membrane_strain_jacobian, point_strains,
-    second_order_terms_into, strain_jacobian, stress_of,
+    LocalDerivatives, add_curvature_free_second_order_terms_upper, add_second_order_terms, gradient_from_stress,
+    membrane_strain_jacobian, point_strains, second_order_terms_into, strain_jacobian, stress_of,
 };
 use crate::model::AxlVariant;
 use crate::parameters::Moduli;
@@ -163,11 +163,12 @@ impl Coupling<'_> {
                 Some(sigma) => stress_of(p.shape, &p.input, x, &sigma[n], variant),
                 None => st,
             };
+            let weight = self.stress_weight(p);
+            let volume = volume.filter(|_| p.shape.weight > 0.0);
             // The first-order term: point-local for the projection, gathered for the tying maps (see
-            // `ProjectedFirstOrder`, `assumed_kernel`).
-            // So the local Hessian of a tied point is its second-order terms alone, without a `F̂F̂`
-            // block unless the volume term adds one.
-            let point_local = match &mut first_order {
+            // `ProjectedFirstOrder`, `assumed_kernel`). So a tied point's local Hessian is its
+            // second-order terms alone, without a `F̂F̂` block unless the volume term adds one.
+            let stretch = match &mut first_order {
                 FirstOrder::Projected(projected) => {
                     projected.add_point(p.shape, &mut jac_t, &qrt, p.density, &mut local.hessian);
                     add_second_order_terms(p.shape, &p.input, &st, &mut local.hessian);
@@ -175,26 +176,36 @@ impl Coupling<'_> {
                 }
                 FirstOrder::Tied(_, jacobians) => {
                     jacobians.push(p.shape, &jac_t, &qrt, dt, !tying_point);
+                    // Without a curvature stress (every tying point) the terms are few enough to be
+                    // added to the element directly; the first point assigns instead.
+                    if n > 0 && volume.is_none() && st.curvature_free {
+                        accumulate_gradient(p.shape, &local.gradient, dt, weight, &mut out.gradient);
+                        add_curvature_free_second_order_terms_upper(
+                            p.shape,
+                            &p.input,
+                            &st,
+                            dt,
+                            weight,
+                            &mut out.hessian,
+                        );
+                        continue;
+                    }
                     second_order_terms_into(p.shape, &p.input, &st, &mut local.hessian);
-                    false
+                    volume.is_some()
                 }
             };
-            let volume = volume.filter(|_| p.shape.weight > 0.0);
             if let Some(m) = volume {
                 self.add_volume_term(p, m, local);
             }
-            let weight = self.stress_weight(p);
             for (sum, w) in node_weights.iter_mut().zip(&st.ru) {
                 *sum += w * weight;
             }
-            if point_local || volume.is_some() {
-                if n == 0 {
-                    assign_upper(p.shape, local, dt, weight, out);
-                } else {
-                    accumulate_upper(p.shape, local, dt, weight, out);
-                }
-            } else {
+            if !stretch {
                 accumulate_upper_without_stretch_block(p.shape, local, dt, weight, n == 0, out);
+            } else if n == 0 {
+                assign_upper(p.shape, local, dt, weight, out);
+            } else {
+                accumulate_upper(p.shape, local, dt, weight, out);
             }
         }
         out.value += value;

@@ -20,6 +20,7 @@
 //! microseconds per point instead of the hundreds of microseconds of an 18-direction second-order dual
 //! pass (the latter is kept as the test oracle, see `oracle`).
 
+use crate::element::add_block;
 use crate::model::AxlVariant;
 use crate::strain_space::{DensityMatrix, Entry, StrainVector, VARIABLE_STRAINS};
 use cosserat_geometry::rotation::{RotationJet, axl, axl_upper, skew};
@@ -202,7 +203,7 @@ pub(crate) struct Stress<const NR: usize> {
     /// The interpolated rotation gradients `X_γ = Σ_k C_kγ R_k`.
     x: [Matrix3<f64>; 2],
     /// The stress has no `Γ̂` part, so every `R U_k` is zero.
-    curvature_free: bool,
+    pub(crate) curvature_free: bool,
 }
 
 #[inline]
@@ -639,6 +640,46 @@ pub(crate) fn second_order_terms_into<const NU: usize, const NR: usize, const NL
 ) {
     hessian.fixed_view_mut::<6, 6>(0, 0).fill(0.0);
     second_order_terms::<NU, NR, NL, true>(shape, input, st, hessian);
+}
+
+/// Adds `weight ×` the second-order terms of a point whose stress has no `Γ̂` part
+/// ([`Stress::curvature_free`]) to the upper block triangle of an element Hessian `h`, without forming
+/// the point's local Hessian: they are the coupling of `F̂` to the point rotation and the point
+/// rotation's second derivatives, mapped as [`crate::element::accumulate_upper`] maps the local Hessian
+/// of [`second_order_terms_into`] (blocks of the displacements untouched, since its `F̂F̂` block is zero).
+pub(crate) fn add_curvature_free_second_order_terms_upper<const NU: usize, const NR: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    st: &Stress<NR>,
+    dt: f64,
+    weight: f64,
+    h: &mut SMatrix<f64, NE, NE>,
+) {
+    debug_assert!(st.curvature_free, "a stress without curvature part");
+    let jet = input.point_jet;
+    // Column i of d1w[γ] is (∂R/∂ω_i) w_γ = ξ_i × R w_γ.
+    let d1w = st.w.map(|w| {
+        let rw = jet.r * w;
+        Matrix3::from_columns(&[0, 1, 2].map(|i| jet.generators.column(i).cross(&rw)))
+    });
+    let b = &shape.disp_grad;
+    let s1 = dt * weight;
+    for i in 0..NU {
+        let (b0, b1) = (b[(0, i)] * s1, b[(1, i)] * s1);
+        for k in 0..NR {
+            let mk = shape.rot_values[k];
+            let blk = (d1w[0] * mk) * b0 + (d1w[1] * mk) * b1;
+            add_block(h, 3 * i, 3 * (NU + k), &blk);
+        }
+    }
+    // ⟨R_ij, Y + Z⟩, symmetric in i, j.
+    let hpp = Matrix3::from(jet.second_contraction(&st.yz)).transpose();
+    for k in 0..NR {
+        for l in k..NR {
+            let mkml = shape.rot_values[k] * shape.rot_values[l];
+            add_block(h, 3 * (NU + k), 3 * (NU + l), &((hpp * mkml) * weight));
+        }
+    }
 }
 
 /// The second-order terms, added to the blocks of `hessian` they reach or, with `ASSIGN`, written into

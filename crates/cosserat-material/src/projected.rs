@@ -114,24 +114,18 @@ pub(crate) fn element_jacobian<const NU: usize, const NR: usize, const NL: usize
     g
 }
 
-/// The columns of `Ê` of [`element_jacobian`].
-pub(crate) fn membrane_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
-    shape: &PointShape<NU, NR>,
-    jac_t: &SMatrix<f64, NL, 12>,
-    qrt: &Matrix3<f64>,
-    dt: f64,
-) -> SMatrix<f64, NE, 6> {
-    let mut g = SMatrix::<f64, NE, 6>::zeros();
-    add_element_jacobian(shape, jac_t, qrt, dt, 1.0, &mut g);
-    g
-}
-
 /// `out += G` for the transposed Jacobian `G` of a point's variable strains with respect to the
 /// element's unknowns, with its displacement rows scaled by `f_disp` (`Δt`, times a weight) and its
 /// rotation rows by `f_rot` (the weight): `∂Ê_γ,a/∂v_i,c = (QᵀRᵀ)_ac Δt ∂N_i/∂t_γ`, and the rotation
 /// rows are those of `jac_t`. Only the first `C` strains are written: all twelve, or the six of `Ê`
 /// (the only ones the displacement rows have).
-fn add_element_jacobian<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const C: usize>(
+pub(crate) fn add_element_jacobian<
+    const NU: usize,
+    const NR: usize,
+    const NL: usize,
+    const NE: usize,
+    const C: usize,
+>(
     shape: &PointShape<NU, NR>,
     jac_t: &SMatrix<f64, NL, 12>,
     qrt: &Matrix3<f64>,
