@@ -5,7 +5,8 @@
 //! `shell.2.mesh.path`). The value is read as a TOML value (`0.01`, `80`, `true`, `[0, 0, -9.81]`,
 //! `"text"`), and taken as a plain string when it is not valid TOML (`tri3`, `../models/x.obj`).
 //! Missing tables on the way are created, so `output.frames=false` works without an `\[output\]` table;
-//! array entries are never created. A key the schema does not know is rejected when the document is
+//! array entries are never created. An empty value (`solver.tolerance=`) removes the key, so that its
+//! default applies (a key that is not there is left alone). A key the schema does not know is rejected when the document is
 //! deserialised, and the message then names the override rather than a line of the file: every value
 //! an override inserts carries a span past the end of the file text that identifies the override.
 
@@ -61,11 +62,15 @@ impl Override {
 
 /// Applies `ov` to `table`; everything it inserts gets the span `span` (past the end of the file).
 pub(crate) fn apply<'i>(table: &mut DeTable<'i>, ov: &'i Override, span: Range<usize>) -> Result<(), SceneError> {
+    let target = Target { ov, span };
+    if ov.value.is_empty() {
+        return target.remove_from_table(table, 0);
+    }
+    let span = target.span.clone();
     let value = match DeValue::parse(&ov.value) {
         Ok(v) => respan(v, &span),
         Err(_) => Spanned::new(span.clone(), DeValue::String(DeString::Borrowed(ov.value.as_str()))),
     };
-    let target = Target { ov, span };
     target.insert_in_table(table, 0, value)
 }
 
@@ -135,6 +140,39 @@ impl<'i> Target<'i> {
                 }
             }
             other => Err(self.error(format!("`{here}` is a {}, not a table", other.type_str()))),
+        }
+    }
+}
+
+impl Target<'_> {
+    /// Removes the override's key below `table` (from segment `depth` on), if it is there.
+    fn remove_from_table(&self, table: &mut DeTable<'_>, depth: usize) -> Result<(), SceneError> {
+        let segment = self.ov.path[depth].as_str();
+        if depth + 1 == self.ov.path.len() {
+            table.remove(segment);
+            return Ok(());
+        }
+        let here = self.ov.path[..=depth].join(".");
+        match table.get_mut(segment).map(Spanned::get_mut) {
+            None => Ok(()),
+            Some(DeValue::Table(t)) => self.remove_from_table(t, depth + 1),
+            Some(DeValue::Array(a)) => {
+                let next = &self.ov.path[depth + 1];
+                let index = parse_index(next).ok_or_else(|| {
+                    self.error(format!(
+                        "`{here}` is an array: the next segment must be an index, not `{next}`"
+                    ))
+                })?;
+                if depth + 2 == self.ov.path.len() {
+                    return Err(self.error(format!("an entry of the array `{here}` cannot be removed")));
+                }
+                match a.get_mut(index).map(Spanned::get_mut) {
+                    None => Ok(()),
+                    Some(DeValue::Table(t)) => self.remove_from_table(t, depth + 2),
+                    Some(other) => Err(self.error(format!("`{here}.{index}` is a {}, not a table", other.type_str()))),
+                }
+            }
+            Some(other) => Err(self.error(format!("`{here}` is a {}, not a table", other.type_str()))),
         }
     }
 }

@@ -75,7 +75,8 @@ pub struct RunArgs {
     /// Output directory (default: `out/<scene name>/`).
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Override a scene field, e.g. `--set mesh.ny=8` (repeatable).
+    /// Override a scene field, e.g. `--set mesh.ny=8` (repeatable); `--set solver.tolerance=` (no value)
+    /// removes the field, so that its default applies.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub overrides: Vec<String>,
     /// Number of threads (default: all cores).

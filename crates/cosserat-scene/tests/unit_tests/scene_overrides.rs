@@ -83,3 +83,33 @@ fn later_overrides_win() {
     let spec = load(&["time.dt=0.1", "time.dt=0.2"]);
     assert!(matches!(spec.time, cosserat_scene::spec::TimeSpec::Dynamic { dt, .. } if dt == 0.2));
 }
+
+#[test]
+fn an_empty_value_removes_the_key_and_its_default_applies() {
+    let absolute = load(&["solver.tolerance=1e-9"]);
+    assert_eq!(absolute.solver.tolerance, cosserat_solver::Tolerance::Absolute(1e-9));
+    let spec = load(&["solver.tolerance=1e-9", "solver.tolerance="]);
+    assert_eq!(spec.solver.tolerance, load(&[]).solver.tolerance);
+    assert!(matches!(spec.solver.tolerance, cosserat_solver::Tolerance::Relative(_)));
+    // A key or a table that is not there is left alone.
+    let spec = load(&["solver.missing=", "absent.table.key=", "boundary.0.absent.key="]);
+    assert_eq!(spec.solver.tolerance, load(&[]).solver.tolerance);
+    // An array entry is not removed, and a path through a number is refused.
+    let refused = |ov: &str| {
+        let overrides = vec![ov.to_string()];
+        SceneSpec::from_str(SCENE, "strip.toml", Path::new("."), &overrides)
+            .err()
+            .unwrap_or_else(|| panic!("`{ov}` was accepted"))
+            .to_string()
+    };
+    assert!(
+        refused("boundary.0=").contains("cannot be removed"),
+        "{}",
+        refused("boundary.0=")
+    );
+    assert!(
+        refused("mesh.nx.size=").contains("not a table"),
+        "{}",
+        refused("mesh.nx.size=")
+    );
+}
