@@ -6,9 +6,10 @@
 //! `"text"`), and taken as a plain string when it is not valid TOML (`tri3`, `../models/x.obj`).
 //! Missing tables on the way are created, so `output.frames=false` works without an `\[output\]` table;
 //! array entries are never created. An empty value (`solver.tolerance=`) removes the key, so that its
-//! default applies (a key that is not there is left alone). A key the schema does not know is rejected when the document is
-//! deserialised, and the message then names the override rather than a line of the file: every value
-//! an override inserts carries a span past the end of the file text that identifies the override.
+//! default applies (a key that is not there is left alone). A key the schema does not know is rejected
+//! when the document is deserialised, and the message then names the override rather than a line of
+//! the file: every value an override inserts carries a span past the end of the file text that
+//! identifies the override.
 
 use crate::error::SceneError;
 use std::ops::Range;
