@@ -12,8 +12,8 @@ use crate::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, accumulate_upper_without_stretch_block, assign_upper,
 };
 use crate::kernel::{
-    LocalDerivatives, add_curvature_free_second_order_terms_upper, add_second_order_terms, gradient_from_stress,
-    membrane_strain_jacobian, point_strains, second_order_terms_into, strain_jacobian, stress_of,
+    LocalDerivatives, PointShape, Stress, add_curvature_free_second_order_terms_upper, add_second_order_terms,
+    gradient_from_stress, membrane_strain_jacobian, point_strains, second_order_terms_into, strain_jacobian, stress_of,
 };
 use crate::model::AxlVariant;
 use crate::parameters::Moduli;
@@ -22,7 +22,7 @@ use crate::projection::StrainProjection;
 use crate::strain_space::StrainVector;
 use crate::volume::{volume_density, volume_hessian};
 use crate::{assumed_kernel, projected};
-use nalgebra::{Matrix3, SVector};
+use nalgebra::{Matrix3, SMatrix, SVector};
 
 /// The first-order (Gauss-Newton) part of a coupled element's Hessian while its points are visited.
 // One lives on the stack per element evaluation; boxing the larger variant would allocate in the
@@ -33,6 +33,54 @@ enum FirstOrder<'a, const NE: usize> {
     Projected(ProjectedFirstOrder<'a, NE>),
     /// The tying maps and the points' Jacobians in the element's unknowns, combined at the end.
     Tied(&'a [TyingMap], TiedJacobians<NE>),
+}
+
+/// A point's stress (of `sigma`, or of `predicted` where the iteration matrix weights the second-order
+/// terms with predicted stresses), the Jacobian of its strains and `QᵀRᵀ`; its gradient goes into
+/// `local`. A tying point's curvature strains are read by no map, so only its membrane Jacobian is
+/// formed.
+fn point_derivatives<const NU: usize, const NR: usize, const NL: usize>(
+    p: &ElementPoint<'_, NU, NR>,
+    x: [Matrix3<f64>; 2],
+    sigma: &StrainVector,
+    predicted: Option<&StrainVector>,
+    tying_point: bool,
+    variant: AxlVariant,
+    local: &mut LocalDerivatives<NL>,
+) -> (Stress<NR>, SMatrix<f64, NL, 12>, Matrix3<f64>) {
+    let st = stress_of(p.shape, &p.input, x, sigma, variant);
+    let (jac_t, qrt) = if tying_point {
+        membrane_strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
+    } else {
+        strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
+    };
+    local.value = 0.0;
+    local.gradient = gradient_from_stress(p.shape, &p.input, &st);
+    let st = match predicted {
+        Some(sigma) => stress_of(p.shape, &p.input, x, sigma, variant),
+        None => st,
+    };
+    (st, jac_t, qrt)
+}
+
+/// Maps a point's local derivatives into the element's: assigned for the `first` point, added
+/// otherwise; without a `stretch` block (`F̂F̂`) the displacement blocks are left alone.
+fn map_point<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(
+    shape: &PointShape<NU, NR>,
+    local: &LocalDerivatives<NL>,
+    dt: f64,
+    weight: f64,
+    first: bool,
+    stretch: bool,
+    out: &mut ElementDerivatives<NE>,
+) {
+    if !stretch {
+        accumulate_upper_without_stretch_block(shape, local, dt, weight, first, out);
+    } else if first {
+        assign_upper(shape, local, dt, weight, out);
+    } else {
+        accumulate_upper(shape, local, dt, weight, out);
+    }
 }
 
 /// How an element's points' strains are combined.
@@ -149,20 +197,9 @@ impl Coupling<'_> {
                 }
                 continue;
             }
-            let st = stress_of(p.shape, &p.input, x, sg, variant);
-            // A tying point's curvature strains are read by no map.
             let tying_point = self.is_tying_point(n, first_tying);
-            let (mut jac_t, qrt) = if tying_point {
-                membrane_strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
-            } else {
-                strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
-            };
-            local.value = 0.0;
-            local.gradient = gradient_from_stress(p.shape, &p.input, &st);
-            let st = match &predicted_sigma {
-                Some(sigma) => stress_of(p.shape, &p.input, x, &sigma[n], variant),
-                None => st,
-            };
+            let predicted = predicted_sigma.as_ref().map(|sigma| &sigma[n]);
+            let (st, mut jac_t, qrt) = point_derivatives(p, x, sg, predicted, tying_point, variant, local);
             let weight = self.stress_weight(p);
             let volume = volume.filter(|_| p.shape.weight > 0.0);
             // The first-order term: point-local for the projection, gathered for the tying maps (see
@@ -200,13 +237,7 @@ impl Coupling<'_> {
             for (sum, w) in node_weights.iter_mut().zip(&st.ru) {
                 *sum += w * weight;
             }
-            if !stretch {
-                accumulate_upper_without_stretch_block(p.shape, local, dt, weight, n == 0, out);
-            } else if n == 0 {
-                assign_upper(p.shape, local, dt, weight, out);
-            } else {
-                accumulate_upper(p.shape, local, dt, weight, out);
-            }
+            map_point(p.shape, local, dt, weight, n == 0, stretch, out);
         }
         out.value += value;
         match first_order {

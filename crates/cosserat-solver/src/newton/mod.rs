@@ -407,21 +407,7 @@ impl NewtonSolver {
             }
             let chord = run.reuse && !at.hessian;
             let slope = self.direction(problem, x, &mut at, chord, run)?;
-            if s.mixed_integration_points {
-                problem
-                    .linearize_strains(x, &self.dx)
-                    .map_err(|source| problem_error(run.iterations, source))?;
-            }
-            let step = self.step(problem, x, slope, &mut at, run)?;
-            if s.mixed_integration_points
-                && let Step::Full { alpha } | Step::Backtracked { alpha } = step
-            {
-                problem.advance_predicted_strains(alpha);
-            }
-            if run.iterations == 1 {
-                run.report.indefinite_start =
-                    (run.shifted || run.indefinite) && !matches!(step, Step::Full { alpha } if alpha == 1.0);
-            }
+            let step = self.search_along_direction(problem, x, slope, &mut at, run)?;
             let retry_shifted = self.shift_after(&step, r, run);
             match step {
                 Step::Full { alpha } => {
@@ -456,6 +442,34 @@ impl NewtonSolver {
                 run.reuse = false;
             }
         }
+    }
+
+    /// The line search along the direction just computed, with the mixed-integration-point strain
+    /// prediction around it. Records whether the solve's first step started at an indefinite Hessian
+    /// and had to be cut ([`NewtonReport::indefinite_start`]).
+    fn search_along_direction<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+        slope: f64,
+        at: &mut Point,
+        run: &mut Run,
+    ) -> Result<Step, NewtonError> {
+        let mixed = self.settings.mixed_integration_points;
+        if mixed {
+            problem
+                .linearize_strains(x, &self.dx)
+                .map_err(|source| problem_error(run.iterations, source))?;
+        }
+        let step = self.step(problem, x, slope, at, run)?;
+        if mixed && let Step::Full { alpha } | Step::Backtracked { alpha } = step {
+            problem.advance_predicted_strains(alpha);
+        }
+        if run.iterations == 1 {
+            run.report.indefinite_start =
+                (run.shifted || run.indefinite) && !matches!(step, Step::Full { alpha } if alpha == 1.0);
+        }
+        Ok(step)
     }
 
     /// With [`IndefiniteHessian::Adaptive`]: whether `step`, taken along the direction of an unshifted
