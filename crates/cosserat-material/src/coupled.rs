@@ -35,32 +35,39 @@ enum FirstOrder<'a, const NE: usize> {
     Tied(&'a [TyingMap], TiedJacobians<NE>),
 }
 
-/// A point's stress (of `sigma`, or of `predicted` where the iteration matrix weights the second-order
-/// terms with predicted stresses), the Jacobian of its strains and `QᵀRᵀ`; its gradient goes into
-/// `local`. A tying point's curvature strains are read by no map, so only its membrane Jacobian is
-/// formed.
-fn point_derivatives<const NU: usize, const NR: usize, const NL: usize>(
+/// The Jacobian of a point's strains and `QᵀRᵀ`. A tying point's curvature strains are read by no map,
+/// so only its membrane Jacobian is formed.
+fn point_jacobian<const NU: usize, const NR: usize, const NL: usize>(
+    p: &ElementPoint<'_, NU, NR>,
+    x: &[Matrix3<f64>; 2],
+    tying_point: bool,
+    variant: AxlVariant,
+) -> (SMatrix<f64, NL, 12>, Matrix3<f64>) {
+    if tying_point {
+        membrane_strain_jacobian::<NU, NR, NL>(p.shape, &p.input, x, variant)
+    } else {
+        strain_jacobian::<NU, NR, NL>(p.shape, &p.input, x, variant)
+    }
+}
+
+/// A point's gradient from its stress `sigma`, into `local`, and the stress that weights its
+/// second-order terms: `predicted`'s where the iteration matrix uses predicted stresses, its own
+/// otherwise.
+fn point_stress<const NU: usize, const NR: usize, const NL: usize>(
     p: &ElementPoint<'_, NU, NR>,
     x: [Matrix3<f64>; 2],
     sigma: &StrainVector,
     predicted: Option<&StrainVector>,
-    tying_point: bool,
     variant: AxlVariant,
     local: &mut LocalDerivatives<NL>,
-) -> (Stress<NR>, SMatrix<f64, NL, 12>, Matrix3<f64>) {
+) -> Stress<NR> {
     let st = stress_of(p.shape, &p.input, x, sigma, variant);
-    let (jac_t, qrt) = if tying_point {
-        membrane_strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
-    } else {
-        strain_jacobian::<NU, NR, NL>(p.shape, &p.input, &x, variant)
-    };
     local.value = 0.0;
     local.gradient = gradient_from_stress(p.shape, &p.input, &st);
-    let st = match predicted {
+    match predicted {
         Some(sigma) => stress_of(p.shape, &p.input, x, sigma, variant),
         None => st,
-    };
-    (st, jac_t, qrt)
+    }
 }
 
 /// Maps a point's local derivatives into the element's: assigned for the `first` point, added
@@ -188,9 +195,8 @@ impl Coupling<'_> {
         let unused = self.unused_tying_points();
         let first_tying = points.len().saturating_sub(N_TYING);
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
-            // A point no map reads has no stress, gradient or Hessian of its own (the centroid under
-            // moment ties, the twins of quadrature points): only its place in the Jacobian list is
-            // kept.
+            // A point no map reads (the centroid under moment ties, the twins of quadrature points) has
+            // no stress, gradient or Hessian of its own: only its place in the Jacobian list is kept.
             if self.is_unused(n, first_tying, &unused) {
                 if let FirstOrder::Tied(_, jacobians) = &mut first_order {
                     jacobians.skip();
@@ -199,7 +205,8 @@ impl Coupling<'_> {
             }
             let tying_point = self.is_tying_point(n, first_tying);
             let predicted = predicted_sigma.as_ref().map(|sigma| &sigma[n]);
-            let (st, mut jac_t, qrt) = point_derivatives(p, x, sg, predicted, tying_point, variant, local);
+            let (mut jac_t, qrt) = point_jacobian(p, &x, tying_point, variant);
+            let st = point_stress(p, x, sg, predicted, variant, local);
             let weight = self.stress_weight(p);
             let volume = volume.filter(|_| p.shape.weight > 0.0);
             // The first-order term: point-local for the projection, gathered for the tying maps (see
