@@ -335,7 +335,7 @@ fn ladder_goes_on(runs: &[StudyRun], discretisation: Discretisation, best: f64) 
     let own = || runs.iter().filter(|r| r.discretisation == discretisation);
     let reached = own().any(|r| r.error.is_some_and(|e| e <= 1e-2));
     let affordable = own()
-        .last()
+        .next_back()
         .is_some_and(|r| r.error.is_some() && r.outcome.outer_seconds <= EXTENSION_BUDGET * best);
     !reached && affordable
 }
