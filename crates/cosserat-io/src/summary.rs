@@ -260,6 +260,10 @@ pub struct RunSummary {
     pub displacement_element: String,
     /// Rotation element type, e.g. `"tri3"` (`"-"` for a model without rotations).
     pub rotation_element: String,
+    /// The strain interpolation of the Cosserat shells, e.g. `"regge_stabilized"` (comma-separated when
+    /// shells differ; `"-"` for a model without one).
+    #[serde(default)]
+    pub strain_interpolation: String,
     /// Number of shells.
     pub n_shells: usize,
     /// Number of cells (elements) of the meshes.

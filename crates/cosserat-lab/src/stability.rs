@@ -111,6 +111,8 @@ impl Settings {
             format!("mesh.ny={}", self.mesh.1),
             format!("mesh.element={}", self.pair.0),
             format!("mesh.rotation_element={}", self.pair.1),
+            // The matrix measures the paper's discretisation on every pair.
+            "material.strain_interpolation=paper".to_string(),
             "output.frames=false".to_string(),
         ];
         if self.angular_inertia_density > 0.0 {

@@ -6,7 +6,7 @@
 //! quantity over the levels (the definition); a run's error is the largest over levels.
 
 use crate::plot::{Mark, Plot, Series};
-use crate::problem::{Errors, LevelTable, Pair, Problem, compare, registry};
+use crate::problem::{Discretisation, Errors, LevelTable, Pair, Problem, compare, registry};
 use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
 use cosserat::RunDescription;
@@ -58,7 +58,7 @@ pub fn run_problem(problem: &Problem, o: &Options, extra: &[String]) -> Result<V
             .map(|(_, m)| m)
             .collect();
         for mesh in selected {
-            let mut ov = pair.overrides();
+            let mut ov = Discretisation::paper(pair).overrides();
             ov.extend(mesh.overrides.iter().cloned());
             ov.push("output.frames=false".into());
             ov.extend(extra.iter().cloned());

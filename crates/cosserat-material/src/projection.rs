@@ -42,6 +42,19 @@ pub enum StrainInterpolation {
     ReggeStabilized,
 }
 
+impl StrainInterpolation {
+    /// The scene's name of the interpolation (`material.strain_interpolation`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Paper => "paper",
+            Self::Stabilized => "stabilized",
+            Self::Assumed => "assumed",
+            Self::Regge => "regge",
+            Self::ReggeStabilized => "regge_stabilized",
+        }
+    }
+}
+
 /// The constants `c` of `β = h² / (h² + c h_e²)`, per strain part; `f64::INFINITY` keeps a part's
 /// point strains.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -55,6 +55,21 @@ impl PyRunSummary {
     fn n_rotation_dofs(&self) -> usize {
         self.inner.n_rotation_dofs
     }
+    /// Displacement element, e.g. ``"tri6"``.
+    #[getter]
+    fn displacement_element(&self) -> String {
+        self.inner.displacement_element.clone()
+    }
+    /// Rotation element, e.g. ``"tri6"`` (``"-"`` for a model without rotations).
+    #[getter]
+    fn rotation_element(&self) -> String {
+        self.inner.rotation_element.clone()
+    }
+    /// Strain interpolation of the Cosserat shells, e.g. ``"regge_stabilized"`` (``"-"`` without one).
+    #[getter]
+    fn strain_interpolation(&self) -> String {
+        self.inner.strain_interpolation.clone()
+    }
     /// The energy terms of the potential.
     #[getter]
     fn active_terms(&self) -> Vec<String> {

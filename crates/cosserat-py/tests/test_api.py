@@ -155,4 +155,7 @@ def test_run_record_and_quasi_static_runs(tmp_path):
     assert summary.status == "ok" and summary.reason is None
     assert summary.n_steps == 3 and len(steps) == 3 and steps[-1] == pytest.approx(1.0)
     assert summary.to_dict()["n_steps"] == 3
+    # The scene names the paper's pair; the summary says which discretisation ran.
+    assert (summary.displacement_element, summary.rotation_element) == ("tri6", "tri3")
+    assert summary.strain_interpolation == "paper"
     assert (tmp_path / "qs" / "summary.json").is_file()

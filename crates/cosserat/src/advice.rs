@@ -69,9 +69,9 @@ fn advise_shell(shell: &ShellSpec) -> Vec<String> {
                 "use quadratic displacements (mesh.element = \"tri6\", the paper's Tri6/Tri3 pair)"
             }
             _ => {
-                "material.strain_interpolation = \"regge_stabilized\" (on curved shells with \
-                 mesh.rotation_element = \"tri6\"; docs/model-notes.md), or refine the mesh towards elements of \
-                 about ten thicknesses and compare with a finer mesh"
+                "leave mesh.rotation_element and material.strain_interpolation unset (the default, Tri6/Tri6 \
+                 with \"regge_stabilized\" strains, does not lock; docs/model-notes.md), or refine the mesh \
+                 towards elements of about ten thicknesses and compare with a finer mesh"
             }
         };
         out.push(format!(

@@ -19,7 +19,7 @@ use crate::scripts::Scripts;
 use crate::stop::StopRequest;
 use cosserat_assembly::{IncrementalPotential, PSEUDO_TIME_STEP, SystemOptions};
 use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, VtuFrame, write_failure_summary};
-use cosserat_scene::spec::{SceneSpec, SolverSpec, TimeSpec};
+use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, TimeSpec};
 use cosserat_solver::{
     QuasiStaticSettings, QuasiStaticStepper, ScriptError, StepError, StepReport, TimeStepSettings, TimeStepper,
 };
@@ -62,6 +62,8 @@ pub struct Simulation {
     /// Warnings about settings that physics or the discretisation limits ([`crate::advice`]) and about
     /// the inputs.
     advice: Vec<String>,
+    /// The Cosserat shells' strain interpolations, for the summary.
+    strain_interpolation: String,
     stats: RunStats,
     /// The time (or load factor) of the last committed state.
     t_reached: f64,
@@ -85,6 +87,19 @@ struct Restart {
     wall_before: f64,
     /// When the current part of the run started.
     started: Instant,
+}
+
+/// The strain interpolations of a scene's Cosserat shells, e.g. `"regge_stabilized"` (in shell order
+/// without repeats; `"-"` without Cosserat shells).
+fn strain_interpolations(spec: &SceneSpec) -> String {
+    let mut names: Vec<&str> = Vec::new();
+    for shell in spec.shells.iter().filter(|s| matches!(s.model, ModelKind::Cosserat)) {
+        let name = shell.rest.interpolation.name();
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    if names.is_empty() { "-".into() } else { names.join(",") }
 }
 
 impl Simulation {
@@ -139,6 +154,7 @@ impl Simulation {
             },
             rest_bbox: BoundingBox::of_points(&rest_points).unwrap_or_default(),
             advice,
+            strain_interpolation: strain_interpolations(&spec),
             stats: RunStats::default(),
             t_reached: 0.0,
             restart: Restart {
@@ -546,6 +562,7 @@ impl Simulation {
             model: self.model.record(),
             displacement_element,
             rotation_element,
+            strain_interpolation: self.strain_interpolation.clone(),
             n_shells: self.model.placements().len(),
             n_cells: self.model.n_cells(),
             n_displacement_dofs: 3 * layout.n_disp_nodes,

@@ -18,6 +18,7 @@ fn sample_summary() -> RunSummary {
         model: ModelRecord::KirchhoffLove { law: "stvk".into() },
         displacement_element: "tri6".to_owned(),
         rotation_element: "tri3".to_owned(),
+        strain_interpolation: "paper".to_owned(),
         n_shells: 1,
         n_cells: 128,
         n_displacement_dofs: 867,
@@ -78,7 +79,7 @@ fn sample_summary() -> RunSummary {
 }
 
 /// The keys of the output contract, with the JSON names used for them.
-const CONTRACT_KEYS: [&str; 35] = [
+const CONTRACT_KEYS: [&str; 36] = [
     "scene",
     "status",
     "reason",
@@ -87,6 +88,7 @@ const CONTRACT_KEYS: [&str; 35] = [
     "model",
     "displacement_element",
     "rotation_element",
+    "strain_interpolation",
     "n_shells",
     "n_cells",
     "n_displacement_dofs",

@@ -333,12 +333,13 @@ pub struct MeshSection {
     pub weld: Option<f64>,
     /// Displacement element (default `"tri6"`, the paper's).
     pub element: Option<ElementName>,
-    /// Rotation element (default `"tri3"`, the paper's).
+    /// Rotation element (default: the displacement element, so Tri6/Tri6 with quadratic displacements;
+    /// `"tri3"` there selects the paper's pair Tri6/Tri3, and with it the paper's strain interpolation
+    /// unless `material.strain_interpolation` says otherwise).
     pub rotation_element: Option<ElementName>,
     /// Quadrature degree override (default: the model's pairing, degree 2 for Tri3/Tri3 and Tri6/Tri3
-    /// and 4 for Tri6/Tri6). With `rotation_element = "tri6"` and `material.strain_interpolation =
-    /// "regge_stabilized"`, `2` is the faster choice for shells down to h/L of about 1e-4
-    /// (docs/model-notes.md).
+    /// and 4 for Tri6/Tri6). On Tri6/Tri6 with `material.strain_interpolation = "regge_stabilized"` (its
+    /// default), `2` is the faster choice for shells down to h/L of about 1e-4 (docs/model-notes.md).
     pub quadrature_degree: Option<usize>,
     /// Rectangle size along x \[m\].
     pub lx: Option<f64>,
@@ -625,9 +626,9 @@ pub struct MaterialSection {
     /// Axial vector (default `"skew_part"`).
     pub axl: Option<AxlName>,
     /// How the quadrature points' strains enter the energy: `"paper"`, `"stabilized"`, `"assumed"`,
-    /// `"regge"` or `"regge_stabilized"` (default `"paper"`; docs/model-notes.md compares them on the
-    /// locking benchmarks). For thin and curved shells on coarse meshes, `"regge_stabilized"` with
-    /// quadratic rotations (`mesh.rotation_element = "tri6"`) is the most accurate per unknown.
+    /// `"regge"` or `"regge_stabilized"` (default: `"regge_stabilized"` on Tri6/Tri6, the default pair,
+    /// locking-free on thin and curved shells; `"paper"` on Tri6/Tri3 and Tri3/Tri3).
+    /// docs/model-notes.md compares them on the locking benchmarks.
     pub strain_interpolation: Option<StrainInterpolationName>,
     /// Rest-curvature normal field (default `"auto"`).
     pub curvature_source: Option<CurvatureSourceName>,

@@ -106,7 +106,8 @@ impl Ctx<'_> {
             });
         }
         let quadrature = self.quadrature(&m, mesh, pair)?;
-        let (params, rest, damping, angular_inertia_density) = self.material(&format!("{prefix}material"), material)?;
+        let (params, rest, damping, angular_inertia_density) =
+            self.material(&format!("{prefix}material"), material, pair)?;
         if let ModelKind::MicropolarVolume { .. } = model_kind
             && let Err(reason) = PlanarGrid::detect(&built.mesh.corners.nodes)
         {
@@ -176,22 +177,21 @@ impl Ctx<'_> {
                 ));
             }
         }
-        Ok(
-            match (
-                mesh.element.unwrap_or(default_element),
-                mesh.rotation_element.unwrap_or(ElementName::Tri3),
-            ) {
-                (ElementName::Tri3, ElementName::Tri3) => ElementPair::Tri3Tri3,
-                (ElementName::Tri6, ElementName::Tri3) => ElementPair::Tri6Tri3,
-                (ElementName::Tri6, ElementName::Tri6) => ElementPair::Tri6Tri6,
-                (ElementName::Tri3, ElementName::Tri6) => {
-                    return Err(self.invalid(
-                        &format!("{m}.rotation_element"),
-                        "quadratic rotations need quadratic displacements (`element = \"tri6\"`)",
-                    ));
-                }
-            },
-        )
+        let displacement = mesh.element.unwrap_or(default_element);
+        // Quadratic displacements default to quadratic rotations (with Regge membrane strains and
+        // stabilised shear and drilling, `rest_options`): locking-free on thin and curved shells.
+        // `rotation_element = "tri3"` alone selects the paper's discretisation.
+        Ok(match (displacement, mesh.rotation_element.unwrap_or(displacement)) {
+            (ElementName::Tri3, ElementName::Tri3) => ElementPair::Tri3Tri3,
+            (ElementName::Tri6, ElementName::Tri3) => ElementPair::Tri6Tri3,
+            (ElementName::Tri6, ElementName::Tri6) => ElementPair::Tri6Tri6,
+            (ElementName::Tri3, ElementName::Tri6) => {
+                return Err(self.invalid(
+                    &format!("{m}.rotation_element"),
+                    "quadratic rotations need quadratic displacements (`element = \"tri6\"`)",
+                ));
+            }
+        })
     }
 
     /// The quadrature rule a mesh section asks for (`None`: the pair's default).
@@ -563,6 +563,7 @@ impl Ctx<'_> {
         &self,
         p: &str,
         m: &MaterialSection,
+        pair: ElementPair,
     ) -> Result<(MaterialParameters, RestOptions, f64, f64), SceneError> {
         let params = self.material_parameters(p, m)?;
         let damping = self.non_negative(&format!("{p}.damping"), m.damping.unwrap_or(0.0))?;
@@ -570,7 +571,7 @@ impl Ctx<'_> {
             &format!("{p}.angular_inertia_density"),
             m.angular_inertia_density.unwrap_or(0.0),
         )?;
-        let rest = self.rest_options(p, m)?;
+        let rest = self.rest_options(p, m, pair)?;
         Ok((params, rest, damping, angular_inertia_density))
     }
 
@@ -606,8 +607,10 @@ impl Ctx<'_> {
     }
 
     /// The model's options (plate or shell, curved terms, volume term, axl) and the rest-state
-    /// options (strain interpolation, curvature source, normal weighting).
-    fn rest_options(&self, p: &str, m: &MaterialSection) -> Result<RestOptions, SceneError> {
+    /// options (strain interpolation, curvature source, normal weighting). The strain interpolation
+    /// defaults to Regge membrane strains with stabilised shear and drilling on quadratic rotations, for
+    /// which its constants are set, and to the paper's on the other pairs.
+    fn rest_options(&self, p: &str, m: &MaterialSection, pair: ElementPair) -> Result<RestOptions, SceneError> {
         let model = ModelOptions {
             model: match m.model {
                 ModelName::Plate | ModelName::KirchhoffLove | ModelName::MicropolarVolume => ShellModel::Plate,
@@ -634,6 +637,7 @@ impl Ctx<'_> {
         }
         let mut rest = RestOptions::new(model);
         rest.interpolation = match m.strain_interpolation {
+            None if pair == ElementPair::Tri6Tri6 => StrainInterpolation::ReggeStabilized,
             None | Some(StrainInterpolationName::Paper) => StrainInterpolation::Paper,
             Some(StrainInterpolationName::Stabilized) => StrainInterpolation::Stabilized,
             Some(StrainInterpolationName::Assumed) => StrainInterpolation::Assumed,

@@ -253,14 +253,15 @@ fn a_region_that_selects_nothing_is_an_error() {
         "scene.toml:25: boundary.0.region: the region (predicate `x <= -1`) selects no displacement node of shell \
          `shell`"
     );
-    // Rotation nodes are resolved by their own positions: a box around a mid-edge column holds
-    // displacement nodes but no corner, so a rotation condition on it has nothing to act on.
+    // Rotation nodes are resolved by their own positions: with linear rotations they are the corners,
+    // and a box around a mid-edge column holds displacement nodes but no corner, so a rotation
+    // condition on it has nothing to act on.
     let err = message(
         &[(
             "{ predicate = \"x <= -0.05 + 1e-9\" }",
             "{ box = { center = [-0.045, 0.0, 0.0], size = [0.001, 0.02, 0.01] } }",
         )],
-        &[],
+        &["mesh.rotation_element=tri3"],
     );
     assert_eq!(
         err,

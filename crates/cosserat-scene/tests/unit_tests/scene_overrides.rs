@@ -113,3 +113,33 @@ fn an_empty_value_removes_the_key_and_its_default_applies() {
         refused("mesh.nx.size=")
     );
 }
+
+#[test]
+fn quadratic_displacements_default_to_the_locking_free_pair_and_tri3_rotations_select_the_papers() {
+    use cosserat_assembly::ElementPair::{Tri3Tri3, Tri6Tri3, Tri6Tri6};
+    use cosserat_material::StrainInterpolation::{Paper, ReggeStabilized};
+    let discretisation = |overrides: &[&str]| {
+        let spec = load(overrides);
+        (spec.shells[0].pair, spec.shells[0].rest.interpolation)
+    };
+    assert_eq!(discretisation(&[]), (Tri3Tri3, Paper));
+    assert_eq!(discretisation(&["mesh.element="]), (Tri6Tri6, ReggeStabilized));
+    // One key gives the paper's discretisation.
+    assert_eq!(
+        discretisation(&["mesh.element=", "mesh.rotation_element=tri3"]),
+        (Tri6Tri3, Paper)
+    );
+    // Either part can still be chosen on its own.
+    assert_eq!(
+        discretisation(&["mesh.element=", "material.strain_interpolation=paper"]),
+        (Tri6Tri6, Paper)
+    );
+    assert_eq!(
+        discretisation(&[
+            "mesh.element=tri6",
+            "mesh.rotation_element=tri3",
+            "material.strain_interpolation=regge_stabilized"
+        ]),
+        (Tri6Tri3, ReggeStabilized)
+    );
+}

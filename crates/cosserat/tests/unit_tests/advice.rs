@@ -53,6 +53,13 @@ fn linear_displacements_on_elements_longer_than_the_thickness_are_flagged() {
         "material.strain_interpolation=regge_stabilized",
     ]);
     assert!(free.is_empty(), "{free:?}");
+    // So does the default discretisation (the scene's `rotation_element = "tri3"` removed).
+    let default = advice(&[
+        "material.thickness=1e-4",
+        "material.length_scale=1e-7",
+        "mesh.rotation_element=",
+    ]);
+    assert!(default.is_empty(), "{default:?}");
 }
 
 #[test]

@@ -81,6 +81,7 @@ fn a_free_kirchhoff_love_sheet_falls_as_backward_euler_predicts() {
     assert_eq!(summary.n_steps, 5);
     assert_eq!(summary.displacement_element, "tri3");
     assert_eq!(summary.rotation_element, "-");
+    assert_eq!(summary.strain_interpolation, "-");
     assert_eq!((summary.n_displacement_dofs, summary.n_rotation_dofs), (3 * 18, 0));
     assert_eq!(summary.n_cells, 20);
     assert_eq!(

@@ -29,9 +29,12 @@ fn strip(nx: usize, element: &str) -> SceneSpec {
 
 #[test]
 fn the_estimate_counts_three_unknowns_per_node_of_each_field() {
-    // 10 × 10 quads: 121 vertices, 441 Tri6 nodes.
+    // 10 × 10 quads: 121 vertices, 441 Tri6 nodes; quadratic displacements come with quadratic
+    // rotations unless the scene names linear ones.
     let tri6 = MemoryEstimate::of_scene(&strip(10, "tri6"));
-    assert_eq!(tri6.unknowns, 3 * (441 + 121));
+    assert_eq!(tri6.unknowns, 3 * (441 + 441));
+    let paper = MemoryEstimate::of_scene(&strip(10, "tri6\"\nrotation_element = \"tri3"));
+    assert_eq!(paper.unknowns, 3 * (441 + 121));
     let tri3 = MemoryEstimate::of_scene(&strip(10, "tri3"));
     assert_eq!(tri3.unknowns, 3 * (121 + 121));
     assert!(tri6.bytes > tri6.unknowns * BYTES_PER_UNKNOWN);
@@ -47,12 +50,12 @@ fn a_limit_below_the_estimate_is_refused_and_names_its_source() {
     estimate.check(&limit(estimate.bytes)).unwrap();
     let err = estimate.check(&limit(estimate.bytes - 1)).unwrap_err().to_string();
     assert!(
-        err.starts_with("the scene has 1686 unknowns and needs at least") && err.contains("allowed by --max-memory"),
+        err.starts_with("the scene has 2646 unknowns and needs at least") && err.contains("allowed by --max-memory"),
         "{err}"
     );
     // The element budget lets through only meshes whose own unknowns could fit.
     let budget = limit(estimate.bytes).element_budget();
-    assert!(budget.max >= 200 && budget.max < 2 * 1686, "{budget:?}");
+    assert!(budget.max >= 200 && budget.max < 2 * 2646, "{budget:?}");
     assert!(budget.source.contains("--max-memory"), "{budget:?}");
 }
 

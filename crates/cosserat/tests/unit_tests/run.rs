@@ -88,8 +88,12 @@ fn a_run_writes_the_output_contract() {
     assert_eq!(summary.status, RunStatus::Ok);
     assert_eq!(summary.n_steps, 10);
     assert_eq!(
-        (summary.displacement_element.as_str(), summary.rotation_element.as_str()),
-        ("tri6", "tri3")
+        (
+            summary.displacement_element.as_str(),
+            summary.rotation_element.as_str(),
+            summary.strain_interpolation.as_str()
+        ),
+        ("tri6", "tri3", "paper")
     );
     assert_eq!(summary.n_cells, 40);
     assert_eq!(summary.n_displacement_dofs, 3 * 21 * 5);
@@ -416,4 +420,25 @@ fn usd_point_samples(usd: &str) -> Vec<Vec<[f64; 3]>> {
                 .collect()
         })
         .collect()
+}
+
+#[test]
+fn the_summary_names_the_default_discretisation() {
+    let d = dir("default_discretisation");
+    let scene = write_scene(&d, STRIP);
+    let out = d.join("out");
+    // The strip names `rotation_element = "tri3"`; without it the default pair and strains apply.
+    let overrides = ["mesh.rotation_element=", "time.end=0.01", "output.frames=false"];
+    assert_eq!(run_scene(&args(scene, out.clone(), &overrides)).unwrap(), 0);
+    let summary = read_summary(&out.join("summary.json")).unwrap();
+    assert_eq!(summary.status, RunStatus::Ok);
+    assert_eq!(
+        (
+            summary.displacement_element.as_str(),
+            summary.rotation_element.as_str(),
+            summary.strain_interpolation.as_str()
+        ),
+        ("tri6", "tri6", "regge_stabilized")
+    );
+    assert_eq!(summary.n_rotation_dofs, summary.n_displacement_dofs);
 }
