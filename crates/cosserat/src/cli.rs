@@ -12,8 +12,8 @@ use crate::simulation::{Simulation, StepInfo, write_setup_failure};
 use crate::stop::{StopReason, StopRequest};
 use anyhow::Context;
 use clap::{Parser, Subcommand};
-use cosserat_io::RunStatus;
 use cosserat_io::render::{RenderOptions, render_png};
+use cosserat_io::{RunStatus, RunSummary};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -206,6 +206,18 @@ pub fn resume_run(args: &ResumeArgs) -> anyhow::Result<i32> {
     execute(&mut sim, &args.dir, (args.threads, args.quiet), &stop)
 }
 
+/// The discretisation a run used, e.g. `tri6/tri6 elements, regge_stabilized strains`.
+fn discretisation(summary: &RunSummary) -> String {
+    if summary.strain_interpolation == "-" || summary.strain_interpolation.is_empty() {
+        format!("{} elements", summary.displacement_element)
+    } else {
+        format!(
+            "{}/{} elements, {} strains",
+            summary.displacement_element, summary.rotation_element, summary.strain_interpolation
+        )
+    }
+}
+
 /// Runs a simulation that is set up into `dir` with `(threads, quiet)`, and reports how it ended;
 /// returns the exit code.
 fn execute(
@@ -242,8 +254,9 @@ fn execute(
         RunStatus::Ok => {
             if !quiet {
                 eprintln!(
-                    "{}: {} steps, {:.2} Newton iterations per step, {:.1} ms per step, {:.2} s; outputs in {}",
+                    "{} ({}): {} steps, {:.2} Newton iterations per step, {:.1} ms per step, {:.2} s; outputs in {}",
                     summary.scene,
+                    discretisation(&summary),
                     summary.n_steps,
                     summary.avg_newton_iterations,
                     summary.avg_step_ms,

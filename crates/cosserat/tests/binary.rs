@@ -282,3 +282,36 @@ fn a_run_that_fails_at_a_known_step_keeps_the_steps_before() {
         read_vtu(&d.join("out/frames").join(&f.file)).unwrap();
     }
 }
+
+#[test]
+fn a_finished_run_names_its_discretisation() {
+    let d = folder("discretisation");
+    std::fs::write(d.join("scene.toml"), format!("{STRIP}{DYNAMIC}")).unwrap();
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            "scene.toml",
+            "--out",
+            "out",
+            "--threads",
+            "1",
+            "--set",
+            "time.end=0.003",
+        ];
+        args.extend_from_slice(extra);
+        let output = start(&d, &args).wait_with_output().unwrap();
+        let stderr = String::from_utf8_lossy(&output.stderr).into_owned();
+        assert!(output.status.success(), "{stderr}");
+        stderr
+    };
+    let paper = run(&[]);
+    assert!(
+        paper.contains("strip (tri6/tri3 elements, paper strains): 3 steps"),
+        "{paper}"
+    );
+    let default = run(&["--set", "mesh.rotation_element="]);
+    assert!(
+        default.contains("strip (tri6/tri6 elements, regge_stabilized strains): 3 steps"),
+        "{default}"
+    );
+}
