@@ -804,9 +804,9 @@ mod tests {
 
     /// The bound is the cheapest of the paper's pairs' most expensive runs; runs of other
     /// interpolations do not count, and without any run of the paper's interpolation there is none.
-    #[test]
-    fn unreached_bound_is_the_cheapest_finest_paper_run() {
-        let run = |discretisation: Discretisation, seconds: f64| StudyRun {
+    /// A run of `discretisation` that took `seconds` and reached `error`.
+    fn study_run(discretisation: Discretisation, seconds: f64, error: Option<f64>) -> StudyRun {
+        StudyRun {
             discretisation,
             model: "shell",
             mesh: String::new(),
@@ -819,8 +819,13 @@ mod tests {
                 failure: None,
             },
             quantity: None,
-            error: None,
-        };
+            error,
+        }
+    }
+
+    #[test]
+    fn unreached_bound_is_the_cheapest_finest_paper_run() {
+        let run = |discretisation: Discretisation, seconds: f64| study_run(discretisation, seconds, None);
         let regge = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
         let runs = [
             run(Discretisation::paper(Pair::Tri3Tri3), 0.1),
@@ -837,21 +842,7 @@ mod tests {
     #[test]
     fn a_paper_ladder_goes_on_only_while_short_of_one_percent_and_cheap() {
         let paper = Discretisation::paper(Pair::Tri6Tri3);
-        let run = |seconds: f64, error: Option<f64>| StudyRun {
-            discretisation: paper,
-            model: "shell",
-            mesh: String::new(),
-            h: 1.0,
-            outcome: RunOutcome {
-                summary: None,
-                probes: None,
-                peak_rss_kib: None,
-                outer_seconds: seconds,
-                failure: None,
-            },
-            quantity: None,
-            error,
-        };
+        let run = |seconds: f64, error: Option<f64>| study_run(paper, seconds, error);
         let best = 1.0;
         assert!(ladder_goes_on(&[run(0.1, Some(0.5)), run(3.9, Some(0.2))], paper, best));
         // Within 1 % already, too expensive to refine, or the last run failed.
