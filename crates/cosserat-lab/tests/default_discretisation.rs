@@ -13,10 +13,11 @@ use cosserat_lab::runner::{RunOutcome, Runner, run_described};
 /// on 160 × 16 and finer, and its Richardson extrapolation).
 const PLATE_TIP_MM: f64 = 31.61;
 
-fn run_default(name: &str, scene: &str, extra: &[String]) -> RunOutcome {
-    let mut ov = vec!["mesh.rotation_element=".to_string(), "output.frames=false".to_string()];
-    ov.extend(extra.iter().cloned());
-    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("default_discretisation").join(name);
+fn run_default(name: &str, scene: &str) -> RunOutcome {
+    let ov = ["mesh.rotation_element=".to_string(), "output.frames=false".to_string()];
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("default_discretisation")
+        .join(name);
     let outcome = run_described(&Runner::InProcess, &RunDescription::new(scene, dir, &ov)).unwrap();
     assert!(outcome.is_ok(), "{name}: {}", outcome.reason());
     let summary = outcome.summary.as_ref().unwrap();
@@ -34,7 +35,7 @@ fn the_default_discretisation_keeps_the_cantilever_benchmarks_within_one_percent
     std::env::set_current_dir(&root).unwrap();
     for name in ["sze_cantilever_end_shear", "end_moment_rollup", "cantilever_small_load"] {
         let problem = registry().into_iter().find(|p| p.name == name).unwrap();
-        let outcome = run_default(name, problem.scene, &[]);
+        let outcome = run_default(name, problem.scene);
         let (errors, _) = compare(&problem, outcome.probes.as_ref().unwrap(), false).unwrap();
         eprintln!("{name}: error {:.3e}", errors.max());
         assert!(errors.max() <= 0.01, "{name}: error {:.3e}", errors.max());
@@ -45,7 +46,7 @@ fn the_default_discretisation_keeps_the_cantilever_benchmarks_within_one_percent
 fn the_default_discretisation_keeps_the_plate_under_load_within_half_a_percent() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
-    let outcome = run_default("plate_under_load", "scenes/plate_under_load.toml", &[]);
+    let outcome = run_default("plate_under_load", "scenes/plate_under_load.toml");
     let tip = 1e3 * outcome.probes.as_ref().unwrap().last("tip.uz").unwrap().abs();
     assert!(
         (tip / PLATE_TIP_MM - 1.0).abs() <= 0.005,
