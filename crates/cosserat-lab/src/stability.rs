@@ -220,24 +220,33 @@ pub fn matrix() -> Vec<Cell> {
             ..base()
         },
     ));
-    for (label, pair) in [
-        ("Tri3/Tri3", ("tri3", "tri3")),
-        ("Tri6/Tri3", ("tri6", "tri3")),
-        ("Tri6/Tri6", ("tri6", "tri6")),
-    ] {
-        cells.push(cell("element pair", label, Settings { pair, ..base() }));
-    }
-    cells.push(cell(
-        "element pair",
-        "Tri6/Tri6 regge_stabilized (the default)",
-        Settings {
-            pair: ("tri6", "tri6"),
-            interpolation: "regge_stabilized",
-            ..base()
-        },
-    ));
+    cells.extend(element_pairs());
     cells.extend(corners());
     cells
+}
+
+/// The three element pairs with the paper's strains, and the default discretisation.
+fn element_pairs() -> Vec<Cell> {
+    [
+        ("Tri3/Tri3", ("tri3", "tri3"), "paper"),
+        ("Tri6/Tri3", ("tri6", "tri3"), "paper"),
+        ("Tri6/Tri6", ("tri6", "tri6"), "paper"),
+        (
+            "Tri6/Tri6 regge_stabilized (the default)",
+            ("tri6", "tri6"),
+            "regge_stabilized",
+        ),
+    ]
+    .into_iter()
+    .map(|(label, pair, interpolation)| {
+        let settings = Settings {
+            pair,
+            interpolation,
+            ..Settings::default()
+        };
+        cell("element pair", label, settings)
+    })
+    .collect()
 }
 
 /// The angular inertia density `ρ h²/12` of the base strip \[kg/m\] (ρ = 1000 kg/m³, h = 1 mm): the
