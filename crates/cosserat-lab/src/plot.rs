@@ -47,7 +47,7 @@ pub struct Plot {
     pub series: Vec<Series>,
 }
 
-const PALETTE: [RGBColor; 10] = [
+const PALETTE: [RGBColor; 11] = [
     RGBColor(0, 0, 0),
     RGBColor(31, 119, 180),
     RGBColor(214, 39, 40),
@@ -58,6 +58,7 @@ const PALETTE: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
     RGBColor(227, 119, 194),
     RGBColor(188, 189, 34),
+    RGBColor(127, 127, 127),
 ];
 
 fn range(values: impl Iterator<Item = f64>, log: bool) -> Option<(f64, f64)> {

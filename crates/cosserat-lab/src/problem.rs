@@ -335,50 +335,76 @@ pub fn compare(problem: &Problem, probes: &ProbeTable, against_second: bool) -> 
     Ok((Errors { per_component }, table))
 }
 
-/// A discretisation: an element pair with a strain interpolation.
+/// A discretisation: an element pair with a strain interpolation, on the pair's default quadrature rule
+/// or another.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Discretisation {
     /// The element pair.
     pub pair: Pair,
     /// The strain interpolation.
     pub interpolation: Interpolation,
+    /// `mesh.quadrature_degree` (`None`: the pair's default).
+    pub quadrature_degree: Option<usize>,
 }
 
 impl Discretisation {
     /// A pair with a strain interpolation.
     pub const fn new(pair: Pair, interpolation: Interpolation) -> Self {
-        Self { pair, interpolation }
+        Self {
+            pair,
+            interpolation,
+            quadrature_degree: None,
+        }
     }
 
     /// A pair with the paper's strain interpolation.
     pub const fn paper(pair: Pair) -> Self {
+        Self::new(pair, Interpolation::Paper)
+    }
+
+    /// The same on the 3-point rule (degree 2).
+    pub const fn on_three_points(self) -> Self {
         Self {
-            pair,
-            interpolation: Interpolation::Paper,
+            quadrature_degree: Some(2),
+            ..self
         }
     }
 
-    /// `Tri6/Tri3` with the paper's interpolation, `Tri6/Tri3 stabilized` with another.
+    /// `Tri6/Tri3` with the paper's interpolation, `Tri6/Tri3 stabilized` with another,
+    /// `Tri6/Tri6 regge_stabilized 3-point` on the 3-point rule.
     pub fn label(self) -> String {
-        match self.interpolation {
+        let mut label = match self.interpolation {
             Interpolation::Paper => self.pair.label().to_string(),
             other => format!("{} {}", self.pair.label(), other.as_str()),
+        };
+        match self.quadrature_degree {
+            None => {}
+            Some(2) => label.push_str(" 3-point"),
+            Some(d) => label.push_str(&format!(" degree {d}")),
         }
+        label
     }
 
-    /// A directory name: `tri6_tri3_paper` etc.
+    /// A directory name: `tri6_tri3_paper`, `tri6_tri6_regge_stabilized_q2` etc.
     pub fn directory(self) -> String {
-        format!(
+        let mut name = format!(
             "{}_{}",
             self.pair.label().to_lowercase().replace('/', "_"),
             self.interpolation.as_str()
-        )
+        );
+        if let Some(d) = self.quadrature_degree {
+            name.push_str(&format!("_q{d}"));
+        }
+        name
     }
 
     /// The scene overrides selecting it.
     pub fn overrides(self) -> Vec<String> {
         let mut ov = self.pair.overrides();
         ov.push(self.interpolation.scene_override());
+        if let Some(d) = self.quadrature_degree {
+            ov.push(format!("mesh.quadrature_degree={d}"));
+        }
         ov
     }
 }
@@ -410,6 +436,21 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_discretisation_on_three_points_selects_the_rule_in_its_scene() {
+        let three = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized).on_three_points();
+        assert_eq!(three.label(), "Tri6/Tri6 regge_stabilized 3-point");
+        assert_eq!(three.directory(), "tri6_tri6_regge_stabilized_q2");
+        let p = &registry()[0];
+        let spec = cosserat::scene::load_scene(&root().join(p.scene), &three.overrides()).unwrap();
+        let shell = &spec.shells[0];
+        assert_eq!(shell.quadrature.map(|q| q.n_points()), Some(3));
+        assert_eq!(
+            shell.rest.interpolation,
+            cosserat::material::StrainInterpolation::ReggeStabilized
+        );
     }
 
     #[test]
