@@ -301,10 +301,8 @@ fn run_target(target: &Target, runner: &Runner, out: &Path, quick: bool) -> Resu
     for planned in planned_runs(target, out, quick) {
         runs.push(measure(target, runner, planned)?);
     }
-    if let Target::Course(b) = target
-        && !quick
-    {
-        extend_paper_ladders(target, b, runner, out, &mut runs)?;
+    if !quick {
+        extend_paper_ladders(target, runner, out, &mut runs)?;
     }
     let mut extrapolated = None;
     if let Target::Experiment { .. } = target {
@@ -385,17 +383,14 @@ fn measure(target: &Target, runner: &Runner, planned: PlannedRun) -> Result<Stud
 /// cost before its ladder stops: the atlas asks whether the alternatives are this much cheaper.
 const EXTENSION_BUDGET: f64 = 4.0;
 
-/// Goes on refining each pair's ladder with the paper's interpolation while none of its runs is within
-/// 1 %, its last run finished, and that run cost less than [`EXTENSION_BUDGET`] times the cheapest 1 %
-/// run of any discretisation: a ladder that stops short of 1 % while still cheap bounds the paper's
-/// cost by its finest run only.
-fn extend_paper_ladders(
-    target: &Target,
-    b: &Benchmark,
-    runner: &Runner,
-    out: &Path,
-    runs: &mut Vec<StudyRun>,
-) -> Result<()> {
+/// On a benchmark of the obstacle course, goes on refining each pair's ladder with the paper's
+/// interpolation while none of its runs is within 1 %, its last run finished, and that run cost less
+/// than [`EXTENSION_BUDGET`] times the cheapest 1 % run of any discretisation: a ladder that stops short
+/// of 1 % while still cheap bounds the paper's cost by its finest run only.
+fn extend_paper_ladders(target: &Target, runner: &Runner, out: &Path, runs: &mut Vec<StudyRun>) -> Result<()> {
+    let Target::Course(b) = target else {
+        return Ok(());
+    };
     let Some(best) = cheapest(runs.iter(), 1e-2).map(|r| r.outcome.outer_seconds) else {
         return Ok(());
     };

@@ -18,10 +18,11 @@ fn sizes_parse_in_binary_units() {
     assert_eq!(format_bytes(3 << 29), "1.5 GiB");
 }
 
-fn strip(nx: usize, element: &str) -> SceneSpec {
+/// A square of `nx` × `nx` quads; `elements` holds the mesh section's element keys.
+fn strip(nx: usize, elements: &str) -> SceneSpec {
     let text = format!(
         "name = \"s\"\n[time]\ndt = 0.01\nend = 0.1\n[mesh]\ngenerator = \"rectangle\"\nlx = 1.0\nly = 1.0\nnx = {nx}\n\
-         ny = {nx}\nelement = \"{element}\"\n[material]\nmodel = \"plate\"\nthickness = 1e-3\nyoungs_modulus = 1e6\n\
+         ny = {nx}\n{elements}\n[material]\nmodel = \"plate\"\nthickness = 1e-3\nyoungs_modulus = 1e6\n\
          poisson_ratio = 0.3\ndensity = 1000.0\nlength_scale = 1e-4\n"
     );
     SceneSpec::from_str(&text, "s.toml", Path::new("."), &[]).unwrap()
@@ -31,18 +32,18 @@ fn strip(nx: usize, element: &str) -> SceneSpec {
 fn the_estimate_counts_three_unknowns_per_node_of_each_field() {
     // 10 × 10 quads: 121 vertices, 441 Tri6 nodes; quadratic displacements come with quadratic
     // rotations unless the scene names linear ones.
-    let tri6 = MemoryEstimate::of_scene(&strip(10, "tri6"));
+    let tri6 = MemoryEstimate::of_scene(&strip(10, "element = \"tri6\""));
     assert_eq!(tri6.unknowns, 3 * (441 + 441));
-    let paper = MemoryEstimate::of_scene(&strip(10, "tri6\"\nrotation_element = \"tri3"));
+    let paper = MemoryEstimate::of_scene(&strip(10, "element = \"tri6\"\nrotation_element = \"tri3\""));
     assert_eq!(paper.unknowns, 3 * (441 + 121));
-    let tri3 = MemoryEstimate::of_scene(&strip(10, "tri3"));
+    let tri3 = MemoryEstimate::of_scene(&strip(10, "element = \"tri3\""));
     assert_eq!(tri3.unknowns, 3 * (121 + 121));
     assert!(tri6.bytes > tri6.unknowns * BYTES_PER_UNKNOWN);
 }
 
 #[test]
 fn a_limit_below_the_estimate_is_refused_and_names_its_source() {
-    let estimate = MemoryEstimate::of_scene(&strip(10, "tri6"));
+    let estimate = MemoryEstimate::of_scene(&strip(10, "element = \"tri6\""));
     let limit = |bytes: u64| MemoryLimit {
         bytes,
         source: "--max-memory".into(),
