@@ -1,6 +1,6 @@
 //! The incremental potential of `cosserat-assembly` seen as a [`NewtonProblem`].
 
-use crate::error::ProblemError;
+use crate::error::{NewtonError, ProblemError};
 use crate::problem::NewtonProblem;
 use cosserat_assembly::{AssemblyError, IncrementalPotential};
 use faer::sparse::SymbolicSparseColMatRef;
@@ -65,6 +65,16 @@ impl<'a> PotentialProblem<'a> {
     pub(crate) fn potential_mut(&mut self) -> &mut IncrementalPotential {
         self.potential
     }
+}
+
+/// Lets the dynamic terms of `potential` prepare around the step's starting displacements `u`; `true`
+/// when their couplings grew the Hessian's pattern, so that the solver needs a new symbolic analysis.
+pub(crate) fn begin_step(potential: &mut IncrementalPotential, u: &[f64]) -> Result<bool, NewtonError> {
+    potential.begin_step(u).map_err(|e| NewtonError::Problem {
+        iteration: 0,
+        source: map_error(e),
+        residuals: Vec::new(),
+    })
 }
 
 pub(crate) fn map_error(e: AssemblyError) -> ProblemError {

@@ -10,7 +10,7 @@
 use crate::error::{NewtonError, ScriptError};
 use crate::linear::{DomainSplit, LinearSolverKind};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
-use crate::potential_problem::PotentialProblem;
+use crate::potential_problem::{PotentialProblem, begin_step};
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
 
@@ -379,12 +379,7 @@ impl TimeStepper {
 
     /// Lets the dynamic terms prepare around `self.u`; a grown pattern gets a new symbolic analysis.
     fn refresh_dynamic(&mut self, potential: &mut IncrementalPotential) -> Result<(), NewtonError> {
-        let changed = potential.begin_step(&self.u).map_err(|e| NewtonError::Problem {
-            iteration: 0,
-            source: crate::potential_problem::map_error(e),
-            residuals: Vec::new(),
-        })?;
-        if changed {
+        if begin_step(potential, &self.u)? {
             self.rebuild_solver(potential)?;
         }
         Ok(())

@@ -14,7 +14,7 @@ pub use predictor::{LevelIncrement, PredictorMemory};
 
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
-use crate::potential_problem::PotentialProblem;
+use crate::potential_problem::{PotentialProblem, begin_step};
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
 
@@ -347,12 +347,7 @@ impl QuasiStaticStepper {
     /// Lets the dynamic terms prepare around the starting point; a grown pattern gets a new symbolic
     /// analysis.
     fn prepare(&mut self, potential: &mut IncrementalPotential) -> Result<(), NewtonError> {
-        let changed = potential.begin_step(&self.u).map_err(|e| NewtonError::Problem {
-            iteration: 0,
-            source: crate::potential_problem::map_error(e),
-            residuals: Vec::new(),
-        })?;
-        if changed {
+        if begin_step(potential, &self.u)? {
             let spent = self.solver.spent();
             self.solver =
                 NewtonSolver::try_new(potential.pattern().symbolic(), *self.solver.settings())?.continuing(spent);
