@@ -332,14 +332,15 @@ impl Ctx<'_> {
     }
 }
 
-/// The paper's solver settings (experiments.md §1.5) with our defaults where the reference has none,
-/// and a relative tolerance instead of its absolute 1e-7 (which scenes can still give).
-/// The solver's defaults; the relative tolerance depends on the kind of run (see
-/// [`Tolerance::DEFAULT_RELATIVE_DYNAMIC`]).
+/// The solver's defaults (the paper's, experiments.md §1.5, where the reference has them), with a
+/// relative tolerance instead of its absolute 1e-7 (which scenes can still give); the tolerance and
+/// the treatment of indefinite Hessians depend on the kind of run (see
+/// [`Tolerance::DEFAULT_RELATIVE_DYNAMIC`] and [`QuasiStaticSettings::newton`](cosserat_solver::QuasiStaticSettings::newton)).
 fn default_solver(time: &TimeSpec) -> SolverSpec {
-    let relative = match time {
-        TimeSpec::Dynamic { .. } => Tolerance::DEFAULT_RELATIVE_DYNAMIC,
-        _ => Tolerance::DEFAULT_RELATIVE,
+    let (relative, indefinite_hessian) = match time {
+        TimeSpec::Dynamic { .. } => (Tolerance::DEFAULT_RELATIVE_DYNAMIC, IndefiniteHessian::Shift),
+        TimeSpec::QuasiStatic { .. } => (Tolerance::DEFAULT_RELATIVE, IndefiniteHessian::Factorise),
+        TimeSpec::ArcLength { .. } => (Tolerance::DEFAULT_RELATIVE, IndefiniteHessian::Shift),
     };
     SolverSpec {
         tolerance: Tolerance::Relative(relative),
@@ -349,7 +350,7 @@ fn default_solver(time: &TimeSpec) -> SolverSpec {
         domain_split: DomainSplit::Auto,
         initial_guess: InitialGuess::Extrapolated,
         project_pd: false,
-        indefinite_hessian: IndefiniteHessian::Shift,
+        indefinite_hessian,
         max_step_reductions: 8,
         reuse_factorisation: None,
         mixed_integration_points: false,

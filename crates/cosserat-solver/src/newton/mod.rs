@@ -446,7 +446,7 @@ impl NewtonSolver {
 
     /// The line search along the direction just computed, with the mixed-integration-point strain
     /// prediction around it. Records whether the solve's first step started at an indefinite Hessian
-    /// and had to be cut ([`NewtonReport::indefinite_start`]).
+    /// ([`NewtonReport::indefinite_start`]).
     fn search_along_direction<P: NewtonProblem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -466,8 +466,7 @@ impl NewtonSolver {
             problem.advance_predicted_strains(alpha);
         }
         if run.iterations == 1 {
-            run.report.indefinite_start =
-                (run.shifted || run.indefinite) && !matches!(step, Step::Full { alpha } if alpha == 1.0);
+            run.report.indefinite_start = run.shifted || run.indefinite;
         }
         Ok(step)
     }

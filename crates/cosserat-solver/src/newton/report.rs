@@ -71,8 +71,8 @@ pub struct NewtonReport {
     /// Iterations whose Hessian was not positive definite and was shifted
     /// ([`IndefiniteHessian`](crate::IndefiniteHessian)).
     pub shifted_iterations: usize,
-    /// The Hessian at the initial iterate was not positive definite, and the step from it was not
-    /// taken in full: the start lies where Newton's quadratic model of the energy fails.
+    /// The Hessian at the initial iterate was not positive definite: the start lies where the energy
+    /// is not convex (in a thin shell's quasi-static level, a stretch left by the prediction).
     pub indefinite_start: bool,
     /// Doublings of shifted steps along negative curvature.
     pub extrapolations: usize,

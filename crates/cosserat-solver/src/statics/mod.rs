@@ -13,7 +13,7 @@ mod predictor;
 pub use predictor::{LevelIncrement, PredictorMemory};
 
 use crate::error::{NewtonError, ScriptError};
-use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
+use crate::newton::{IndefiniteHessian, NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::{PotentialProblem, begin_step};
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
@@ -21,7 +21,11 @@ use thiserror::Error;
 /// Settings of a quasi-static solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct QuasiStaticSettings {
-    /// Newton settings (the residual scale is 1: forces in N).
+    /// Newton settings (the residual scale is 1: forces in N). The default takes Newton's own steps
+    /// ([`IndefiniteHessian::Factorise`]): from a thin shell's predicted start, whose Hessian is
+    /// indefinite while the prediction's membrane error lasts, they converge in far fewer iterations
+    /// than the shift's descent (docs/model-notes.md); a level they cannot reach even after every
+    /// bisection is tried once more with the shift (see [`LoadLevelReport::shift_retries`]).
     pub newton: NewtonSettings,
     /// How many times an increment may be bisected in total for one requested level.
     pub max_bisections: usize,
@@ -39,7 +43,10 @@ pub struct QuasiStaticSettings {
 impl Default for QuasiStaticSettings {
     fn default() -> Self {
         Self {
-            newton: NewtonSettings::default(),
+            newton: NewtonSettings {
+                indefinite_hessian: IndefiniteHessian::Factorise,
+                ..NewtonSettings::default()
+            },
             max_bisections: 10,
             extrapolate: true,
             increment_control: Some(IncrementControl::default()),
@@ -89,6 +96,10 @@ pub struct LoadLevelReport {
     pub total_iterations: usize,
     /// Newton iterations of the failed solves among them.
     pub wasted_iterations: usize,
+    /// Failed solves with Newton's own steps that were repeated with the shift, as a last resort before
+    /// the level was given up ([`IndefiniteHessian::Factorise`] or `Adaptive`; see
+    /// [`QuasiStaticSettings::newton`]).
+    pub shift_retries: usize,
 }
 
 /// Why a load level could not be reached.
@@ -144,6 +155,8 @@ struct Tally {
     iterations: usize,
     /// Newton iterations of failed solves.
     wasted: usize,
+    /// Solves repeated with the shift.
+    shift_retries: usize,
 }
 
 /// The outcome of one Newton solve towards a level.
@@ -255,7 +268,10 @@ impl QuasiStaticStepper {
                 bisections: tally.bisections,
                 sub_levels: tally.sub_levels,
             };
-            let attempt = self.attempt(potential, lambda, apply).map_err(|e| fail(e, &tally))?;
+            let last_chance = tally.bisections >= self.settings.max_bisections;
+            let attempt = self
+                .attempt(potential, lambda, apply, (&mut tally, last_chance))
+                .map_err(|e| fail(e, &tally))?;
             match attempt {
                 Attempt::Converged(newton) => {
                     tally.iterations += newton.iterations;
@@ -274,6 +290,7 @@ impl QuasiStaticStepper {
                             sub_levels: tally.sub_levels,
                             total_iterations: tally.iterations,
                             wasted_iterations: tally.wasted,
+                            shift_retries: tally.shift_retries,
                         });
                     }
                     tally.sub_levels += 1;
@@ -294,13 +311,58 @@ impl QuasiStaticStepper {
         }
     }
 
-    /// One Newton solve for level `lambda` from the last equilibrium, committed when it converges.
+    /// Newton's solve for level `lambda` from the last equilibrium, committed when it converges. On the
+    /// `last_chance` of a level (no bisection left), a failed solve with Newton's own steps (the
+    /// unshifted factorisation of indefinite Hessians) is repeated from the same start with the shift,
+    /// whose trust-region descent gets through snaps where Newton's own direction stalls. It is the
+    /// last resort rather than the first: on thin shells near the round-off floor the shift's damped
+    /// steps fail where bisected levels with Newton's own steps converge, and a shifted retry of every
+    /// failed level costs its iterations and changes the path of increments for the worse.
     fn attempt(
         &mut self,
         potential: &mut IncrementalPotential,
         lambda: f64,
         apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
+        (tally, last_chance): (&mut Tally, bool),
     ) -> Result<Attempt, LevelFailure> {
+        let configured = self.settings.newton.indefinite_hessian;
+        let (mut result, mut predicted) = self.solve_level(potential, lambda, apply)?;
+        if let Err(error) = &result
+            && last_chance
+            && configured != IndefiniteHessian::Shift
+        {
+            let spent = error.residuals().len().saturating_sub(1);
+            tally.iterations += spent;
+            tally.wasted += spent;
+            tally.shift_retries += 1;
+            self.solver.settings_mut().indefinite_hessian = IndefiniteHessian::Shift;
+            let retried = self.solve_level(potential, lambda, apply);
+            self.solver.settings_mut().indefinite_hessian = configured;
+            (result, predicted) = retried?;
+        }
+        Ok(match result {
+            Ok(report) => {
+                potential.commit(&self.u);
+                let increment = LevelIncrement {
+                    du: self.u.clone(),
+                    step: lambda - self.current,
+                };
+                self.predictor.push(increment, predicted && report.indefinite_start);
+                self.current = lambda;
+                Attempt::Converged(report)
+            }
+            Err(error) => Attempt::Failed(error),
+        })
+    }
+
+    /// One Newton solve for level `lambda` from the last equilibrium (not committed), and whether it
+    /// started from a prediction.
+    fn solve_level(
+        &mut self,
+        potential: &mut IncrementalPotential,
+        lambda: f64,
+        apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
+    ) -> Result<(Result<NewtonReport, NewtonError>, bool), LevelFailure> {
         apply(potential, lambda)?;
         let predicted = self.predict(lambda);
         self.prepare(potential)?;
@@ -319,19 +381,7 @@ impl QuasiStaticStepper {
         } else {
             self.solver.solve(&mut problem, &mut self.u)
         };
-        Ok(match result {
-            Ok(report) => {
-                potential.commit(&self.u);
-                let increment = LevelIncrement {
-                    du: self.u.clone(),
-                    step: lambda - self.current,
-                };
-                self.predictor.push(increment, predicted && report.indefinite_start);
-                self.current = lambda;
-                Attempt::Converged(report)
-            }
-            Err(error) => Attempt::Failed(error),
-        })
+        Ok((result, predicted))
     }
 
     /// The starting point for level `lambda`: the increment extrapolated from the last ones (see the

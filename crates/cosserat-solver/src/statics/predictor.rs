@@ -8,8 +8,8 @@
 //! through the last three equilibria (exact for paths quadratic in the load factor) leaves an error
 //! of the order of the cube of the rotation per level, which such a shell needs; on thicker shells it
 //! starts Newton no better than the secant, and often a little worse. So a run predicts with the
-//! secant until a level shows the secant's failure (its solve started at an indefinite Hessian whose
-//! step had to be cut) and with the quadratic from then on.
+//! secant until a level shows the secant's failure (its solve started at an indefinite Hessian) and
+//! with the quadratic from then on.
 
 /// A converged load increment: the change of the unknowns from one equilibrium to the next, and of
 /// the load factor.
@@ -52,8 +52,7 @@ impl PredictorMemory {
     }
 
     /// Remembers a converged increment; `poor_start` tells that its solve started where the Hessian
-    /// was indefinite and its first step had to be cut, which makes the predictions quadratic from
-    /// now on.
+    /// was indefinite, which makes the predictions quadratic from now on.
     pub(crate) fn push(&mut self, increment: LevelIncrement, poor_start: bool) {
         if self.increments.len() == KEPT {
             self.increments.remove(0);
