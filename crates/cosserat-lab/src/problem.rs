@@ -362,16 +362,17 @@ impl Discretisation {
         Self::new(pair, Interpolation::Paper)
     }
 
-    /// The same on the 3-point rule (degree 2).
-    pub const fn on_three_points(self) -> Self {
+    /// The same on the six-point rule (degree 4; quadratic rotations with `regge_stabilized` take the
+    /// 3-point rule unless the scene names another).
+    pub const fn on_six_points(self) -> Self {
         Self {
-            quadrature_degree: Some(2),
+            quadrature_degree: Some(4),
             ..self
         }
     }
 
     /// `Tri6/Tri3` with the paper's interpolation, `Tri6/Tri3 stabilized` with another,
-    /// `Tri6/Tri6 regge_stabilized 3-point` on the 3-point rule.
+    /// `Tri6/Tri6 regge_stabilized 6-point` on the six-point rule.
     pub fn label(self) -> String {
         let mut label = match self.interpolation {
             Interpolation::Paper => self.pair.label().to_string(),
@@ -380,12 +381,13 @@ impl Discretisation {
         match self.quadrature_degree {
             None => {}
             Some(2) => label.push_str(" 3-point"),
+            Some(4) => label.push_str(" 6-point"),
             Some(d) => label.push_str(&format!(" degree {d}")),
         }
         label
     }
 
-    /// A directory name: `tri6_tri3_paper`, `tri6_tri6_regge_stabilized_q2` etc.
+    /// A directory name: `tri6_tri3_paper`, `tri6_tri6_regge_stabilized_q4` etc.
     pub fn directory(self) -> String {
         let mut name = format!(
             "{}_{}",
@@ -439,18 +441,24 @@ mod tests {
     }
 
     #[test]
-    fn a_discretisation_on_three_points_selects_the_rule_in_its_scene() {
-        let three = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized).on_three_points();
-        assert_eq!(three.label(), "Tri6/Tri6 regge_stabilized 3-point");
-        assert_eq!(three.directory(), "tri6_tri6_regge_stabilized_q2");
+    fn quadratic_rotations_take_three_points_unless_a_discretisation_names_six() {
         let p = &registry()[0];
-        let spec = cosserat::scene::load_scene(&root().join(p.scene), &three.overrides()).unwrap();
-        let shell = &spec.shells[0];
-        assert_eq!(shell.quadrature.map(|q| q.n_points()), Some(3));
-        assert_eq!(
-            shell.rest.interpolation,
-            cosserat::material::StrainInterpolation::ReggeStabilized
-        );
+        let points = |d: Discretisation| {
+            let spec = cosserat::scene::load_scene(&root().join(p.scene), &d.overrides()).unwrap();
+            let shell = &spec.shells[0];
+            assert_eq!(
+                shell.rest.interpolation,
+                cosserat::material::StrainInterpolation::ReggeStabilized
+            );
+            shell.quadrature.map(|q| q.n_points())
+        };
+        let default = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
+        let six = default.on_six_points();
+        assert_eq!(default.label(), "Tri6/Tri6 regge_stabilized");
+        assert_eq!(six.label(), "Tri6/Tri6 regge_stabilized 6-point");
+        assert_eq!(six.directory(), "tri6_tri6_regge_stabilized_q4");
+        assert_eq!(points(default), Some(3));
+        assert_eq!(points(six), Some(6));
     }
 
     #[test]

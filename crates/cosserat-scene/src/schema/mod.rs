@@ -249,8 +249,10 @@ pub struct SolverSection {
     pub initial_guess: Option<InitialGuessName>,
     /// Project element Hessians onto the PSD cone (default `false`).
     pub project_pd: Option<bool>,
-    /// What Newton's method does where the Hessian is not positive definite (default `"shift"`;
-    /// `"adaptive"` or `"factorise"` where a solution is a saddle of the energy, docs/stability.md).
+    /// What Newton's method does where the Hessian is not positive definite (default `"factorise"` in
+    /// quasi-static runs, with the shift as the last resort of a level that fails every bisection;
+    /// `"shift"` in dynamic and arc-length runs; `"adaptive"` or `"factorise"` where a time step's
+    /// solution is a saddle of the energy, docs/stability.md).
     pub indefinite_hessian: Option<IndefiniteHessianName>,
     /// Maximum halvings of one step before the run stops (default 8).
     pub max_step_reductions: Option<usize>,
@@ -338,8 +340,9 @@ pub struct MeshSection {
     /// unless `material.strain_interpolation` says otherwise).
     pub rotation_element: Option<ElementName>,
     /// Quadrature degree override (default: the model's pairing, degree 2 for Tri3/Tri3 and Tri6/Tri3
-    /// and 4 for Tri6/Tri6). On Tri6/Tri6 with `material.strain_interpolation = "regge_stabilized"` (its
-    /// default), `2` is the faster choice for shells down to h/L of about 1e-4 (docs/model-notes.md).
+    /// and 4 for Tri6/Tri6, except Tri6/Tri6 with `material.strain_interpolation = "regge_stabilized"`,
+    /// the default discretisation, which takes degree 2, the 3-point rule its strains are built for;
+    /// `4` gives it the six-point rule at about twice the cost, docs/model-notes.md).
     pub quadrature_degree: Option<usize>,
     /// Rectangle size along x \[m\].
     pub lx: Option<f64>,

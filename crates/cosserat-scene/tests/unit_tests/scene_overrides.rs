@@ -143,3 +143,34 @@ fn quadratic_displacements_default_to_the_locking_free_pair_and_tri3_rotations_s
         (Tri6Tri3, ReggeStabilized)
     );
 }
+
+#[test]
+fn the_default_discretisation_takes_the_three_point_rule_unless_the_scene_names_one() {
+    let points = |overrides: &[&str]| load(overrides).shells[0].quadrature.map(|q| q.n_points());
+    assert_eq!(points(&["mesh.element="]), Some(3));
+    assert_eq!(
+        points(&["mesh.element=", "material.strain_interpolation=regge_stabilized"]),
+        Some(3)
+    );
+    assert_eq!(points(&["mesh.element=", "mesh.quadrature_degree=4"]), Some(6));
+    // Every other discretisation keeps its pair's rule.
+    assert_eq!(points(&["mesh.element=", "material.strain_interpolation=paper"]), None);
+    assert_eq!(points(&["mesh.element=", "mesh.rotation_element=tri3"]), None);
+    assert_eq!(points(&[]), None);
+}
+
+#[test]
+fn quasi_static_runs_default_to_newtons_own_steps_and_dynamic_runs_to_the_shift() {
+    use cosserat_solver::IndefiniteHessian::{Factorise, Shift};
+    let treatment = |overrides: &[&str]| load(overrides).solver.indefinite_hessian;
+    assert_eq!(treatment(&[]), Shift);
+    let quasi_static = [
+        "time.mode=quasi_static",
+        "time.dt=",
+        "time.end=",
+        "time.levels=[0.5, 1.0]",
+    ];
+    assert_eq!(treatment(&quasi_static), Factorise);
+    let chosen = [&quasi_static[..], &["solver.indefinite_hessian=shift"]].concat();
+    assert_eq!(treatment(&chosen), Shift);
+}
