@@ -264,6 +264,10 @@ pub struct RunSummary {
     /// shells differ; `"-"` for a model without one).
     #[serde(default)]
     pub strain_interpolation: String,
+    /// The quadrature points per element of the Cosserat shells, e.g. `"3"` (comma-separated when
+    /// shells differ; `"-"` for a model without them).
+    #[serde(default)]
+    pub quadrature_points: String,
     /// Number of shells.
     pub n_shells: usize,
     /// Number of cells (elements) of the meshes.

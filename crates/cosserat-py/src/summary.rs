@@ -70,6 +70,11 @@ impl PyRunSummary {
     fn strain_interpolation(&self) -> String {
         self.inner.strain_interpolation.clone()
     }
+    /// Quadrature points per element of the Cosserat shells, e.g. ``"3"`` (``"-"`` without them).
+    #[getter]
+    fn quadrature_points(&self) -> String {
+        self.inner.quadrature_points.clone()
+    }
     /// The energy terms of the potential.
     #[getter]
     fn active_terms(&self) -> Vec<String> {

@@ -158,4 +158,5 @@ def test_run_record_and_quasi_static_runs(tmp_path):
     # The scene names the paper's pair; the summary says which discretisation ran.
     assert (summary.displacement_element, summary.rotation_element) == ("tri6", "tri3")
     assert summary.strain_interpolation == "paper"
+    assert summary.quadrature_points == "3"
     assert (tmp_path / "qs" / "summary.json").is_file()

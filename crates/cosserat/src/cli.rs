@@ -206,14 +206,17 @@ pub fn resume_run(args: &ResumeArgs) -> anyhow::Result<i32> {
     execute(&mut sim, &args.dir, (args.threads, args.quiet), &stop)
 }
 
-/// The discretisation a run used, e.g. `tri6/tri6 elements, regge_stabilized strains`.
+/// The discretisation a run used, e.g. `tri6/tri6 elements, regge_stabilized strains, 3 points`.
 fn discretisation(summary: &RunSummary) -> String {
     if summary.strain_interpolation == "-" || summary.strain_interpolation.is_empty() {
         format!("{} elements", summary.displacement_element)
     } else {
         format!(
-            "{}/{} elements, {} strains",
-            summary.displacement_element, summary.rotation_element, summary.strain_interpolation
+            "{}/{} elements, {} strains, {} points",
+            summary.displacement_element,
+            summary.rotation_element,
+            summary.strain_interpolation,
+            summary.quadrature_points
         )
     }
 }

@@ -18,6 +18,7 @@ use crate::record::{RunStats, peak_memory_mb};
 use crate::scripts::Scripts;
 use crate::stop::StopRequest;
 use cosserat_assembly::{IncrementalPotential, PSEUDO_TIME_STEP, SystemOptions};
+use cosserat_fem::QuadratureRule;
 use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, VtuFrame, write_failure_summary};
 use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, TimeSpec};
 use cosserat_solver::{
@@ -62,8 +63,8 @@ pub struct Simulation {
     /// Warnings about settings that physics or the discretisation limits ([`crate::advice`]) and about
     /// the inputs.
     advice: Vec<String>,
-    /// The Cosserat shells' strain interpolations, for the summary.
-    strain_interpolation: String,
+    /// The Cosserat shells' strain interpolations and quadrature points per element, for the summary.
+    strain_interpolation: (String, String),
     stats: RunStats,
     /// The time (or load factor) of the last committed state.
     t_reached: f64,
@@ -89,17 +90,30 @@ struct Restart {
     started: Instant,
 }
 
-/// The strain interpolations of a scene's Cosserat shells, e.g. `"regge_stabilized"` (in shell order
-/// without repeats; `"-"` without Cosserat shells).
-fn strain_interpolations(spec: &SceneSpec) -> String {
-    let mut names: Vec<&str> = Vec::new();
-    for shell in spec.shells.iter().filter(|s| matches!(s.model, ModelKind::Cosserat)) {
-        let name = shell.rest.interpolation.name();
-        if !names.contains(&name) {
-            names.push(name);
+/// The strain interpolations of a scene's Cosserat shells, e.g. `"regge_stabilized"`, and their
+/// quadrature points per element, e.g. `"3"` (each in shell order without repeats; `"-"` without
+/// Cosserat shells).
+fn strain_interpolations(spec: &SceneSpec) -> (String, String) {
+    let cosserat = || spec.shells.iter().filter(|s| matches!(s.model, ModelKind::Cosserat));
+    let distinct = |names: Vec<String>| {
+        let mut kept: Vec<String> = Vec::new();
+        for name in names {
+            if !kept.contains(&name) {
+                kept.push(name);
+            }
         }
-    }
-    if names.is_empty() { "-".into() } else { names.join(",") }
+        if kept.is_empty() { "-".into() } else { kept.join(",") }
+    };
+    let points = |s: &cosserat_scene::spec::ShellSpec| {
+        s.quadrature
+            .unwrap_or_else(|| QuadratureRule::for_element_pair(s.pair.displacement(), s.pair.rotation()))
+            .n_points()
+            .to_string()
+    };
+    (
+        distinct(cosserat().map(|s| s.rest.interpolation.name().to_string()).collect()),
+        distinct(cosserat().map(points).collect()),
+    )
 }
 
 impl Simulation {
@@ -562,7 +576,8 @@ impl Simulation {
             model: self.model.record(),
             displacement_element,
             rotation_element,
-            strain_interpolation: self.strain_interpolation.clone(),
+            strain_interpolation: self.strain_interpolation.0.clone(),
+            quadrature_points: self.strain_interpolation.1.clone(),
             n_shells: self.model.placements().len(),
             n_cells: self.model.n_cells(),
             n_displacement_dofs: 3 * layout.n_disp_nodes,

@@ -306,12 +306,12 @@ fn a_finished_run_names_its_discretisation() {
     };
     let paper = run(&[]);
     assert!(
-        paper.contains("strip (tri6/tri3 elements, paper strains): 3 steps"),
+        paper.contains("strip (tri6/tri3 elements, paper strains, 3 points): 3 steps"),
         "{paper}"
     );
     let default = run(&["--set", "mesh.rotation_element="]);
     assert!(
-        default.contains("strip (tri6/tri6 elements, regge_stabilized strains): 3 steps"),
+        default.contains("strip (tri6/tri6 elements, regge_stabilized strains, 3 points): 3 steps"),
         "{default}"
     );
 }

@@ -19,6 +19,7 @@ fn sample_summary() -> RunSummary {
         displacement_element: "tri6".to_owned(),
         rotation_element: "tri3".to_owned(),
         strain_interpolation: "paper".to_owned(),
+        quadrature_points: "3".to_owned(),
         n_shells: 1,
         n_cells: 128,
         n_displacement_dofs: 867,
@@ -79,7 +80,7 @@ fn sample_summary() -> RunSummary {
 }
 
 /// The keys of the output contract, with the JSON names used for them.
-const CONTRACT_KEYS: [&str; 36] = [
+const CONTRACT_KEYS: [&str; 37] = [
     "scene",
     "status",
     "reason",
@@ -89,6 +90,7 @@ const CONTRACT_KEYS: [&str; 36] = [
     "displacement_element",
     "rotation_element",
     "strain_interpolation",
+    "quadrature_points",
     "n_shells",
     "n_cells",
     "n_displacement_dofs",

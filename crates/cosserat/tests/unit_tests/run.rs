@@ -91,9 +91,10 @@ fn a_run_writes_the_output_contract() {
         (
             summary.displacement_element.as_str(),
             summary.rotation_element.as_str(),
-            summary.strain_interpolation.as_str()
+            summary.strain_interpolation.as_str(),
+            summary.quadrature_points.as_str()
         ),
-        ("tri6", "tri3", "paper")
+        ("tri6", "tri3", "paper", "3")
     );
     assert_eq!(summary.n_cells, 40);
     assert_eq!(summary.n_displacement_dofs, 3 * 21 * 5);
@@ -436,9 +437,10 @@ fn the_summary_names_the_default_discretisation() {
         (
             summary.displacement_element.as_str(),
             summary.rotation_element.as_str(),
-            summary.strain_interpolation.as_str()
+            summary.strain_interpolation.as_str(),
+            summary.quadrature_points.as_str()
         ),
-        ("tri6", "tri6", "regge_stabilized")
+        ("tri6", "tri6", "regge_stabilized", "3")
     );
     assert_eq!(summary.n_rotation_dofs, summary.n_displacement_dofs);
 }
