@@ -12,7 +12,7 @@ use crate::state::SystemState;
 use cosserat_fem::mesh::{MeshElement, NewNode, Tri3Mesh, Tri6Mesh};
 use cosserat_fem::{ElementKind, MeshError, QuadratureRule, TriMesh};
 use cosserat_material::rest::{RestOptions, shell_rest};
-use cosserat_material::{MaterialParameters, RestStateError};
+use cosserat_material::{MaterialParameters, RestStateError, StrainInterpolation};
 use nalgebra::Vector3;
 use std::ops::Range;
 use thiserror::Error;
@@ -53,6 +53,18 @@ impl ElementPair {
         match self.displacement() {
             ElementKind::Tri3 => 1,
             _ => 2,
+        }
+    }
+
+    /// The quadrature rule of this pair with `interpolation` when none is chosen: the model's pairing
+    /// ([`QuadratureRule::for_element_pair`]), except quadratic rotations with Regge membrane strains
+    /// and stabilised shear and drilling, which take the 3-point rule their strains are built for (its
+    /// points are the interior tying points; the six-point rule costs 1.8 times as much per element
+    /// for the same accuracy, docs/model-notes.md).
+    pub fn default_quadrature(self, interpolation: StrainInterpolation) -> QuadratureRule {
+        match (self, interpolation) {
+            (ElementPair::Tri6Tri6, StrainInterpolation::ReggeStabilized) => QuadratureRule::interior_p2(),
+            _ => QuadratureRule::for_element_pair(self.displacement(), self.rotation()),
         }
     }
 }
@@ -106,8 +118,8 @@ pub struct ShellInput {
     pub material: MaterialParameters,
     /// Model and rest-curvature options.
     pub rest: RestOptions,
-    /// Quadrature rule; `None` uses the model's pairing (3-point rule for linear rotations, degree 4
-    /// for Tri6/Tri6).
+    /// Quadrature rule; `None` uses the pair's default with the rest options' strain interpolation
+    /// ([`ElementPair::default_quadrature`]).
     pub quadrature: Option<QuadratureRule>,
     /// Mass-proportional damping `d` \[1/s\].
     pub damping: f64,
@@ -231,7 +243,7 @@ where
 {
     let rule = input
         .quadrature
-        .unwrap_or_else(|| QuadratureRule::for_element_pair(input.pair.displacement(), input.pair.rotation()));
+        .unwrap_or_else(|| input.pair.default_quadrature(input.rest.interpolation));
     let moduli = input.material.moduli().map_err(|e| BuildError::Rest {
         shell: input.name.clone(),
         source: e.into(),

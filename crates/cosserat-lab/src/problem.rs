@@ -450,15 +450,15 @@ mod tests {
                 shell.rest.interpolation,
                 cosserat::material::StrainInterpolation::ReggeStabilized
             );
-            shell.quadrature.map(|q| q.n_points())
+            shell.quadrature_rule().n_points()
         };
         let default = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
         let six = default.on_six_points();
         assert_eq!(default.label(), "Tri6/Tri6 regge_stabilized");
         assert_eq!(six.label(), "Tri6/Tri6 regge_stabilized 6-point");
         assert_eq!(six.directory(), "tri6_tri6_regge_stabilized_q4");
-        assert_eq!(points(default), Some(3));
-        assert_eq!(points(six), Some(6));
+        assert_eq!(points(default), 3);
+        assert_eq!(points(six), 6);
     }
 
     #[test]

@@ -219,7 +219,7 @@ pub struct ShellSpec {
     pub material: MaterialParameters,
     /// Model options and rest-curvature source.
     pub rest: RestOptions,
-    /// Quadrature rule override.
+    /// Quadrature rule override (`None`: [`ShellSpec::quadrature_rule`]'s default).
     pub quadrature: Option<QuadratureRule>,
     /// Mass-proportional damping `d` \[1/s\].
     pub damping: f64,
@@ -227,6 +227,15 @@ pub struct ShellSpec {
     pub angular_inertia_density: f64,
     /// Initial displacement-node positions when they differ from the rest positions (local order).
     pub initial_positions: Option<Vec<Vector3<f64>>>,
+}
+
+impl ShellSpec {
+    /// The quadrature rule the shell is integrated with: the override, or the pair's default with the
+    /// shell's strain interpolation ([`ElementPair::default_quadrature`]).
+    pub fn quadrature_rule(&self) -> QuadratureRule {
+        self.quadrature
+            .unwrap_or_else(|| self.pair.default_quadrature(self.rest.interpolation))
+    }
 }
 
 /// Time integration settings.

@@ -18,7 +18,6 @@ use crate::record::{RunStats, peak_memory_mb};
 use crate::scripts::Scripts;
 use crate::stop::StopRequest;
 use cosserat_assembly::{IncrementalPotential, PSEUDO_TIME_STEP, SystemOptions};
-use cosserat_fem::QuadratureRule;
 use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, VtuFrame, write_failure_summary};
 use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, TimeSpec};
 use cosserat_solver::{
@@ -104,12 +103,7 @@ fn strain_interpolations(spec: &SceneSpec) -> (String, String) {
         }
         if kept.is_empty() { "-".into() } else { kept.join(",") }
     };
-    let points = |s: &cosserat_scene::spec::ShellSpec| {
-        s.quadrature
-            .unwrap_or_else(|| QuadratureRule::for_element_pair(s.pair.displacement(), s.pair.rotation()))
-            .n_points()
-            .to_string()
-    };
+    let points = |s: &cosserat_scene::spec::ShellSpec| s.quadrature_rule().n_points().to_string();
     (
         distinct(cosserat().map(|s| s.rest.interpolation.name().to_string()).collect()),
         distinct(cosserat().map(points).collect()),

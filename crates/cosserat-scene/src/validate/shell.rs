@@ -107,7 +107,7 @@ impl Ctx<'_> {
         }
         let (params, rest, damping, angular_inertia_density) =
             self.material(&format!("{prefix}material"), material, pair)?;
-        let quadrature = self.quadrature(&m, mesh, pair, rest.interpolation)?;
+        let quadrature = self.quadrature(&m, mesh, pair)?;
         if let ModelKind::MicropolarVolume { .. } = model_kind
             && let Err(reason) = PlanarGrid::detect(&built.mesh.corners.nodes)
         {
@@ -194,22 +194,10 @@ impl Ctx<'_> {
         })
     }
 
-    /// The quadrature rule a mesh section asks for (`None`: the pair's default). Without the key,
-    /// quadratic rotations with Regge membrane strains and stabilised shear and drilling (the default
-    /// discretisation) take the 3-point rule: it meets the same accuracy goals as the six-point rule
-    /// (docs/validation.md) at about half its Hessian cost, and has no spurious zero-energy modes with
-    /// that interpolation (its own shear constant, `cosserat_material::projection`).
-    fn quadrature(
-        &self,
-        m: &str,
-        mesh: &MeshSection,
-        pair: ElementPair,
-        interpolation: StrainInterpolation,
-    ) -> Result<Option<QuadratureRule>, SceneError> {
+    /// The quadrature rule a mesh section asks for (`None`: the pair's default with the shell's strain
+    /// interpolation, `cosserat_assembly::ElementPair::default_quadrature`).
+    fn quadrature(&self, m: &str, mesh: &MeshSection, pair: ElementPair) -> Result<Option<QuadratureRule>, SceneError> {
         Ok(match mesh.quadrature_degree {
-            None if pair == ElementPair::Tri6Tri6 && interpolation == StrainInterpolation::ReggeStabilized => {
-                QuadratureRule::for_degree(2)
-            }
             None => None,
             Some(d) if d < pair.min_quadrature_degree() => {
                 return Err(self.invalid(

@@ -146,17 +146,17 @@ fn quadratic_displacements_default_to_the_locking_free_pair_and_tri3_rotations_s
 
 #[test]
 fn the_default_discretisation_takes_the_three_point_rule_unless_the_scene_names_one() {
-    let points = |overrides: &[&str]| load(overrides).shells[0].quadrature.map(|q| q.n_points());
-    assert_eq!(points(&["mesh.element="]), Some(3));
+    let points = |overrides: &[&str]| load(overrides).shells[0].quadrature_rule().n_points();
+    assert_eq!(points(&["mesh.element="]), 3);
     assert_eq!(
         points(&["mesh.element=", "material.strain_interpolation=regge_stabilized"]),
-        Some(3)
+        3
     );
-    assert_eq!(points(&["mesh.element=", "mesh.quadrature_degree=4"]), Some(6));
-    // Every other discretisation keeps its pair's rule.
-    assert_eq!(points(&["mesh.element=", "material.strain_interpolation=paper"]), None);
-    assert_eq!(points(&["mesh.element=", "mesh.rotation_element=tri3"]), None);
-    assert_eq!(points(&[]), None);
+    assert_eq!(points(&["mesh.element=", "mesh.quadrature_degree=4"]), 6);
+    // Every other discretisation keeps its pair's rule: six points on Tri6/Tri6, three on the others.
+    assert_eq!(points(&["mesh.element=", "material.strain_interpolation=paper"]), 6);
+    assert_eq!(points(&["mesh.element=", "mesh.rotation_element=tri3"]), 3);
+    assert_eq!(points(&[]), 3);
 }
 
 #[test]
