@@ -105,9 +105,9 @@ impl Ctx<'_> {
                 rest.iter().map(|x| motion.apply(x)).collect()
             });
         }
+        let quadrature = self.quadrature(&m, mesh, pair)?;
         let (params, rest, damping, angular_inertia_density) =
             self.material(&format!("{prefix}material"), material, pair)?;
-        let quadrature = self.quadrature(&m, mesh, pair)?;
         if let ModelKind::MicropolarVolume { .. } = model_kind
             && let Err(reason) = PlanarGrid::detect(&built.mesh.corners.nodes)
         {
