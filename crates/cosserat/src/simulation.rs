@@ -63,7 +63,7 @@ pub struct Simulation {
     /// the inputs.
     advice: Vec<String>,
     /// The Cosserat shells' strain interpolations and quadrature points per element, for the summary.
-    strain_interpolation: (String, String),
+    discretisation: (String, String),
     stats: RunStats,
     /// The time (or load factor) of the last committed state.
     t_reached: f64,
@@ -92,7 +92,7 @@ struct Restart {
 /// The strain interpolations of a scene's Cosserat shells, e.g. `"regge_stabilized"`, and their
 /// quadrature points per element, e.g. `"3"` (each in shell order without repeats; `"-"` without
 /// Cosserat shells).
-fn strain_interpolations(spec: &SceneSpec) -> (String, String) {
+fn discretisation_names(spec: &SceneSpec) -> (String, String) {
     let cosserat = || spec.shells.iter().filter(|s| matches!(s.model, ModelKind::Cosserat));
     let distinct = |names: Vec<String>| {
         let mut kept: Vec<String> = Vec::new();
@@ -162,7 +162,7 @@ impl Simulation {
             },
             rest_bbox: BoundingBox::of_points(&rest_points).unwrap_or_default(),
             advice,
-            strain_interpolation: strain_interpolations(&spec),
+            discretisation: discretisation_names(&spec),
             stats: RunStats::default(),
             t_reached: 0.0,
             restart: Restart {
@@ -570,8 +570,8 @@ impl Simulation {
             model: self.model.record(),
             displacement_element,
             rotation_element,
-            strain_interpolation: self.strain_interpolation.0.clone(),
-            quadrature_points: self.strain_interpolation.1.clone(),
+            strain_interpolation: self.discretisation.0.clone(),
+            quadrature_points: self.discretisation.1.clone(),
             n_shells: self.model.placements().len(),
             n_cells: self.model.n_cells(),
             n_displacement_dofs: 3 * layout.n_disp_nodes,
