@@ -159,6 +159,16 @@ struct Tally {
     shift_retries: usize,
 }
 
+impl Tally {
+    /// Counts the iterations of a failed solve (those whose step was taken, as its residual history
+    /// records them) as spent and wasted.
+    fn waste(&mut self, error: &NewtonError) {
+        let iterations = error.residuals().len().saturating_sub(1);
+        self.iterations += iterations;
+        self.wasted += iterations;
+    }
+}
+
 /// The outcome of one Newton solve towards a level.
 enum Attempt {
     Converged(NewtonReport),
@@ -296,9 +306,7 @@ impl QuasiStaticStepper {
                     tally.sub_levels += 1;
                 }
                 Attempt::Failed(error) => {
-                    let iterations = error.residuals().len().saturating_sub(1);
-                    tally.iterations += iterations;
-                    tally.wasted += iterations;
+                    tally.waste(&error);
                     if tally.bisections >= self.settings.max_bisections {
                         return Err(fail(error.into(), &tally));
                     }
@@ -331,9 +339,7 @@ impl QuasiStaticStepper {
             && last_chance
             && configured != IndefiniteHessian::Shift
         {
-            let spent = error.residuals().len().saturating_sub(1);
-            tally.iterations += spent;
-            tally.wasted += spent;
+            tally.waste(error);
             tally.shift_retries += 1;
             self.solver.settings_mut().indefinite_hessian = IndefiniteHessian::Shift;
             let retried = self.solve_level(potential, lambda, apply);
