@@ -7,3 +7,4 @@ mod pattern;
 mod potential;
 mod pressure;
 mod quadrature_rank;
+mod tension;
