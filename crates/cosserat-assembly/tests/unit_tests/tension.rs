@@ -57,7 +57,7 @@ impl Sheet {
 }
 
 /// The paper's strains and the Regge membrane strains keep the continuum's stability at any stretch,
-/// on thick and on thin elements (0.4 and 0.02 thicknesses per cell side).
+/// on thick and on thin elements (cells 2.5 and 50 thicknesses on a side).
 #[test]
 fn point_and_regge_strains_keep_a_stretched_sheet_stable() {
     for (pair, interpolation) in [
@@ -84,7 +84,8 @@ fn point_and_regge_strains_keep_a_stretched_sheet_stable() {
 /// element, and the membrane strain falls at second order in those rotations: past a strain of the
 /// order of the softening `β = h² / (h² + c h_e²)` the stretched sheet has spurious negative modes.
 /// With one constant `c` for shear and drilling (docs/model-notes.md) a sheet of cells 12.5 thicknesses
-/// on a side (β ≈ 0.03 on three points) stays stable to 1 % strain on either rule.
+/// on a side (β ≈ 0.04 on three points, `h_e` the cells' diagonal) stays stable to 1 % strain on either
+/// rule.
 #[test]
 fn the_default_discretisation_keeps_a_sheet_stable_to_one_percent_stretch() {
     for degree in [None, Some(4)] {
