@@ -62,8 +62,8 @@ pub struct Simulation {
     /// Warnings about settings that physics or the discretisation limits ([`crate::advice`]) and about
     /// the inputs.
     advice: Vec<String>,
-    /// The Cosserat shells' strain interpolations and quadrature points per element, for the summary.
-    discretisation: (String, String),
+    /// The Cosserat shells' discretisation, for the summary.
+    discretisation: DiscretisationNames,
     stats: RunStats,
     /// The time (or load factor) of the last committed state.
     t_reached: f64,
@@ -89,10 +89,16 @@ struct Restart {
     started: Instant,
 }
 
-/// The strain interpolations of a scene's Cosserat shells, e.g. `"regge_stabilized"`, and their
-/// quadrature points per element, e.g. `"3"` (each in shell order without repeats; `"-"` without
-/// Cosserat shells).
-fn discretisation_names(spec: &SceneSpec) -> (String, String) {
+/// How a scene's Cosserat shells are discretised, as the summary names it: each field lists the
+/// shells' values in shell order without repeats (`"-"` without Cosserat shells).
+struct DiscretisationNames {
+    /// Strain interpolations, e.g. `"regge_stabilized"`.
+    strain_interpolation: String,
+    /// Quadrature points per element, e.g. `"3"`.
+    quadrature_points: String,
+}
+
+fn discretisation_names(spec: &SceneSpec) -> DiscretisationNames {
     let cosserat = || spec.shells.iter().filter(|s| matches!(s.model, ModelKind::Cosserat));
     let distinct = |names: Vec<String>| {
         let mut kept: Vec<String> = Vec::new();
@@ -104,10 +110,10 @@ fn discretisation_names(spec: &SceneSpec) -> (String, String) {
         if kept.is_empty() { "-".into() } else { kept.join(",") }
     };
     let points = |s: &cosserat_scene::spec::ShellSpec| s.quadrature_rule().n_points().to_string();
-    (
-        distinct(cosserat().map(|s| s.rest.interpolation.name().to_string()).collect()),
-        distinct(cosserat().map(points).collect()),
-    )
+    DiscretisationNames {
+        strain_interpolation: distinct(cosserat().map(|s| s.rest.interpolation.name().to_string()).collect()),
+        quadrature_points: distinct(cosserat().map(points).collect()),
+    }
 }
 
 impl Simulation {
@@ -570,8 +576,8 @@ impl Simulation {
             model: self.model.record(),
             displacement_element,
             rotation_element,
-            strain_interpolation: self.discretisation.0.clone(),
-            quadrature_points: self.discretisation.1.clone(),
+            strain_interpolation: self.discretisation.strain_interpolation.clone(),
+            quadrature_points: self.discretisation.quadrature_points.clone(),
             n_shells: self.model.placements().len(),
             n_cells: self.model.n_cells(),
             n_displacement_dofs: 3 * layout.n_disp_nodes,

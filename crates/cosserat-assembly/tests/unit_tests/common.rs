@@ -2,6 +2,7 @@
 
 use cosserat_assembly::IncrementalPotential;
 use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, System, SystemOptions, build_system};
+use cosserat_fem::QuadratureRule;
 use cosserat_fem::mesh::{chord_placement, procedural};
 use cosserat_material::rest::RestOptions;
 use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
@@ -41,6 +42,41 @@ pub fn strip_with(
     let mut system = build_system(&[input], &options).unwrap();
     system.potential.set_time_step(0.01);
     system
+}
+
+/// A free square patch of side 0.1 in `cells × cells` squares (two triangles each), quasi-static and
+/// without gravity.
+pub struct FreePatch {
+    pub pair: ElementPair,
+    pub model: ShellModel,
+    pub interpolation: StrainInterpolation,
+    /// Quadrature degree; `None`: the pair's default with the interpolation.
+    pub degree: Option<usize>,
+    pub cells: usize,
+    pub material: MaterialParameters,
+}
+
+impl FreePatch {
+    pub fn build(&self) -> System {
+        let mut rest = RestOptions::new(ModelOptions::new(self.model));
+        rest.interpolation = self.interpolation;
+        let grid = procedural::rectangle_grid(0.1, 0.1, self.cells, self.cells).unwrap();
+        let input = ShellInput {
+            name: "patch".into(),
+            mesh: ShellMesh::from_tri3(grid.mesh, self.pair, chord_placement),
+            pair: self.pair,
+            material: self.material,
+            rest,
+            quadrature: self.degree.map(|d| QuadratureRule::for_degree(d).unwrap()),
+            damping: 0.0,
+            angular_inertia_density: 0.0,
+        };
+        let options = SystemOptions {
+            gravity: Vector3::zeros(),
+            dynamic: false,
+        };
+        build_system(&[input], &options).unwrap()
+    }
 }
 
 /// The dense Hessian of a potential at `u` (both triangles).

@@ -1,13 +1,10 @@
 //! Which quadrature rules leave spurious zero-energy modes: the null space of a free patch's Hessian
 //! at rest, counted for every element pair and rule degree.
 
-use super::common::dense_hessian;
-use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, SystemOptions, build_system};
+use super::common::{FreePatch, dense_hessian};
+use cosserat_assembly::ElementPair;
 use cosserat_fem::QuadratureRule;
-use cosserat_fem::mesh::{chord_placement, procedural};
-use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
-use nalgebra::Vector3;
+use cosserat_material::{MaterialParameters, ShellModel, StrainInterpolation};
 
 /// The number of zero eigenvalues (relative to the largest) of a free 2 × 2 patch's Hessian at rest.
 fn zero_modes(pair: ElementPair, model: ShellModel, degree: usize) -> usize {
@@ -15,24 +12,15 @@ fn zero_modes(pair: ElementPair, model: ShellModel, degree: usize) -> usize {
 }
 
 fn zero_modes_with(pair: ElementPair, model: ShellModel, degree: usize, interpolation: StrainInterpolation) -> usize {
-    let mut rest = RestOptions::new(ModelOptions::new(model));
-    rest.interpolation = interpolation;
-    let grid = procedural::rectangle_grid(0.1, 0.1, 2, 2).unwrap();
-    let input = ShellInput {
-        name: "patch".into(),
-        mesh: ShellMesh::from_tri3(grid.mesh, pair, chord_placement),
+    let patch = FreePatch {
         pair,
+        model,
+        interpolation,
+        degree: Some(degree),
+        cells: 2,
         material: MaterialParameters::new(1e-2, 1e6, 0.3, 1000.0, 1e-2),
-        rest,
-        quadrature: Some(QuadratureRule::for_degree(degree).unwrap()),
-        damping: 0.0,
-        angular_inertia_density: 0.0,
     };
-    let options = SystemOptions {
-        gravity: Vector3::zeros(),
-        dynamic: false,
-    };
-    let mut p = build_system(&[input], &options).unwrap().potential;
+    let mut p = patch.build().potential;
     let zero = vec![0.0; p.n_dofs()];
     let h = dense_hessian(&mut p, &zero);
     let eigenvalues = h.symmetric_eigenvalues();

@@ -1,15 +1,11 @@
 //! A flat sheet stretched in its plane is stable: tension stiffens it, so the Hessian of its energy
 //! has no negative eigenvalue (the continuum's, and the discretisations' that keep its convexity).
 
-use super::common::dense_hessian;
-use cosserat_assembly::{ElementPair, ShellInput, ShellMesh, SystemOptions, build_system};
-use cosserat_fem::QuadratureRule;
-use cosserat_fem::mesh::{chord_placement, procedural};
-use cosserat_material::rest::RestOptions;
-use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainInterpolation};
-use nalgebra::Vector3;
+use super::common::{FreePatch, dense_hessian};
+use cosserat_assembly::ElementPair;
+use cosserat_material::{MaterialParameters, ShellModel, StrainInterpolation};
 
-/// A free 4 × 4 patch of side 0.1 (square cells of 0.025, split into two triangles each).
+/// A free 4 × 4 patch of side 0.1 (square cells of 0.025, split into two triangles each), a plate.
 struct Sheet {
     pair: ElementPair,
     interpolation: StrainInterpolation,
@@ -22,24 +18,15 @@ impl Sheet {
     /// The number of negative eigenvalues (below −1e-9 of the largest) of the Hessian at a uniform
     /// in-plane stretch `x ↦ (1 + strain) x`, the directors unrotated (the stretch's polar rotation).
     fn negative_modes(&self, strain: f64) -> usize {
-        let mut rest = RestOptions::new(ModelOptions::new(ShellModel::Plate));
-        rest.interpolation = self.interpolation;
-        let grid = procedural::rectangle_grid(0.1, 0.1, 4, 4).unwrap();
-        let input = ShellInput {
-            name: "sheet".into(),
-            mesh: ShellMesh::from_tri3(grid.mesh, self.pair, chord_placement),
+        let system = FreePatch {
             pair: self.pair,
+            model: ShellModel::Plate,
+            interpolation: self.interpolation,
+            degree: self.degree,
+            cells: 4,
             material: MaterialParameters::new(self.thickness, 1e6, 0.3, 1000.0, 1e-3 * self.thickness),
-            rest,
-            quadrature: self.degree.map(|d| QuadratureRule::for_degree(d).unwrap()),
-            damping: 0.0,
-            angular_inertia_density: 0.0,
-        };
-        let options = SystemOptions {
-            gravity: Vector3::zeros(),
-            dynamic: false,
-        };
-        let system = build_system(&[input], &options).unwrap();
+        }
+        .build();
         let mut potential = system.potential;
         // Quasi-static unknowns are displacements over the step; a unit step makes them displacements.
         potential.set_time_step(1.0);
