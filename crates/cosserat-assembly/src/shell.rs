@@ -17,6 +17,7 @@ use crate::state::SystemState;
 use crate::strain_prediction::StrainPrediction;
 use crate::term::{Evaluation, PotentialTerm};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
+use cosserat_material::assumed::TyingMap;
 use cosserat_material::assumed_kernel;
 use cosserat_material::coupled::Coupling;
 use cosserat_material::element::{
@@ -29,10 +30,12 @@ use cosserat_material::kernel::{
 use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, strain_offset};
+use cosserat_material::tension::membrane_tension;
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
 use nalgebra::{Matrix3, SMatrix, Vector3};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Everything that defines a shell's elastic term: its rest state and where its nodes and points sit
 /// in the global system.
@@ -171,9 +174,9 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 })
                 .collect();
             let node_r = std::array::from_fn(|k| &node_r[k]);
-            let strains = match self.disc.rest.element_tying_maps(e) {
+            let strains = match self.tying_maps(e, state) {
                 Some(maps) => {
-                    assumed_kernel::element_strains(&points, node_r, maps, &self.disc.rest.tying_twins, self.disc.axl)
+                    assumed_kernel::element_strains(&points, node_r, &maps, &self.disc.rest.tying_twins, self.disc.axl)
                 }
                 None => {
                     let projection = self.disc.rest.projections.get(e);
@@ -185,6 +188,27 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             }
         }
         parts
+    }
+
+    /// The tying maps of element `e` (under assumed strains) for a step that starts at `state`: a
+    /// stretched element's stabilisation is raised by its largest membrane stress there
+    /// ([`ShellRest::element_tying_maps_in_tension`]), constant within the step.
+    fn tying_maps(&self, e: usize, state: &SystemState) -> Option<Cow<'_, [TyingMap]>> {
+        let rest = &self.disc.rest;
+        let tension = if rest.tying_stabilization.is_empty() {
+            0.0
+        } else {
+            let d = &self.disc.disp_elements[e];
+            let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
+            (0..rest.quadrature_points_per_element)
+                .map(|g| {
+                    let p = e * rest.points_per_element + g;
+                    let shape = &rest.shapes[p];
+                    membrane_tension(&f_hat(shape, &x), self.offset(p), rest.densities.get(p))
+                })
+                .fold(0.0, f64::max)
+        };
+        rest.element_tying_maps_in_tension(e, tension)
     }
 
     /// Clears prescribed rest fields.
@@ -390,7 +414,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
         let node_r: [&Matrix3<f64>; NR] = std::array::from_fn(|k| eval.rotations.matrix(r[k]));
-        let maps = self.disc.rest.element_tying_maps(e);
+        let maps = self.tying_maps(e, eval.state);
         let projection = self.disc.rest.projections.get(e);
         if maps.is_some() || projection.is_some() {
             let n_qp = self.disc.rest.points_per_element;
@@ -409,7 +433,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 })
                 .collect();
             let volume = self.disc.volume.as_ref();
-            let coupling = match (maps, projection) {
+            let coupling = match (maps.as_deref(), projection) {
                 (Some(maps), _) => Coupling::Tying(maps, self.disc.rest.tying_twins),
                 (None, Some(projection)) => Coupling::Projection(projection),
                 (None, None) => unreachable!("checked above"),
@@ -448,8 +472,8 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         out: &mut ElementDerivatives<NE>,
         local: &mut LocalDerivatives<NL>,
     ) {
-        if let Some(maps) = self.disc.rest.element_tying_maps(e) {
-            let coupling = Coupling::Tying(maps, self.disc.rest.tying_twins);
+        if let Some(maps) = self.tying_maps(e, eval.state) {
+            let coupling = Coupling::Tying(&maps, self.disc.rest.tying_twins);
             self.coupled_derivatives(e, eval, coupling, with_hessian, out, local);
             return;
         }

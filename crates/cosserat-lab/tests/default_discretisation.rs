@@ -3,7 +3,9 @@
 //! benchmarks: the Sze cantilevers 3.1 and 3.2 and the Euler–Bernoulli cantilever within 1 % on their
 //! scenes' meshes, and the paper's Plate under load within 0.5 % of 31.61 mm on 40 × 4 quads. Each scene
 //! names the paper's pair; removing `mesh.rotation_element` gives the default. The obstacle course and
-//! the thin cantilevers are pinned with the same discretisation in `obstacle.rs`.
+//! the thin cantilevers are pinned with the same discretisation in `obstacle.rs`. A thin membrane held
+//! in tension (where stabilised strains that ignore the tension are unstable) matches the membrane's
+//! closed form and runs in time steps.
 
 use cosserat::RunDescription;
 use cosserat_lab::problem::{compare, registry};
@@ -13,8 +15,9 @@ use cosserat_lab::runner::{RunOutcome, Runner, run_described};
 /// on 160 × 16 and finer, and its Richardson extrapolation).
 const PLATE_TIP_MM: f64 = 31.61;
 
-fn run_default(name: &str, scene: &str) -> RunOutcome {
-    let ov = ["mesh.rotation_element=".to_string(), "output.frames=false".to_string()];
+fn run_default(name: &str, scene: &str, overrides: &[&str]) -> RunOutcome {
+    let mut ov = vec!["mesh.rotation_element=".to_string(), "output.frames=false".to_string()];
+    ov.extend(overrides.iter().map(|o| o.to_string()));
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("default_discretisation")
         .join(name);
@@ -35,7 +38,7 @@ fn the_default_discretisation_keeps_the_cantilever_benchmarks_within_one_percent
     std::env::set_current_dir(&root).unwrap();
     for name in ["sze_cantilever_end_shear", "end_moment_rollup", "cantilever_small_load"] {
         let problem = registry().into_iter().find(|p| p.name == name).unwrap();
-        let outcome = run_default(name, problem.scene);
+        let outcome = run_default(name, problem.scene, &[]);
         let (errors, _) = compare(&problem, outcome.probes.as_ref().unwrap(), false).unwrap();
         eprintln!("{name}: error {:.3e}", errors.max());
         assert!(errors.max() <= 0.01, "{name}: error {:.3e}", errors.max());
@@ -46,10 +49,53 @@ fn the_default_discretisation_keeps_the_cantilever_benchmarks_within_one_percent
 fn the_default_discretisation_keeps_the_plate_under_load_within_half_a_percent() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
-    let outcome = run_default("plate_under_load", "scenes/plate_under_load.toml");
+    let outcome = run_default("plate_under_load", "scenes/plate_under_load.toml", &[]);
     let tip = 1e3 * outcome.probes.as_ref().unwrap().last("tip.uz").unwrap().abs();
     assert!(
         (tip / PLATE_TIP_MM - 1.0).abs() <= 0.005,
         "tip {tip:.4} mm against {PLATE_TIP_MM} mm"
+    );
+}
+
+/// The centre deflection of `scenes/validation/prestressed_membrane.toml` as a membrane: `N ∇²w = −p` on
+/// the square of side `a` gives `w = c p a² / N` at the centre with
+/// `c = 16/π⁴ Σ_{m,n odd} sin(mπ/2) sin(nπ/2) / (m n (m² + n²))`; the equal biaxial stretch
+/// `ε = N (1 − ν) / (E h)` multiplies it by `1 + ε` (the side and the deformed area grow by `1 + ε`,
+/// the tension per deformed length falls by it, and the pressure is a dead load per rest area).
+fn membrane_centre_deflection() -> f64 {
+    let (a, h, e, nu, tension, p) = (1.0, 1e-3, 1e9, 0.3, 14285.7, 10.0);
+    let mut sum = 0.0;
+    for m in (1..400).step_by(2) {
+        for n in (1..400).step_by(2) {
+            let sign = if (m + n) % 4 == 0 { -1.0 } else { 1.0 };
+            let (m, n) = (f64::from(m), f64::from(n));
+            sum += sign / (m * n * (m * m + n * n));
+        }
+    }
+    let c = 16.0 / std::f64::consts::PI.powi(4) * sum;
+    let strain = tension * (1.0 - nu) / (e * h);
+    c * p * a * a * (1.0 + strain) / tension
+}
+
+#[test]
+fn the_default_discretisation_holds_a_membrane_in_tension() {
+    let root = cosserat_lab::workspace_root();
+    std::env::set_current_dir(&root).unwrap();
+    let scene = "scenes/validation/prestressed_membrane.toml";
+    let outcome = run_default("prestressed_membrane", scene, &[]);
+    let w = outcome.probes.as_ref().unwrap().last("centre.uz").unwrap();
+    let expected = membrane_centre_deflection();
+    assert!(
+        (w / expected - 1.0).abs() <= 5e-4,
+        "centre {w:.6e} m against {expected:.6e} m"
+    );
+    // The same loads in time steps: every step converges in Newton's first iterations.
+    let dynamic = ["time.mode=dynamic", "time.n_levels=", "time.dt=0.01", "time.end=0.5"];
+    let outcome = run_default("prestressed_membrane_dynamic", scene, &dynamic);
+    let summary = outcome.summary.as_ref().unwrap();
+    assert!(
+        summary.max_newton_iterations <= 3,
+        "{} iterations",
+        summary.max_newton_iterations
     );
 }

@@ -37,6 +37,7 @@
 //! [`StrainInterpolation::Assumed`]: crate::StrainInterpolation::Assumed
 //! [`StrainInterpolation::Regge`]: crate::StrainInterpolation::Regge
 
+use crate::projection::StrainProjection;
 use nalgebra::{DMatrix, Matrix2, SMatrix};
 
 /// Number of tying points per element: two Gauss points per edge, the centroid, and the three points
@@ -422,7 +423,18 @@ pub fn tying_maps(
 /// must keep both parts at their point values (as [`AssumedParts::MEMBRANE`] does); a constant strain
 /// is reproduced, so the patch tests hold.
 pub fn stabilize_shear_and_drilling(maps: &mut [TyingMap], alpha_shear: f64, alpha_drilling: f64) {
-    let removed = shear_projector() * (1.0 - alpha_shear) + drilling_projector() * (1.0 - alpha_drilling);
+    remove_shear_and_drilling(maps, 1.0 - alpha_shear, 1.0 - alpha_drilling);
+}
+
+/// Changes the shear and drilling factors of maps stabilised with `from` to those of `to`: the maps are
+/// linear in the factors, so this is the stabilisation by the difference.
+pub fn restabilize_shear_and_drilling(maps: &mut [TyingMap], from: &StrainProjection, to: &StrainProjection) {
+    remove_shear_and_drilling(maps, from.shear - to.shear, from.drilling - to.drilling);
+}
+
+/// Moves the fractions `shear` and `drilling` of the point values of those parts to the element mean.
+fn remove_shear_and_drilling(maps: &mut [TyingMap], shear: f64, drilling: f64) {
+    let removed = shear_projector() * shear + drilling_projector() * drilling;
     let n_interior = (N_TYING - FIRST_INTERIOR) as f64;
     for m in maps.iter_mut() {
         m.own -= removed;

@@ -15,6 +15,7 @@
 //! - [`projection`], [`projected`]: the stabilised strain projection against locking and its part of
 //!   the element kernel; [`assumed`], [`assumed_kernel`]: assumed covariant strains at tying points
 //!   (MITC6-style) and theirs; [`coupled`]: the element kernel both share;
+//! - [`tension`]: the stabilisation factors raised where a sheet is stretched;
 //! - [`oracle`]: the same energy composed directly, for tests (finite differences, dual oracles);
 //! - [`volume`]: the optional nonlinear membrane volume term.
 //!
@@ -47,6 +48,7 @@ pub mod projected;
 pub mod projection;
 pub mod rest;
 pub mod strain_space;
+pub mod tension;
 pub mod volume;
 
 pub use error::{MaterialError, RestStateError};

@@ -9,8 +9,8 @@
 //! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
 
 use crate::assumed::{
-    AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, TyingTwins, stabilize_shear_and_drilling, tying_maps,
-    tying_points,
+    AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, TyingTwins, restabilize_shear_and_drilling,
+    stabilize_shear_and_drilling, tying_maps, tying_points,
 };
 use crate::error::RestStateError;
 use crate::kernel::PointShape;
@@ -23,6 +23,7 @@ use cosserat_fem::{MeshError, QuadratureRule, ShapeFunctions, TriMesh};
 use cosserat_geometry::surface::{Curvature, SurfaceMetric};
 use nalgebra::{Matrix2, Matrix3, Vector3};
 use rayon::prelude::*;
+use std::borrow::Cow;
 
 /// Options of the rest-state computation.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -90,6 +91,10 @@ pub struct ShellRest<const NU: usize, const NR: usize> {
     pub tying_maps: Vec<TyingMap>,
     /// The tying points that lie on quadrature points (the same for every element).
     pub tying_twins: TyingTwins,
+    /// The shear and drilling factors stabilised into each element's tying maps under
+    /// [`StrainInterpolation::ReggeStabilized`] (empty otherwise), which a stretched element raises
+    /// ([`Self::element_tying_maps_in_tension`]).
+    pub tying_stabilization: Vec<StrainProjection>,
 }
 
 impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
@@ -97,6 +102,25 @@ impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
     pub fn element_tying_maps(&self, e: usize) -> Option<&[TyingMap]> {
         let n = self.quadrature_points_per_element;
         self.tying_maps.get(e * n..(e + 1) * n)
+    }
+
+    /// The tying maps of element `e` under the largest membrane stress `tension` of its points
+    /// ([`crate::tension::membrane_tension`]): the rest maps, or under
+    /// [`StrainInterpolation::ReggeStabilized`] those with the shear and drilling factors that keep the
+    /// stretched element stable ([`StrainProjection::held_in_tension`]).
+    pub fn element_tying_maps_in_tension(&self, e: usize, tension: f64) -> Option<Cow<'_, [TyingMap]>> {
+        let maps = self.element_tying_maps(e)?;
+        let Some(rest) = self.tying_stabilization.get(e) else {
+            return Some(Cow::Borrowed(maps));
+        };
+        // The element's first quadrature point stands for its stiffness against a turn of the directors.
+        let held = rest.held_in_tension(tension, self.densities.get(e * self.points_per_element));
+        if held == *rest {
+            return Some(Cow::Borrowed(maps));
+        }
+        let mut maps = maps.to_vec();
+        restabilize_shear_and_drilling(&mut maps, rest, &held);
+        Some(Cow::Owned(maps))
     }
 }
 
@@ -160,6 +184,7 @@ where
     };
     let n_points = n_qp + tying.len();
     let mut tying_map_list = Vec::new();
+    let mut tying_stabilization = Vec::new();
     // The curvature is needed only by the shell model.
     let geometry = match options.model.model {
         ShellModel::Shell => Some(rest_geometry(disp, corner, rule, &options.curvature)?),
@@ -215,6 +240,7 @@ where
                 let constants = StabilizationConstants::regge_stabilized(NR, n_qp);
                 let alpha = StrainProjection::new(&constants, moduli.thickness, longest_edge(&nodes));
                 stabilize_shear_and_drilling(&mut maps, alpha.shear, alpha.drilling);
+                tying_stabilization.push(alpha);
             }
             tying_map_list.extend(maps);
         }
@@ -267,6 +293,7 @@ where
         element_areas,
         projections,
         tying_maps: tying_map_list,
+        tying_stabilization,
         tying_twins: if tying.is_empty() {
             TyingTwins::NONE
         } else {

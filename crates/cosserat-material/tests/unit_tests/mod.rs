@@ -6,3 +6,4 @@ mod density;
 mod kernel;
 mod parameters;
 mod projected;
+mod tension;

@@ -1,0 +1,85 @@
+//! The stabilisation factors that keep a stretched sheet stable.
+//!
+//! When a director turns by a small angle `θ`, the tangential part of `Rᵀ F` shortens at second order,
+//! so under a membrane stress `N` the membrane energy falls by about `½ N θ²`. Pointwise strains hold
+//! such a turn through the transverse shear (a tilt) or the drilling strain (a turn about the normal),
+//! whose energy grows as `½ K θ²` with `K` of the order of the shear modulus times the thickness, far
+//! above any elastic stress. The stabilised shear and drilling strains keep only `α² K` for rotations
+//! that vary inside an element ([`crate::projection`]), so a sheet loses stability once `N > α² K`:
+//! spurious negative modes of the rotations, which tension alone drives (docs/model-notes.md, "A
+//! stretched sheet").
+//!
+//! [`StrainProjection::held_in_tension`] raises an element's factors to `α² ≥ κ N / K` with the safety
+//! factor [`TENSION_SAFETY`]. The stress is read from the positions at the start of the step (the
+//! surface stretch, without the rotations), so within a step the factors are constants and the
+//! element's energy keeps its exact derivatives; they follow the tension from step to step. Where a
+//! sheet is not stretched (bending, compression, the small loads of the locking benchmarks) nothing
+//! changes.
+
+use crate::projection::StrainProjection;
+use crate::strain_space::{DensityMatrix, StrainVector};
+use nalgebra::{Matrix2, Vector3};
+
+/// `κ` in `α² ≥ κ N / K`: the stress may grow within a step (it is read at the step's start) and the
+/// assumed membrane strains are not the point's own.
+pub const TENSION_SAFETY: f64 = 2.0;
+
+/// The largest principal membrane stress \[N/m\] of a point (zero where the surface is not stretched),
+/// from its deformed tangent vectors `f_hat` alone: the stretch `U = √(F̂ᵀ F̂)` against the rest
+/// stretch of the strain offset, through the density's membrane block.
+pub fn membrane_tension(f_hat: &[Vector3<f64>; 2], offset: &StrainVector, density: &DensityMatrix) -> f64 {
+    let c = Matrix2::new(
+        f_hat[0].dot(&f_hat[0]),
+        f_hat[0].dot(&f_hat[1]),
+        f_hat[1].dot(&f_hat[0]),
+        f_hat[1].dot(&f_hat[1]),
+    );
+    let det = c.determinant();
+    // A degenerate (or non-finite) surface has no stretch to read; the energy reports it.
+    if det.is_nan() || det <= 0.0 {
+        return 0.0;
+    }
+    // The square root of a 2 × 2 symmetric positive definite matrix in closed form.
+    let s = det.sqrt();
+    let u = (c + Matrix2::identity() * s) / (c.trace() + 2.0 * s).sqrt();
+    // `Ê` entries 0–5 are (a, γ) at 3γ + a; the tangential block holds a, γ ∈ {0, 1}, and only its
+    // stresses are read.
+    const TANGENTIAL: [usize; 4] = [0, 1, 3, 4];
+    let strain = TANGENTIAL.map(|k| u[(k % 3, k / 3)] - offset[k]);
+    let d = density.matrix();
+    let [n00, n10, n01, n11] =
+        TANGENTIAL.map(|r| TANGENTIAL.iter().zip(&strain).map(|(&col, e)| d[(r, col)] * e).sum::<f64>());
+    let n = Matrix2::new(n00, 0.5 * (n10 + n01), 0.5 * (n10 + n01), n11);
+    let mean = 0.5 * n.trace();
+    let radius = (0.25 * (n[(0, 0)] - n[(1, 1)]).powi(2) + n[(0, 1)].powi(2)).sqrt();
+    (mean + radius).max(0.0)
+}
+
+impl StrainProjection {
+    /// The factors of an element under the membrane stress `tension` (its largest over the element's
+    /// points, [`membrane_tension`]) with the density `density`: each of the shear and drilling factors
+    /// raised to `√(κ N / K)` where that is larger, `K` the stiffness of the part against a turn of the
+    /// directors (the shear strain's, and the skew tangential pair's), at most one.
+    pub fn held_in_tension(&self, tension: f64, density: &DensityMatrix) -> Self {
+        if tension <= 0.0 {
+            return *self;
+        }
+        let d = density.matrix();
+        let shear = d[(2, 2)].min(d[(5, 5)]);
+        // A turn `φ` about the normal changes the entries (1, 3) by `φ (−1, 1)`; the membrane strain falls by
+        // `½ φ² tr N ≤ φ² N`.
+        let drilling = d[(1, 1)] - d[(1, 3)] - d[(3, 1)] + d[(3, 3)];
+        let floor = |alpha: f64, stiffness: f64, load: f64| {
+            if stiffness > 0.0 {
+                alpha.max((TENSION_SAFETY * load / stiffness).sqrt().min(1.0))
+            } else {
+                alpha
+            }
+        };
+        Self {
+            shear: floor(self.shear, shear, tension),
+            drilling: floor(self.drilling, drilling, 2.0 * tension),
+            ..*self
+        }
+    }
+}
