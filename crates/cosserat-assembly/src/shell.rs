@@ -30,7 +30,7 @@ use cosserat_material::kernel::{
 use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, strain_offset};
-use cosserat_material::tension::membrane_tension;
+use cosserat_material::tension::{membrane_stretch, membrane_tension};
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
 use nalgebra::{Matrix3, SMatrix, Vector3};
@@ -191,8 +191,8 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     }
 
     /// The tying maps of element `e` (under assumed strains) for a step that starts at `state`: a
-    /// stretched element's stabilisation is raised by its largest membrane stress there
-    /// ([`ShellRest::element_tying_maps_in_tension`]), constant within the step.
+    /// stretched element's stabilisation is raised by its membrane stress there, that of its mean
+    /// stretch ([`ShellRest::element_tying_maps_in_tension`]), constant within the step.
     fn tying_maps(&self, e: usize, state: &SystemState) -> Option<Cow<'_, [TyingMap]>> {
         let rest = &self.disc.rest;
         let tension = if rest.tying_stabilization.is_empty() {
@@ -200,13 +200,16 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         } else {
             let d = &self.disc.disp_elements[e];
             let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
-            (0..rest.quadrature_points_per_element)
-                .map(|g| {
-                    let p = e * rest.points_per_element + g;
-                    let shape = &rest.shapes[p];
-                    membrane_tension(&f_hat(shape, &x), self.offset(p), rest.densities.get(p))
-                })
-                .fold(0.0, f64::max)
+            let first = e * rest.points_per_element;
+            let mut mean = [0.0; 4];
+            for p in first..first + rest.quadrature_points_per_element {
+                let shape = &rest.shapes[p];
+                let stretch = membrane_stretch(&f_hat(shape, &x), self.offset(p));
+                for (m, s) in mean.iter_mut().zip(stretch) {
+                    *m += shape.weight * s / rest.element_areas[e];
+                }
+            }
+            membrane_tension(&mean, rest.densities.get(first))
         };
         rest.element_tying_maps_in_tension(e, tension)
     }

@@ -104,8 +104,8 @@ impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
         self.tying_maps.get(e * n..(e + 1) * n)
     }
 
-    /// The tying maps of element `e` under the largest membrane stress `tension` of its points
-    /// ([`crate::tension::membrane_tension`]): the rest maps, or under
+    /// The tying maps of element `e` under the membrane stress `tension` (of its mean stretch,
+    /// [`crate::tension::membrane_tension`]): the rest maps, or under
     /// [`StrainInterpolation::ReggeStabilized`] those with the shear and drilling factors that keep the
     /// stretched element stable ([`StrainProjection::held_in_tension`]).
     pub fn element_tying_maps_in_tension(&self, e: usize, tension: f64) -> Option<Cow<'_, [TyingMap]>> {

@@ -12,7 +12,9 @@
 //! [`StrainProjection::held_in_tension`] raises an element's factors to `α² ≥ κ N / K` with the safety
 //! factor [`TENSION_SAFETY`]. The stress is read from the positions at the start of the step (the
 //! surface stretch, without the rotations), so within a step the factors are constants and the
-//! element's energy keeps its exact derivatives; they follow the tension from step to step. Where a
+//! element's energy keeps its exact derivatives; they follow the tension from step to step. The
+//! stretch is the element's mean: a bent element's points stretch and shorten about a mean the bending
+//! does not move (the parasitic membrane strains that the assumed membrane strains filter out). Where a
 //! sheet is not stretched (bending, compression, the small loads of the locking benchmarks) nothing
 //! changes.
 
@@ -24,10 +26,10 @@ use nalgebra::{Matrix2, Vector3};
 /// assumed membrane strains are not the point's own.
 pub const TENSION_SAFETY: f64 = 2.0;
 
-/// The largest principal membrane stress \[N/m\] of a point (zero where the surface is not stretched),
-/// from its deformed tangent vectors `f_hat` alone: the stretch `U = √(F̂ᵀ F̂)` against the rest
-/// stretch of the strain offset, through the density's membrane block.
-pub fn membrane_tension(f_hat: &[Vector3<f64>; 2], offset: &StrainVector, density: &DensityMatrix) -> f64 {
+/// The tangential strain entries `Ê` 0, 1, 3, 4 ((a, γ) at 3γ + a, a, γ ∈ {0, 1}) of a point with the
+/// polar rotation of its deformed tangent vectors `f_hat`: the stretch `U = √(F̂ᵀ F̂)` against the rest
+/// stretch of the strain offset, without the point's own rotation.
+pub fn membrane_stretch(f_hat: &[Vector3<f64>; 2], offset: &StrainVector) -> [f64; 4] {
     let c = Matrix2::new(
         f_hat[0].dot(&f_hat[0]),
         f_hat[0].dot(&f_hat[1]),
@@ -37,27 +39,33 @@ pub fn membrane_tension(f_hat: &[Vector3<f64>; 2], offset: &StrainVector, densit
     let det = c.determinant();
     // A degenerate (or non-finite) surface has no stretch to read; the energy reports it.
     if det.is_nan() || det <= 0.0 {
-        return 0.0;
+        return [0.0; 4];
     }
     // The square root of a 2 × 2 symmetric positive definite matrix in closed form.
     let s = det.sqrt();
     let u = (c + Matrix2::identity() * s) / (c.trace() + 2.0 * s).sqrt();
-    // `Ê` entries 0–5 are (a, γ) at 3γ + a; the tangential block holds a, γ ∈ {0, 1}, and only its
-    // stresses are read.
-    const TANGENTIAL: [usize; 4] = [0, 1, 3, 4];
-    let strain = TANGENTIAL.map(|k| u[(k % 3, k / 3)] - offset[k]);
+    TANGENTIAL.map(|k| u[(k % 3, k / 3)] - offset[k])
+}
+
+/// The largest principal membrane stress \[N/m\] of the tangential strain `strain`
+/// ([`membrane_stretch`]) through the density's membrane block (zero where the surface is not
+/// stretched).
+pub fn membrane_tension(strain: &[f64; 4], density: &DensityMatrix) -> f64 {
     let d = density.matrix();
     let [n00, n10, n01, n11] =
-        TANGENTIAL.map(|r| TANGENTIAL.iter().zip(&strain).map(|(&col, e)| d[(r, col)] * e).sum::<f64>());
+        TANGENTIAL.map(|r| TANGENTIAL.iter().zip(strain).map(|(&col, e)| d[(r, col)] * e).sum::<f64>());
     let n = Matrix2::new(n00, 0.5 * (n10 + n01), 0.5 * (n10 + n01), n11);
     let mean = 0.5 * n.trace();
     let radius = (0.25 * (n[(0, 0)] - n[(1, 1)]).powi(2) + n[(0, 1)].powi(2)).sqrt();
     (mean + radius).max(0.0)
 }
 
+/// The tangential entries of `Ê` among its entries 0–5.
+const TANGENTIAL: [usize; 4] = [0, 1, 3, 4];
+
 impl StrainProjection {
-    /// The factors of an element under the membrane stress `tension` (its largest over the element's
-    /// points, [`membrane_tension`]) with the density `density`: each of the shear and drilling factors
+    /// The factors of an element under the membrane stress `tension` ([`membrane_tension`] of its mean
+    /// stretch) with the density `density`: each of the shear and drilling factors
     /// raised to `√(κ N / K)` where that is larger, `K` the stiffness of the part against a turn of the
     /// directors (the shear strain's, and the skew tangential pair's), at most one.
     pub fn held_in_tension(&self, tension: f64, density: &DensityMatrix) -> Self {
