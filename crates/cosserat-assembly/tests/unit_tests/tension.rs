@@ -24,6 +24,17 @@ struct Sheet {
 }
 
 impl Sheet {
+    /// The default discretisation (Tri6/Tri6, `"regge_stabilized"`) on the rule of `degree` (`None`:
+    /// its default rule).
+    fn default_discretisation(degree: Option<usize>, thickness: f64) -> Self {
+        Self {
+            pair: ElementPair::Tri6Tri6,
+            interpolation: StrainInterpolation::ReggeStabilized,
+            degree,
+            thickness,
+        }
+    }
+
     /// The number of negative eigenvalues (below −1e-9 of the largest) of the Hessian at a uniform
     /// in-plane stretch `x ↦ (1 + strain) x`, the directors unrotated (the stretch's polar rotation),
     /// reached by a step from the rest state.
@@ -96,12 +107,7 @@ fn point_and_regge_strains_keep_a_stretched_sheet_stable() {
 #[test]
 fn the_default_discretisation_keeps_a_sheet_stable_to_one_percent_stretch() {
     for degree in [None, Some(4)] {
-        let sheet = Sheet {
-            pair: ElementPair::Tri6Tri6,
-            interpolation: StrainInterpolation::ReggeStabilized,
-            degree,
-            thickness: 2e-3,
-        };
+        let sheet = Sheet::default_discretisation(degree, 2e-3);
         for strain in [1e-3, 3e-3, 1e-2] {
             assert_eq!(sheet.negative_modes(strain), 0, "degree {degree:?}, strain {strain}");
         }
@@ -115,12 +121,7 @@ fn the_default_discretisation_keeps_a_sheet_stable_to_one_percent_stretch() {
 #[test]
 fn the_default_discretisation_keeps_a_sheet_held_in_tension_stable() {
     for degree in [None, Some(4)] {
-        let sheet = Sheet {
-            pair: ElementPair::Tri6Tri6,
-            interpolation: StrainInterpolation::ReggeStabilized,
-            degree,
-            thickness: 5e-4,
-        };
+        let sheet = Sheet::default_discretisation(degree, 5e-4);
         assert!(
             sheet.negative_modes_from(1e-2, Start::Rest) > 0,
             "degree {degree:?}: without the start's tension the thin sheet has negative modes at 1 %"
