@@ -75,6 +75,11 @@ pub trait ShellEnergy: PotentialTerm {
     fn advance_predicted_strains(&mut self, alpha: f64);
     /// Hessians use the points' own stresses again.
     fn clear_predicted_strains(&mut self);
+    /// Lets the stabilisation follow the membrane stresses of the iterate `eval.u` for the rest of the
+    /// step; returns whether the energy changed.
+    fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool;
+    /// The step ended: the next takes its stabilisation from its own start.
+    fn release_tension(&mut self);
 }
 
 impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellEnergy
@@ -114,6 +119,14 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn clear_predicted_strains(&mut self) {
         self.clear_predicted_strains();
+    }
+
+    fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool {
+        self.follow_tension(eval)
+    }
+
+    fn release_tension(&mut self) {
+        self.release_tension();
     }
 }
 
@@ -729,9 +742,37 @@ impl IncrementalPotential {
         !inertia && !torques && parts.omega_penalties.is_empty()
     }
 
-    /// Puts back the step's start rotations after [`Self::rebase_rotations`] (a solve that failed and
-    /// is retried from the start of the step).
+    /// Lets the shells' stabilisation follow the membrane stresses of the iterate `u` where they have
+    /// grown beyond what the step's start holds (a sheet pulled taut within the step), until
+    /// [`Self::commit`] or [`Self::restore_step_start`]. Returns whether the energy changed: the iterate
+    /// must then be evaluated anew.
+    pub fn follow_tension(&mut self, u: &[f64]) -> bool {
+        self.update_rotations(u, false);
+        let eval = Evaluation {
+            state: &self.parts.state,
+            layout: &self.parts.layout,
+            u,
+            dt: self.dt,
+            rotations: &self.rotations,
+            parallelism: self.parallelism,
+        };
+        let mut changed = false;
+        for shell in &mut self.parts.shells {
+            changed |= shell.follow_tension(&eval);
+        }
+        if changed {
+            self.clear_predicted_strains();
+        }
+        changed
+    }
+
+    /// Puts back the step's start rotations after [`Self::rebase_rotations`] and the stabilisation of
+    /// the step's start after [`Self::follow_tension`] (a solve that failed and is retried from the
+    /// start of the step).
     pub fn restore_step_start(&mut self) {
+        for shell in &mut self.parts.shells {
+            shell.release_tension();
+        }
         if let Some(start) = self.step_start_rotations.take() {
             self.parts.state.q = start.nodes;
             self.parts.state.q_points = start.points;
@@ -748,6 +789,7 @@ impl IncrementalPotential {
         self.step_start_rotations = None;
         for s in &mut self.parts.shells {
             s.commit(&mut self.parts.state, &layout, u, dt);
+            s.release_tension();
         }
         for t in &mut self.terms {
             t.commit(&mut self.parts.state, &layout, u, dt);

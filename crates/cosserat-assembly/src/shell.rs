@@ -30,7 +30,7 @@ use cosserat_material::kernel::{
 use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
 use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, strain_offset};
-use cosserat_material::tension::{membrane_stretch, membrane_tension};
+use cosserat_material::tension::{membrane_stretch, membrane_stretch_predicted, membrane_tension};
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
 use nalgebra::{Matrix3, SMatrix, Vector3};
@@ -70,7 +70,27 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
     elements: ElementAssembly<NE, NB, LocalDerivatives<NL>>,
     /// The predicted strains of the mixed-integration-point Newton method, per point.
     prediction: StrainPrediction,
+    /// The membrane stress each element's stabilisation holds in the current step once an accepted
+    /// iterate has stretched some element beyond what the step's start holds
+    /// ([`Self::follow_tension`]); `None`: the stresses at the step's start.
+    step_tension: Option<StepTension>,
 }
+
+/// The membrane stresses that a shell's stabilisation holds within a step
+/// ([`ShellTerm::follow_tension`]).
+#[derive(Debug, Clone)]
+struct StepTension {
+    /// Each element's stress at the step's start.
+    start: Vec<f64>,
+    /// The stress each element's factors are raised for.
+    held: Vec<f64>,
+}
+
+/// An element's factors fall back when an iterate's stress has fallen below this fraction of the
+/// stress they were raised for (never below the step start's): the iterates of a thin shell far from
+/// equilibrium carry transient stresses of their own error. Between this and the stress the factors
+/// hold they stay, so that the energy changes only where the stress has moved by a factor.
+const TENSION_RELEASE: f64 = 0.25;
 
 /// Linear displacement and rotation elements.
 pub type Tri3Tri3Shell = ShellTerm<3, 3, 15, 18, 6>;
@@ -99,6 +119,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             project_pd: false,
             elements: ElementAssembly::new(),
             prediction: StrainPrediction::default(),
+            step_tension: None,
         }
     }
 
@@ -191,27 +212,86 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     }
 
     /// The tying maps of element `e` (under assumed strains) for a step that starts at `state`: a
-    /// stretched element's stabilisation is raised by its membrane stress there, that of its mean
-    /// stretch ([`ShellRest::element_tying_maps_in_tension`]), constant within the step.
+    /// stretched element's stabilisation is raised by its membrane stress, that of its mean stretch
+    /// ([`ShellRest::element_tying_maps_in_tension`]) at the step's start or predicted at the iterate
+    /// that raised it ([`Self::follow_tension`]), constant between raises.
     fn tying_maps(&self, e: usize, state: &SystemState) -> Option<Cow<'_, [TyingMap]>> {
         let rest = &self.disc.rest;
-        let tension = if rest.tying_stabilization.is_empty() {
-            0.0
-        } else {
-            let d = &self.disc.disp_elements[e];
-            let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
-            let first = e * rest.points_per_element;
-            let mut mean = [0.0; 4];
-            for p in first..first + rest.quadrature_points_per_element {
-                let shape = &rest.shapes[p];
-                let stretch = membrane_stretch(&f_hat(shape, &x), self.offset(p));
-                for (m, s) in mean.iter_mut().zip(stretch) {
-                    *m += shape.weight * s / rest.element_areas[e];
-                }
-            }
-            membrane_tension(&mean, rest.densities.get(first))
+        let tension = match &self.step_tension {
+            _ if rest.tying_stabilization.is_empty() => 0.0,
+            Some(step) => step.held[e],
+            None => self.start_tension(e, state),
         };
         rest.element_tying_maps_in_tension(e, tension)
+    }
+
+    /// The membrane stress of element `e`'s mean stretch at the start of the step.
+    fn start_tension(&self, e: usize, state: &SystemState) -> f64 {
+        let x = self.disc.disp_elements[e].map(|i| state.x[i]);
+        self.element_tension(e, |shape, offset| membrane_stretch(&f_hat(shape, &x), offset))
+    }
+
+    /// The membrane stress of element `e`'s mean stretch, `stretch` giving a point's.
+    fn element_tension(&self, e: usize, stretch: impl Fn(&PointShape<NU, NR>, &StrainVector) -> [f64; 4]) -> f64 {
+        let rest = &self.disc.rest;
+        let first = e * rest.points_per_element;
+        let mut mean = [0.0; 4];
+        for p in first..first + rest.quadrature_points_per_element {
+            let shape = &rest.shapes[p];
+            for (m, s) in mean.iter_mut().zip(stretch(shape, self.offset(p))) {
+                *m += shape.weight * s / rest.element_areas[e];
+            }
+        }
+        membrane_tension(&mean, rest.densities.get(first))
+    }
+
+    /// Lets the stabilisation follow the membrane stresses of the iterate `eval.u` for the rest of the
+    /// step: an element stretched beyond what its factors hold without the safety factor
+    /// ([`StrainProjection::holds_tension`](cosserat_material::StrainProjection::holds_tension)) has
+    /// them raised for the iterate's stress, and one raised whose stress has fallen below a quarter of
+    /// that (`TENSION_RELEASE`) has them lowered to it (never below the step start's). The stress is
+    /// that of the stretch predicted linearly along the step ([`membrane_stretch_predicted`]), so that
+    /// the second-order stretch of iterates that rotate far does not count. A sheet pulled taut within
+    /// one step thus stays stable. Returns whether the energy changed.
+    pub fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool {
+        let rest = &self.disc.rest;
+        if rest.tying_stabilization.is_empty() {
+            return false;
+        }
+        let mut step = self.step_tension.take().unwrap_or_else(|| {
+            let start: Vec<f64> = (0..self.n_elements()).map(|e| self.start_tension(e, eval.state)).collect();
+            StepTension {
+                held: start.clone(),
+                start,
+            }
+        });
+        let mut changed = false;
+        for (e, (held, start)) in step.held.iter_mut().zip(&step.start).enumerate() {
+            let nodes = &self.disc.disp_elements[e];
+            let x = nodes.map(|i| eval.state.x[i]);
+            let dx = nodes.map(|i| eval.layout.velocity(eval.u, i) * eval.dt);
+            let tension = self.element_tension(e, |shape, offset| {
+                membrane_stretch_predicted(&f_hat(shape, &x), &f_hat(shape, &dx), offset)
+            });
+            let density = rest.densities.get(e * rest.points_per_element);
+            let factors = rest.tying_stabilization[e].held_in_tension(*held, density);
+            let target = if !factors.holds_tension(tension, density) {
+                tension
+            } else if *held > *start && tension < TENSION_RELEASE * *held {
+                tension.max(*start)
+            } else {
+                continue;
+            };
+            changed |= target != *held;
+            *held = target;
+        }
+        self.step_tension = Some(step);
+        changed
+    }
+
+    /// The step ended (committed or abandoned): the next takes its stabilisation from its own start.
+    pub fn release_tension(&mut self) {
+        self.step_tension = None;
     }
 
     /// Clears prescribed rest fields.

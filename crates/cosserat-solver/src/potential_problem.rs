@@ -132,7 +132,11 @@ impl NewtonProblem for PotentialProblem<'_> {
         self.potential.rebase_rotations(x)
     }
 
-    fn abandon_rebase(&mut self) {
+    fn follow_iterate(&mut self, x: &[f64]) -> bool {
+        self.potential.follow_tension(x)
+    }
+
+    fn abandon_solve(&mut self) {
         self.potential.restore_step_start();
     }
 

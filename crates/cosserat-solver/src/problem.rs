@@ -96,9 +96,21 @@ pub trait NewtonProblem {
         false
     }
 
-    /// The solve failed: undoes what [`rebase`](Self::rebase) changed outside the unknowns. The default
-    /// does nothing.
-    fn abandon_rebase(&mut self) {}
+    /// Lets a problem whose energy holds parameters fixed within a solve adapt them to the accepted
+    /// iterate `x` (for example a shell's stabilisation, raised where the iterate stretches the sheet
+    /// beyond what the start of the step holds). Returns whether the energy changed; Newton's method
+    /// then evaluates `x` anew, and its residual history continues from there. It is also called with
+    /// the solve's starting point (a prediction), before anything is evaluated. The changes must settle
+    /// as the iterates converge (parameters that change only when the iterate has moved them by a
+    /// factor, say), or the solve runs to its iteration limit. The default changes nothing.
+    fn follow_iterate(&mut self, x: &[f64]) -> bool {
+        let _ = x;
+        false
+    }
+
+    /// The solve failed: undoes what [`rebase`](Self::rebase) and [`follow_iterate`](Self::follow_iterate)
+    /// changed outside the unknowns. The default does nothing.
+    fn abandon_solve(&mut self) {}
 
     /// Moves unknowns of a trial state `x`, reached from the iterate `from`, that run towards a
     /// singularity of the problem's parametrisation across it, to where the descent can continue (for

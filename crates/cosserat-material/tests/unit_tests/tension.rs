@@ -2,7 +2,7 @@
 //! membrane forces of the model's isotropic law, and the factors it raises.
 
 use cosserat_material::strain_space::{DensityMatrix, local_geometry, strain_hessian, strain_offset};
-use cosserat_material::tension::{TENSION_SAFETY, membrane_stretch, membrane_tension};
+use cosserat_material::tension::{TENSION_SAFETY, membrane_stretch, membrane_stretch_predicted, membrane_tension};
 use cosserat_material::{MaterialParameters, ModelOptions, ShellModel, StrainProjection, TermSet};
 use nalgebra::{Matrix3, Rotation3, Vector3};
 
@@ -92,4 +92,58 @@ fn held_in_tension_raises_the_factors_to_the_stress() {
     // The factors never exceed one (the point strains).
     let huge = rest.held_in_tension(E * H, &density);
     assert_eq!((huge.shear, huge.drilling), (1.0, 1.0));
+}
+
+/// The stretch predicted along a step is the stretch's first-order Taylor polynomial: its increment
+/// matches the central difference of [`membrane_stretch`] along the step (an anisotropically stretched
+/// and sheared surface, where the derivative of `√(F̂ᵀ F̂)` is not the symmetric part of `Qᵀ dF̂`), so
+/// it misses the actual stretch by the step's square; a step that turns the surface, `dF̂ = W F̂` with
+/// `W` skew, predicts no stretch while the turned surface does stretch at second order.
+#[test]
+fn the_predicted_stretch_is_the_first_order_taylor_polynomial() {
+    let frame = *Rotation3::from_euler_angles(0.3, -0.2, 1.1).matrix();
+    let offset = strain_offset(&frame, None, None);
+    let spin = *Rotation3::from_euler_angles(1.0, 0.4, -2.0).matrix();
+    let mut f = stretched(&frame, [0.03, -0.02], &spin);
+    f[1] += 0.04 * f[0];
+    let df = [Vector3::new(0.3, -0.7, 0.2), Vector3::new(-0.4, 0.1, 0.9)];
+    let at = |t: f64| membrane_stretch(&[f[0] + df[0] * t, f[1] + df[1] * t], &offset);
+    let step = 1e-4;
+    let h = 1e-6;
+    let (plus, minus, start) = (at(h), at(-h), at(0.0));
+    let predicted = membrane_stretch_predicted(&f, &[df[0] * step, df[1] * step], &offset);
+    let actual = at(step);
+    for k in 0..4 {
+        let difference = start[k] + step * (plus[k] - minus[k]) / (2.0 * h);
+        assert!(
+            (predicted[k] - difference).abs() <= 1e-11,
+            "entry {k}: {} vs {difference}",
+            predicted[k]
+        );
+        assert!(
+            (predicted[k] - actual[k]).abs() <= 1e-7,
+            "entry {k}: {} vs {}",
+            predicted[k],
+            actual[k]
+        );
+    }
+    // A turn of an equally stretched surface by 0.1 rad about its normal and about a tangent.
+    let f = stretched(&frame, [0.01, 0.01], &Matrix3::identity());
+    let normal = f[0].cross(&f[1]).normalize();
+    for axis in [normal, f[0].normalize()] {
+        let w = axis.cross_matrix() * 0.1;
+        let predicted = membrane_stretch_predicted(&f, &[w * f[0], w * f[1]], &offset);
+        let turned = membrane_stretch(&[f[0] + w * f[0], f[1] + w * f[1]], &offset);
+        let start = membrane_stretch(&f, &offset);
+        for k in 0..4 {
+            assert!(
+                (predicted[k] - start[k]).abs() <= 1e-14,
+                "entry {k}: {predicted:?} vs {start:?}"
+            );
+        }
+        assert!(
+            turned[0] + turned[3] - start[0] - start[3] > 1e-3,
+            "the turned surface stretches: {turned:?} vs {start:?}"
+        );
+    }
 }

@@ -329,6 +329,9 @@ impl NewtonSolver {
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, x)?;
         problem.clear_predicted_strains();
+        // A predicted start (a previous step's velocity, a path's secant) is an iterate too; nothing has
+        // been evaluated yet, so whether it changed the energy does not matter.
+        problem.follow_iterate(x);
         let mut run = Run {
             residuals: Vec::with_capacity(self.settings.max_iterations + 1),
             iterations: 0,
@@ -350,7 +353,7 @@ impl NewtonSolver {
         };
         self.spent.add(taken, &run.report);
         if result.is_err() {
-            problem.abandon_rebase();
+            problem.abandon_solve();
         }
         // A solve that stopped where it started lets the next one evaluate the gradient alone first, so
         // that a state at rest does not pay for a Hessian; any other starts with the Hessian, whose
@@ -432,9 +435,9 @@ impl NewtonSolver {
                     });
                 }
             }
-            if !matches!(step, Step::Failed) && problem.rebase(x) {
-                // The same state in other unknowns: its residual, gradient and Hessian are evaluated
-                // anew, and the residual of the old unknowns does not count.
+            if !matches!(step, Step::Failed) && (problem.rebase(x) | problem.follow_iterate(x)) {
+                // The same state in other unknowns, or the same unknowns under an adapted energy: its
+                // residual, gradient and Hessian are evaluated anew, and the old residual does not count.
                 if at.gradient {
                     run.residuals.pop();
                 }

@@ -10,7 +10,7 @@ use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 use nalgebra::DVector;
 
 use super::fixtures::{block_grid, random_vector, rng};
-use super::toy::{HalfTurn, Quadratic, Rosenbrock, Scalar, SpringChain, pattern_of};
+use super::toy::{HalfTurn, Quadratic, Rosenbrock, Scalar, SpringChain, Taut, pattern_of};
 
 /// The reference code's Newton: absolute tolerance 1e-7, indefinite Hessians factorised as they are.
 fn reference_newton() -> NewtonSettings {
@@ -763,6 +763,49 @@ fn a_solve_from_a_prediction_measures_the_load_scale_at_the_unpredicted_start() 
         solver.solve(&mut problem, &mut x).unwrap().convergence.load_scale,
         plain.convergence.load_scale
     );
+}
+
+/// A sheet pulled taut within one solve: Newton's method from rest, with the stabilisation raised at
+/// the accepted iterates that outrun it, converges to a stationary point of the final energy at which it
+/// is positive definite; with the stabilisation of the start the energy has no minimum to find. A
+/// failed solve puts the stabilisation back.
+#[test]
+fn following_the_iterate_keeps_a_sheet_pulled_taut_stable() {
+    let settings = NewtonSettings {
+        tolerance: Tolerance::Absolute(1e-12),
+        ..NewtonSettings::default()
+    };
+    let mut taut = Taut::new(true);
+    let mut x = [0.0, 0.0];
+    let report = solve(&mut taut, &mut x, settings).unwrap();
+    assert!(taut.raised >= 1, "the stabilisation never followed");
+    assert_eq!(report.residuals.len(), report.iterations + 1);
+    assert!(report.iterations <= 10, "{} iterations", report.iterations);
+    let mut g = [0.0; 2];
+    let mut h = [0.0; 3];
+    taut.hessian(&x, &mut g, &mut h).unwrap();
+    assert!(g[0].abs().max(g[1].abs()) <= 1e-12, "gradient {g:?} at {x:?}");
+    assert!(h[0] > 0.0 && h[0] * h[2] - h[1] * h[1] > 0.0, "Hessian {h:?} at {x:?}");
+    // The stretch nearly the pull, the turn that of the final stiffness.
+    assert!((x[0] - taut.pull).abs() < 1e-3, "{x:?}");
+    assert!((x[1] - taut.load / (taut.floor + taut.stabilisation - x[0])).abs() < 1e-12);
+
+    let mut fixed = Taut::new(false);
+    let mut x = [0.0, 0.0];
+    assert!(
+        solve(&mut fixed, &mut x, settings).is_err(),
+        "with the start's stabilisation the solve ended at {x:?}"
+    );
+
+    let mut failing = Taut::new(true);
+    let mut x = [0.0, 0.0];
+    let short = NewtonSettings {
+        max_iterations: 1,
+        ..settings
+    };
+    assert!(solve(&mut failing, &mut x, short).is_err());
+    assert!(failing.raised >= 1, "the failed solve never followed");
+    assert_eq!(failing.stabilisation, 0.0);
 }
 
 /// An angle 0.01° short of a half turn, reached by a Cayley-type update: rebased at the angles it

@@ -300,7 +300,7 @@ pub struct HalfTurn {
     pub base: f64,
     pub target: f64,
     pub rebases: bool,
-    /// The base at the start of the solve, restored by [`NewtonProblem::abandon_rebase`].
+    /// The base at the start of the solve, restored by [`NewtonProblem::abandon_solve`].
     pub start: f64,
     pub rebased: usize,
     pub pattern: SymbolicSparseColMat<usize>,
@@ -355,7 +355,80 @@ impl NewtonProblem for HalfTurn {
         self.rebased += 1;
         true
     }
-    fn abandon_rebase(&mut self) {
+    fn abandon_solve(&mut self) {
         self.base = self.start;
+    }
+}
+
+/// A sheet's stretch `x` under the pull `a` and a turn `y` of its directors under the small load `b`,
+/// `Π = ½ (x − a)² + ½ (c + s − x) y² − b y`: the stretch takes stiffness `x` from the turn (a stretched
+/// sheet's membrane energy falls as its directors turn), which the stabilisation `s` gives back. With
+/// `follows`, [`NewtonProblem::follow_iterate`] raises `s` to `2 x` at an accepted iterate whose stretch
+/// exceeds what `c + s` holds, as a shell's stabilisation follows the tension; with `s = 0` throughout
+/// the energy is unbounded below once `x > c`.
+pub struct Taut {
+    pub pull: f64,
+    pub floor: f64,
+    pub load: f64,
+    pub stabilisation: f64,
+    pub follows: bool,
+    pub raised: usize,
+    pub pattern: SymbolicSparseColMat<usize>,
+}
+
+impl Taut {
+    pub fn new(follows: bool) -> Self {
+        Self {
+            pull: 1.0,
+            floor: 0.1,
+            load: 0.01,
+            stabilisation: 0.0,
+            follows,
+            raised: 0,
+            pattern: pattern_of(2, [(0, 0), (0, 1), (1, 1)]),
+        }
+    }
+
+    /// The turn's stiffness at the stretch `x`.
+    fn stiffness(&self, x: f64) -> f64 {
+        self.floor + self.stabilisation - x
+    }
+}
+
+impl NewtonProblem for Taut {
+    fn n_dofs(&self) -> usize {
+        2
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        let (s, y) = (x[0], x[1]);
+        Ok(0.5 * (s - self.pull).powi(2) + 0.5 * self.stiffness(s) * y * y - self.load * y)
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        let (s, y) = (x[0], x[1]);
+        g[0] = s - self.pull - 0.5 * y * y;
+        g[1] = self.stiffness(s) * y - self.load;
+        self.value(x)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        let (s, y) = (x[0], x[1]);
+        // Upper triangle, column by column: (0, 0), (0, 1), (1, 1).
+        h[0] = 1.0;
+        h[1] = -y;
+        h[2] = self.stiffness(s);
+        self.gradient(x, g)
+    }
+    fn follow_iterate(&mut self, x: &[f64]) -> bool {
+        if !self.follows || self.floor + self.stabilisation >= x[0] {
+            return false;
+        }
+        self.stabilisation = 2.0 * x[0];
+        self.raised += 1;
+        true
+    }
+    fn abandon_solve(&mut self) {
+        self.stabilisation = 0.0;
     }
 }
