@@ -75,6 +75,8 @@ pub trait ShellEnergy: PotentialTerm {
     fn advance_predicted_strains(&mut self, alpha: f64);
     /// Hessians use the points' own stresses again.
     fn clear_predicted_strains(&mut self);
+    /// Whether the stabilisation follows the membrane stresses ([`Self::follow_tension`]).
+    fn follows_tension(&self) -> bool;
     /// Lets the stabilisation follow the membrane stresses of the iterate `eval.u` for the rest of the
     /// step; returns whether the energy changed.
     fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool;
@@ -119,6 +121,10 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn clear_predicted_strains(&mut self) {
         self.clear_predicted_strains();
+    }
+
+    fn follows_tension(&self) -> bool {
+        self.follows_tension()
     }
 
     fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool {
@@ -452,7 +458,17 @@ impl IncrementalPotential {
     pub fn linearize_strains(&mut self, u: &[f64], du: &[f64]) -> Result<(), AssemblyError> {
         self.check_len(u)?;
         self.check_len(du)?;
-        self.update_rotations(u, true);
+        let (shells, eval) = self.shells_at(u, true);
+        for shell in shells {
+            shell.linearize_strains(&eval, du);
+        }
+        Ok(())
+    }
+
+    /// The shells, to change, beside the evaluation at `u` (rotations updated, with their jets when
+    /// `jets`).
+    fn shells_at<'a>(&'a mut self, u: &'a [f64], jets: bool) -> (&'a mut [Box<dyn ShellEnergy>], Evaluation<'a>) {
+        self.update_rotations(u, jets);
         let eval = Evaluation {
             state: &self.parts.state,
             layout: &self.parts.layout,
@@ -461,10 +477,7 @@ impl IncrementalPotential {
             rotations: &self.rotations,
             parallelism: self.parallelism,
         };
-        for shell in &mut self.parts.shells {
-            shell.linearize_strains(&eval, du);
-        }
-        Ok(())
+        (&mut self.parts.shells, eval)
     }
 
     /// The step `α du` along the last linearised direction was taken: until
@@ -747,17 +760,13 @@ impl IncrementalPotential {
     /// [`Self::commit`] or [`Self::restore_step_start`]. Returns whether the energy changed: the iterate
     /// must then be evaluated anew.
     pub fn follow_tension(&mut self, u: &[f64]) -> bool {
-        self.update_rotations(u, false);
-        let eval = Evaluation {
-            state: &self.parts.state,
-            layout: &self.parts.layout,
-            u,
-            dt: self.dt,
-            rotations: &self.rotations,
-            parallelism: self.parallelism,
-        };
+        // The paper's strains and the other interpolations hold no stress: no rotations to update.
+        if !self.parts.shells.iter().any(|s| s.follows_tension()) {
+            return false;
+        }
+        let (shells, eval) = self.shells_at(u, false);
         let mut changed = false;
-        for shell in &mut self.parts.shells {
+        for shell in shells {
             changed |= shell.follow_tension(&eval);
         }
         if changed {

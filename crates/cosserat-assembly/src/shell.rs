@@ -245,6 +245,12 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         membrane_tension(&mean, rest.densities.get(first))
     }
 
+    /// Whether the stabilisation follows the membrane stresses (under
+    /// [`StrainInterpolation::ReggeStabilized`](cosserat_material::StrainInterpolation::ReggeStabilized)).
+    pub fn follows_tension(&self) -> bool {
+        !self.disc.rest.tying_stabilization.is_empty()
+    }
+
     /// Lets the stabilisation follow the membrane stresses of the iterate `eval.u` for the rest of the
     /// step: an element stretched beyond what its factors hold without the safety factor
     /// ([`StrainProjection::holds_tension`](cosserat_material::StrainProjection::holds_tension)) has
@@ -254,10 +260,10 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     /// the second-order stretch of iterates that rotate far does not count. A sheet pulled taut within
     /// one step thus stays stable. Returns whether the energy changed.
     pub fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool {
-        let rest = &self.disc.rest;
-        if rest.tying_stabilization.is_empty() {
+        if !self.follows_tension() {
             return false;
         }
+        let rest = &self.disc.rest;
         let mut step = self.step_tension.take().unwrap_or_else(|| {
             let start: Vec<f64> = (0..self.n_elements()).map(|e| self.start_tension(e, eval.state)).collect();
             StepTension {
