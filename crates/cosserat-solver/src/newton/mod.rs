@@ -10,7 +10,10 @@
 //!    (truncated Newton-CG);
 //! 3. take the full step (shortened to the problem's feasible fraction and halved while the state is
 //!    invalid) with its gradient, accept it if it passes the Armijo test or the convergence test,
-//!    otherwise backtrack on energies (the noise-resistant Armijo test of `line_search.rs`);
+//!    otherwise backtrack on energies (the noise-resistant Armijo test of `line_search.rs`); an
+//!    accepted iterate may be re-expressed in other unknowns ([`NewtonProblem::rebase`]) or the
+//!    problem's energy adapted to it ([`NewtonProblem::follow_iterate`], also called with the start),
+//!    and is then evaluated anew;
 //! 4. stop when the residual passes the convergence test ([`Tolerance`]), or when the solve has
 //!    stagnated at the residual's round-off floor.
 //!
