@@ -8,7 +8,9 @@
 //! roots the one whose new increment makes the smaller angle with the current one continues forward
 //! along the path (Crisfield 1981); without a real root the constraint's residual is minimised instead.
 //! Near a limit point `H` is singular and indefinite beyond it, so the tangent is factorised as it is
-//! (Cholesky, then the symmetric indefinite factorisation, then LU), never shifted.
+//! (Cholesky, then the symmetric indefinite factorisation, then LU), never shifted. As Newton's method
+//! does, the corrector offers each iterate to the problem, whose energy may adapt to it (a stretched
+//! shell's stabilisation), and a failed corrector undoes that before the arc length is halved.
 
 use std::time::Instant;
 
@@ -143,7 +145,11 @@ impl Tracer {
             };
             let landing = lambda < self.settings.end && lambda + dlambda > self.settings.end && dlambda > 0.0;
             let dlambda = if landing { self.land(lambda, dlambda) } else { dlambda };
-            match self.correct(problem, lambda, dlambda, landing, &mut timing) {
+            let corrected = self.correct(problem, lambda, dlambda, landing, &mut timing);
+            if corrected.is_err() {
+                problem.abandon_solve();
+            }
+            match corrected {
                 Ok((converged, dlambda)) => {
                     problem.commit(&self.x);
                     let arc = self.norm(&self.x);
@@ -223,8 +229,10 @@ impl Tracer {
     }
 
     /// Newton's iteration on equilibrium and arc length from the predictor; with `landing`, on
-    /// equilibrium alone at the fixed load factor. Returns the converged corrector and the step's load
-    /// increment.
+    /// equilibrium alone at the fixed load factor. Each iterate is offered to the problem
+    /// ([`NewtonProblem::follow_iterate`](crate::NewtonProblem::follow_iterate)); a failed corrector
+    /// leaves the undoing to the caller ([`NewtonProblem::abandon_solve`](crate::NewtonProblem::abandon_solve)).
+    /// Returns the converged corrector and the step's load increment.
     fn correct<P: PathProblem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -242,6 +250,10 @@ impl Tracer {
                 .map_err(|source| failed(CorrectorError::Problem { iteration: k, source }));
             load?;
             problem.prescribe(&mut self.x);
+            // The predictor and every corrected increment are iterates a problem may adapt its energy
+            // to; the next assembly evaluates the adapted energy, and the divergence test keeps the
+            // first residual.
+            problem.follow_iterate(&self.x);
             self.assemble(problem, k, timing).map_err(failed)?;
             let r = self.residual();
             let first = *first.get_or_insert(r);

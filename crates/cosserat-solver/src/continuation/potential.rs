@@ -160,6 +160,12 @@ impl NewtonProblem for PotentialPath<'_, '_, '_> {
     fn residual_weights(&self, w: &mut [f64]) {
         self.problem.residual_weights(w);
     }
+    fn follow_iterate(&mut self, x: &[f64]) -> bool {
+        self.problem.follow_iterate(x)
+    }
+    fn abandon_solve(&mut self) {
+        self.problem.abandon_solve();
+    }
 }
 
 impl PathProblem for PotentialPath<'_, '_, '_> {

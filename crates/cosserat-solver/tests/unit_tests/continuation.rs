@@ -1,7 +1,7 @@
 //! Arc-length continuation on a problem with a closed-form equilibrium path through two limit points
 //! of the load and two of the displacement (snap-through and snap-back).
 
-use cosserat_solver::{ArcLengthSettings, NewtonProblem, PathProblem, ProblemError, trace_path};
+use cosserat_solver::{ArcLengthSettings, NewtonProblem, NewtonSettings, PathProblem, ProblemError, trace_path};
 use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 
 use super::toy::{pattern_of, slot};
@@ -165,4 +165,158 @@ fn arc_length_follows_snap_through_and_snap_back_on_the_closed_form_path() {
         f_min / truss.p,
         f_max / truss.p
     );
+}
+
+/// A sheet pulled along a path: unknowns the stretch `s` and a turn `y`, increments from the committed
+/// equilibrium,
+///
+/// `Π(s, y; λ) = ½ (s − λ a)² + ½ (c + σ − s) y² − λ b y`:
+///
+/// the stretch takes stiffness from the turn (a stretched sheet's membrane energy falls as its
+/// directors turn), which the stabilisation `σ` gives back. Each step starts with `σ = 2 s` of its
+/// committed stretch (a shell's factors hold twice the stress of the step's start); with `follows`,
+/// [`NewtonProblem::follow_iterate`] raises it to `2 s` at an iterate that stretches beyond `c + σ`.
+/// An equilibrium is stable where the Hessian `[[1, −y], [−y, c + σ − s]]` is positive definite.
+struct PulledSheet {
+    a: f64,
+    c: f64,
+    b: f64,
+    lambda: f64,
+    base: [f64; 2],
+    sigma: f64,
+    follows: bool,
+    raised: usize,
+    /// Whether each committed equilibrium is stable under the energy it was found with.
+    stable: Vec<bool>,
+    pattern: SymbolicSparseColMat<usize>,
+}
+
+impl PulledSheet {
+    fn new(follows: bool) -> Self {
+        Self {
+            a: 1.0,
+            c: 0.1,
+            b: 0.01,
+            lambda: 0.0,
+            base: [0.0; 2],
+            sigma: 0.0,
+            follows,
+            raised: 0,
+            stable: Vec::new(),
+            pattern: pattern_of(2, [(0, 0), (0, 1), (1, 1)]),
+        }
+    }
+
+    /// The turn's stiffness at the stretch `s`.
+    fn stiffness(&self, s: f64) -> f64 {
+        self.c + self.sigma - s
+    }
+
+    /// The stabilisation a step from the committed state starts with.
+    fn start_stabilisation(&self) -> f64 {
+        2.0 * self.base[0].max(0.0)
+    }
+}
+
+impl NewtonProblem for PulledSheet {
+    fn n_dofs(&self) -> usize {
+        2
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        let (s, y) = (self.base[0] + x[0], self.base[1] + x[1]);
+        let pull = self.lambda * self.a;
+        Ok(0.5 * (s - pull).powi(2) + 0.5 * self.stiffness(s) * y * y - self.lambda * self.b * y)
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        let (s, y) = (self.base[0] + x[0], self.base[1] + x[1]);
+        g[0] = s - self.lambda * self.a - 0.5 * y * y;
+        g[1] = self.stiffness(s) * y - self.lambda * self.b;
+        self.value(x)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        let (s, y) = (self.base[0] + x[0], self.base[1] + x[1]);
+        h[slot(&self.pattern, 0, 0)] = 1.0;
+        h[slot(&self.pattern, 0, 1)] = -y;
+        h[slot(&self.pattern, 1, 1)] = self.stiffness(s);
+        self.gradient(x, g)
+    }
+    fn follow_iterate(&mut self, x: &[f64]) -> bool {
+        let s = self.base[0] + x[0];
+        if !self.follows || self.c + self.sigma >= s {
+            return false;
+        }
+        self.sigma = 2.0 * s;
+        self.raised += 1;
+        true
+    }
+    fn abandon_solve(&mut self) {
+        self.sigma = self.start_stabilisation();
+    }
+}
+
+impl PathProblem for PulledSheet {
+    fn set_load_factor(&mut self, lambda: f64) -> Result<(), ProblemError> {
+        self.lambda = lambda;
+        Ok(())
+    }
+    fn commit(&mut self, x: &[f64]) {
+        self.base[0] += x[0];
+        self.base[1] += x[1];
+        let (s, y) = (self.base[0], self.base[1]);
+        self.stable.push(self.stiffness(s) - y * y > 0.0);
+        self.sigma = self.start_stabilisation();
+    }
+}
+
+/// A sheet pulled taut within one step of the path: the corrector offers its predictor and iterates to
+/// the problem, whose stabilisation follows them, and every equilibrium it reaches is stable; with the
+/// stabilisation of each step's start the first step, from rest, ends at an unstable equilibrium (a
+/// saddle, which the corrector, taking full Newton steps, converges to as readily). A failed corrector
+/// puts the stabilisation back.
+#[test]
+fn the_corrector_lets_the_stabilisation_follow_a_sheet_pulled_taut() {
+    let settings = ArcLengthSettings {
+        initial_increment: 1.0,
+        end: 2.0,
+        ..ArcLengthSettings::default()
+    };
+    let trace = |follows: bool| {
+        let mut sheet = PulledSheet::new(follows);
+        let points = trace_path(&mut sheet, &settings, &mut |_, _| {});
+        (sheet, points)
+    };
+    let (sheet, points) = trace(true);
+    let points = points.unwrap();
+    assert!(sheet.raised >= 1, "the stabilisation never followed");
+    assert!(sheet.stable.iter().all(|s| *s), "{:?}", sheet.stable);
+    assert_eq!(points.last().map(|p| p.load_factor), Some(settings.end));
+    // On the path the stretch follows the pull (the turn is small): s = λ a + ½ y².
+    assert!(
+        (sheet.base[0] - settings.end * sheet.a).abs() < 1e-3,
+        "{:?}",
+        sheet.base
+    );
+
+    let (sheet, _) = trace(false);
+    assert_eq!(
+        sheet.stable.first(),
+        Some(&false),
+        "with the start's stabilisation the first step reached a stable state"
+    );
+
+    let mut failing = PulledSheet::new(true);
+    let short = ArcLengthSettings {
+        newton: NewtonSettings {
+            max_iterations: 0,
+            ..settings.newton
+        },
+        max_cuts: 0,
+        ..settings
+    };
+    assert!(trace_path(&mut failing, &short, &mut |_, _| {}).is_err());
+    assert!(failing.raised >= 1, "the failed corrector never followed");
+    assert_eq!(failing.sigma, 0.0);
 }
