@@ -37,8 +37,9 @@ fn assumed(strains: &[StrainVector], maps: &[TyingMap], twins: &TyingTwins) -> V
         .zip(maps)
         .map(|(s, m)| {
             let mut out = *s;
-            let own = m.own * s.fixed_rows::<TIED>(0);
-            out.fixed_rows_mut::<TIED>(0).copy_from(&(m.tied * z + own));
+            // By reference: the tied map is a 6 × 60 matrix, which a product by value would copy.
+            let own = &m.own * s.fixed_rows::<TIED>(0);
+            out.fixed_rows_mut::<TIED>(0).copy_from(&(&m.tied * &z + own));
             out
         })
         .collect()
