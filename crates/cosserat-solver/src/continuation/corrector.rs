@@ -22,8 +22,8 @@ use crate::newton::{ConvergenceTest, Criterion, Tolerance, round_off_scale, weig
 /// A step whose residual grows beyond this factor over its first diverges.
 const DIVERGENCE_FACTOR: f64 = 1e3;
 
-/// The relative step in `λ` of the central difference `∂∇Π/∂λ` (for loads linear in `λ` any step is
-/// exact but for round-off, which grows as the step shrinks).
+/// The relative step in `λ` of the difference `∂∇Π/∂λ` (for loads linear in `λ` any step is exact but
+/// for round-off, which grows as the step shrinks).
 const LOAD_DIFFERENCE_STEP: f64 = 1e-3;
 
 /// The state of the path between steps, and the buffers of the corrector.
@@ -143,9 +143,22 @@ impl Tracer {
                 Ok(d) => d,
                 Err(error) => return Err(fail(self.arc, cuts, error)),
             };
-            let landing = lambda < self.settings.end && lambda + dlambda > self.settings.end && dlambda > 0.0;
+            let mut landing = self.passes_end(lambda, dlambda);
             let dlambda = if landing { self.land(lambda, dlambda) } else { dlambda };
-            let corrected = self.correct(problem, lambda, dlambda, landing, &mut timing);
+            let mut corrected = self.correct(problem, lambda, dlambda, landing, &mut timing);
+            // A corrector that passed the end (the path flattened in load, so its arc length spans more
+            // of it than the predictor did) lands on it from its own increment scaled back: a path
+            // that crossed the end would otherwise never reach it.
+            if let Ok((passed, dl)) = &corrected
+                && !landing
+                && self.passes_end(lambda, *dl)
+            {
+                wasted += passed.iterations;
+                problem.abandon_solve();
+                let dl = self.land(lambda, *dl);
+                landing = true;
+                corrected = self.correct(problem, lambda, dl, landing, &mut timing);
+            }
             if corrected.is_err() {
                 problem.abandon_solve();
             }
@@ -221,7 +234,12 @@ impl Tracer {
         }
     }
 
-    /// Scales the predictor to land on the end load factor; returns the new load increment.
+    /// Whether a step of load increment `dlambda` from `lambda` passes the end load factor from below.
+    fn passes_end(&self, lambda: f64, dlambda: f64) -> bool {
+        lambda < self.settings.end && lambda + dlambda > self.settings.end && dlambda > 0.0
+    }
+
+    /// Scales the increment `x` to land on the end load factor; returns the new load increment.
     fn land(&mut self, lambda: f64, dlambda: f64) -> f64 {
         let s = (self.settings.end - lambda) / dlambda;
         self.x.iter_mut().for_each(|x| *x *= s);
@@ -318,25 +336,32 @@ impl Tracer {
         test
     }
 
-    /// `∂∇Π/∂λ` at the last equilibrium (increment zero) by central differences, into `q`.
+    /// `∂∇Π/∂λ` at the last equilibrium (increment zero), into `q`: the one-sided difference towards
+    /// where the path goes (the sign of the last load increment, of the first step's before), so that
+    /// a load script with a kink (a pressure that starts once a pull is complete) gives the corrector
+    /// the derivative of the side it corrects on, where the central difference would mix both.
     fn load_derivative<P: PathProblem + ?Sized>(
         &mut self,
         problem: &mut P,
         lambda: f64,
         timing: &mut Timing,
     ) -> Result<(), CorrectorError> {
-        let h = LOAD_DIFFERENCE_STEP * lambda.abs().max(1.0);
+        let forward = match &self.previous {
+            Some((_, dl)) => *dl >= 0.0,
+            None => self.settings.initial_increment >= 0.0,
+        };
+        let h = LOAD_DIFFERENCE_STEP * lambda.abs().max(1.0) * if forward { 1.0 } else { -1.0 };
         let t = Instant::now();
         let problem_error = |source| CorrectorError::Problem { iteration: 0, source };
-        for (sign, out) in [(1.0, &mut self.q), (-1.0, &mut self.scratch.0)] {
-            problem.set_load_factor(lambda + sign * h).map_err(problem_error)?;
+        for (step, out) in [(h, &mut self.q), (0.0, &mut self.scratch.0)] {
+            problem.set_load_factor(lambda + step).map_err(problem_error)?;
             self.x.fill(0.0);
             problem.prescribe(&mut self.x);
             out.fill(0.0);
             problem.gradient(&self.x, out).map_err(problem_error)?;
         }
-        for ((q, minus), f) in self.q.iter_mut().zip(&self.scratch.0).zip(&self.fixed) {
-            *q = if *f { 0.0 } else { (*q - minus) / (2.0 * h) };
+        for ((q, at), f) in self.q.iter_mut().zip(&self.scratch.0).zip(&self.fixed) {
+            *q = if *f { 0.0 } else { (*q - at) / h };
         }
         problem.set_load_factor(lambda).map_err(problem_error)?;
         timing.assembly += t.elapsed().as_secs_f64();

@@ -320,3 +320,93 @@ fn the_corrector_lets_the_stabilisation_follow_a_sheet_pulled_taut() {
     assert!(failing.raised >= 1, "the failed corrector never followed");
     assert_eq!(failing.sigma, 0.0);
 }
+
+/// A spring under a load script with a kink: `Π(x; λ) = ½ k x² − f(λ) x` with `f = λ` up to `λ = ½` and
+/// `½ + s (λ − ½)` beyond (a pull, then a small load once it is complete), so that past the kink the
+/// equilibrium `x = f(λ) / k` moves `1/s` times more slowly with the load.
+struct KinkedSpring {
+    k: f64,
+    s: f64,
+    lambda: f64,
+    base: f64,
+    pattern: SymbolicSparseColMat<usize>,
+}
+
+impl KinkedSpring {
+    fn load(&self, lambda: f64) -> f64 {
+        if lambda <= 0.5 {
+            lambda
+        } else {
+            0.5 + self.s * (lambda - 0.5)
+        }
+    }
+}
+
+impl NewtonProblem for KinkedSpring {
+    fn n_dofs(&self) -> usize {
+        1
+    }
+    fn hessian_pattern(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        self.pattern.as_ref()
+    }
+    fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        let u = self.base + x[0];
+        Ok(0.5 * self.k * u * u - self.load(self.lambda) * u)
+    }
+    fn gradient(&mut self, x: &[f64], g: &mut [f64]) -> Result<f64, ProblemError> {
+        g[0] = self.k * (self.base + x[0]) - self.load(self.lambda);
+        self.value(x)
+    }
+    fn hessian(&mut self, x: &[f64], g: &mut [f64], h: &mut [f64]) -> Result<f64, ProblemError> {
+        h[0] = self.k;
+        self.gradient(x, g)
+    }
+}
+
+impl PathProblem for KinkedSpring {
+    fn set_load_factor(&mut self, lambda: f64) -> Result<(), ProblemError> {
+        self.lambda = lambda;
+        Ok(())
+    }
+    fn commit(&mut self, x: &[f64]) {
+        self.base += x[0];
+    }
+}
+
+/// Past the kink the corrector, given the load's derivative on the side it goes to (a central
+/// difference at the kink would mix the two slopes), converges at once; and since the path is now flat
+/// in the load, the step's arc length spans more load than is left: the step that passes the end lands
+/// on it, and the path ends there at the closed-form equilibrium.
+#[test]
+fn a_path_past_a_kink_of_the_load_script_lands_on_its_end() {
+    let mut spring = KinkedSpring {
+        k: 2.0,
+        s: 1e-3,
+        lambda: 0.0,
+        base: 0.0,
+        pattern: pattern_of(1, [(0, 0)]),
+    };
+    let settings = ArcLengthSettings {
+        initial_increment: 0.1,
+        end: 1.0,
+        ..ArcLengthSettings::default()
+    };
+    let mut path = Vec::new();
+    let points = trace_path(&mut spring, &settings, &mut |spring, point| {
+        path.push((point.load_factor, spring.base));
+    })
+    .unwrap();
+    let (lambda, x) = *path.last().unwrap();
+    assert_eq!(lambda, settings.end);
+    assert!((x - spring.load(1.0) / spring.k).abs() < 1e-12, "x = {x}");
+    for &(lambda, x) in &path {
+        assert!(
+            (x - spring.load(lambda) / spring.k).abs() < 1e-12,
+            "λ = {lambda}: x = {x}"
+        );
+    }
+    // Five steps to the kink, then one to the end; none cut, and the corrector past the kink converges
+    // in one iteration on this linear problem.
+    assert!(points.len() <= 7, "{} steps", points.len());
+    assert!(points.iter().all(|p| p.cuts == 0 && p.iterations <= 1), "{points:?}");
+}
