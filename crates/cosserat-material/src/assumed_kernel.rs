@@ -36,10 +36,12 @@ fn assumed(strains: &[StrainVector], maps: &[TyingMap], twins: &TyingTwins) -> V
         .iter()
         .zip(maps)
         .map(|(s, m)| {
+            // In place: the tied map is a 6 × 60 matrix, which a product by value would copy.
+            let mut assumed = SVector::<f64, TIED>::zeros();
+            assumed.gemv(1.0, &m.tied, &z, 0.0);
+            assumed.gemv(1.0, &m.own, &s.fixed_rows::<TIED>(0), 1.0);
             let mut out = *s;
-            // By reference: the tied map is a 6 × 60 matrix, which a product by value would copy.
-            let own = &m.own * s.fixed_rows::<TIED>(0);
-            out.fixed_rows_mut::<TIED>(0).copy_from(&(&m.tied * &z + own));
+            out.fixed_rows_mut::<TIED>(0).copy_from(&assumed);
             out
         })
         .collect()
