@@ -135,7 +135,8 @@ pub struct TimeSection {
     /// (Maximum) time step \[s\]; required in dynamic mode.
     pub dt: Option<f64>,
     /// End time \[s\]; required in dynamic mode. In `arc_length` mode the load factor at which the
-    /// path ends, reached from below (default 1).
+    /// path ends, reached from below: a step that would pass it, by its predictor or by its corrector,
+    /// lands on it (default 1).
     pub end: Option<f64>,
     /// Output frames per second (default 30, the reference code's default).
     pub output_fps: Option<f64>,
