@@ -82,6 +82,9 @@ pub trait ShellEnergy: PotentialTerm {
     fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool;
     /// The step ended: the next takes its stabilisation from its own start.
     fn release_tension(&mut self);
+    /// The step was committed into `state`: the stresses its stabilisation held carry over to the
+    /// next step.
+    fn commit_tension(&mut self, state: &mut SystemState);
 }
 
 impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const NB: usize> ShellEnergy
@@ -133,6 +136,10 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     fn release_tension(&mut self) {
         self.release_tension();
+    }
+
+    fn commit_tension(&mut self, state: &mut SystemState) {
+        self.commit_tension(state);
     }
 }
 
@@ -798,7 +805,7 @@ impl IncrementalPotential {
         self.step_start_rotations = None;
         for s in &mut self.parts.shells {
             s.commit(&mut self.parts.state, &layout, u, dt);
-            s.release_tension();
+            s.commit_tension(&mut self.parts.state);
         }
         for t in &mut self.terms {
             t.commit(&mut self.parts.state, &layout, u, dt);

@@ -80,7 +80,7 @@ pub struct ShellTerm<const NU: usize, const NR: usize, const NL: usize, const NE
 /// ([`ShellTerm::follow_tension`]).
 #[derive(Debug, Clone)]
 struct StepTension {
-    /// Each element's stress at the step's start.
+    /// The stress each element's factors hold at the step's start ([`ShellTerm::start_held`]).
     start: Vec<f64>,
     /// The stress each element's factors are raised for.
     held: Vec<f64>,
@@ -213,16 +213,35 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
 
     /// The tying maps of element `e` (under assumed strains) for a step that starts at `state`: a
     /// stretched element's stabilisation is raised by its membrane stress, that of its mean stretch
-    /// ([`ShellRest::element_tying_maps_in_tension`]) at the step's start or predicted at the iterate
-    /// that raised it ([`Self::follow_tension`]), constant between raises.
+    /// ([`ShellRest::element_tying_maps_in_tension`]) held at the step's start ([`Self::start_held`])
+    /// or predicted at the iterate that raised it ([`Self::follow_tension`]), constant between raises.
     fn tying_maps(&self, e: usize, state: &SystemState) -> Option<Cow<'_, [TyingMap]>> {
         let rest = &self.disc.rest;
         let tension = match &self.step_tension {
             _ if rest.tying_stabilization.is_empty() => 0.0,
             Some(step) => step.held[e],
-            None => self.start_tension(e, state),
+            None => self.start_held(e, state),
         };
         rest.element_tying_maps_in_tension(e, tension)
+    }
+
+    /// The stress element `e`'s factors hold at the start of a step from `state`: the step start's
+    /// stress where it exceeds what the last committed step held or has fallen below a quarter of that
+    /// ([`TENSION_RELEASE`]), else the committed step's. A sheet whose stress varies from step to step
+    /// within that band (a vibrating, buckled sheet) keeps its factors, and so its energy.
+    fn start_held(&self, e: usize, state: &SystemState) -> f64 {
+        let now = self.start_tension(e, state);
+        let held = state.held_tension[self.held_tension_index(e)];
+        if now > held || now < TENSION_RELEASE * held {
+            now
+        } else {
+            held
+        }
+    }
+
+    /// Where element `e`'s held stress is kept in [`SystemState::held_tension`].
+    fn held_tension_index(&self, e: usize) -> usize {
+        self.disc.first_point + e * self.disc.rest.points_per_element
     }
 
     /// The membrane stress of element `e`'s mean stretch at the start of the step.
@@ -265,7 +284,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         }
         let rest = &self.disc.rest;
         let mut step = self.step_tension.take().unwrap_or_else(|| {
-            let start: Vec<f64> = (0..self.n_elements()).map(|e| self.start_tension(e, eval.state)).collect();
+            let start: Vec<f64> = (0..self.n_elements()).map(|e| self.start_held(e, eval.state)).collect();
             StepTension {
                 held: start.clone(),
                 start,
@@ -295,9 +314,20 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         changed
     }
 
-    /// The step ended (committed or abandoned): the next takes its stabilisation from its own start.
+    /// The step was abandoned: the next takes its stabilisation from its own start.
     pub fn release_tension(&mut self) {
         self.step_tension = None;
+    }
+
+    /// The step was committed into `state`: the stresses its factors held are kept there for the next
+    /// step's start ([`Self::start_held`]).
+    pub fn commit_tension(&mut self, state: &mut SystemState) {
+        if let Some(step) = self.step_tension.take() {
+            for (e, held) in step.held.into_iter().enumerate() {
+                let i = self.held_tension_index(e);
+                state.held_tension[i] = held;
+            }
+        }
     }
 
     /// Clears prescribed rest fields.

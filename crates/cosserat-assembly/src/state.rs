@@ -15,6 +15,10 @@ pub struct SystemState {
     pub omega: Vec<Vector3<f64>>,
     /// Unit quaternions of the quadrature points (history-dependent state, model.md §1.6).
     pub q_points: Vec<Quaternion<f64>>,
+    /// The membrane stress \[N/m\] each shell element's stabilisation held in the last committed step,
+    /// at the element's first point (history-dependent too; zero elsewhere, at rest and where a
+    /// shell's stabilisation holds no stress; see `ShellTerm::follow_tension`).
+    pub held_tension: Vec<f64>,
 }
 
 impl SystemState {
@@ -27,6 +31,7 @@ impl SystemState {
             q: vec![Quaternion::identity(); n_rot_nodes],
             omega: vec![Vector3::zeros(); n_rot_nodes],
             q_points: vec![Quaternion::identity(); n_points],
+            held_tension: vec![0.0; n_points],
         }
     }
 }

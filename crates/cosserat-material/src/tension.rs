@@ -15,8 +15,10 @@
 //! stretch is predicted linearly along the step ([`membrane_stretch_predicted`]); an iterate that
 //! stretches an element beyond what its factors hold without the safety factor
 //! ([`StrainProjection::holds_tension`]) raises them (the assembly's shell term does this, with
-//! hysteresis). Between changes the factors are constants and the element's energy keeps its exact
-//! derivatives; a sheet pulled taut within one step is held as it tightens. The stretch is the
+//! hysteresis, within a step and from step to step: a step starts with the stress the last one held
+//! while its own lies between a quarter of that and that). Between changes the factors are constants
+//! and the element's energy keeps its exact derivatives; a sheet pulled taut within one step is held
+//! as it tightens, and one whose stress varies from step to step within the band keeps its energy. The stretch is the
 //! element's mean: a bent element's points stretch and shorten about a mean the bending does not move
 //! (the parasitic membrane strains that the assumed membrane strains filter out). Where a sheet is not
 //! stretched (bending, compression, the small loads of the locking benchmarks) nothing changes.

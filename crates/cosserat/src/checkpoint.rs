@@ -3,7 +3,8 @@
 //! the run so that it ends bit for bit as a run that was never stopped.
 //!
 //! What the next step depends on, and so what a checkpoint holds:
-//! - the system state: positions, velocities, node and quadrature-point rotations, angular velocities;
+//! - the system state: positions, velocities, node and quadrature-point rotations, angular velocities,
+//!   and the membrane stresses a stretched shell's stabilisation held;
 //! - the stepper: time and the time step after reductions (dynamic), the load factor, the level
 //!   reached and the predictor's memory (quasi-static), whether the next Newton solve
 //!   starts with the Hessian and where its search for a shift of an indefinite Hessian starts, and the
@@ -313,6 +314,7 @@ fn save_state(state: &SystemState, out: &mut Encoder) {
     out.f64s(&quaternions(&state.q));
     out.f64s(&flatten(&state.omega));
     out.f64s(&quaternions(&state.q_points));
+    out.f64s(&state.held_tension);
 }
 
 fn load_state(input: &mut Decoder) -> Result<SystemState, OutputError> {
@@ -332,14 +334,18 @@ fn load_state(input: &mut Decoder) -> Result<SystemState, OutputError> {
         c.len().is_multiple_of(3).then(|| unflatten(&c))
     };
     let q_points = quaternions(input.f64s()?);
+    let held_tension = input.f64s()?;
     match (x, v, q, omega, q_points) {
-        (Some(x), Some(v), Some(q), Some(omega), Some(q_points)) if x.len() == v.len() && q.len() == omega.len() => {
+        (Some(x), Some(v), Some(q), Some(omega), Some(q_points))
+            if x.len() == v.len() && q.len() == omega.len() && held_tension.len() == q_points.len() =>
+        {
             Ok(SystemState {
                 x,
                 v,
                 q,
                 omega,
                 q_points,
+                held_tension,
             })
         }
         _ => Err(input.error("the system state's arrays do not fit together")),
