@@ -319,8 +319,8 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         self.step_tension = None;
     }
 
-    /// The step was committed into `state`: the stresses its factors held are kept there for the next
-    /// step's start ([`Self::start_held`]).
+    /// The step was committed into `state`: the stresses its factors held are kept there, and the next
+    /// step starts with them while its own start's stress lies between a quarter of them and them.
     pub fn commit_tension(&mut self, state: &mut SystemState) {
         if let Some(step) = self.step_tension.take() {
             for (e, held) in step.held.into_iter().enumerate() {
