@@ -80,7 +80,7 @@ pub trait ShellEnergy: PotentialTerm {
     /// Lets the stabilisation follow the membrane stresses of the iterate `eval.u` for the rest of the
     /// step; returns whether the energy changed.
     fn follow_tension(&mut self, eval: &Evaluation<'_>) -> bool;
-    /// The step ended: the next takes its stabilisation from its own start.
+    /// The step was abandoned: the next takes its stabilisation from its own start.
     fn release_tension(&mut self);
     /// The step was committed into `state`: the stresses its stabilisation held carry over to the
     /// next step.
