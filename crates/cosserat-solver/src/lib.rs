@@ -104,4 +104,4 @@ pub use statics::{
     IncrementControl, LevelFailure, LevelIncrement, LoadLevelReport, PredictorMemory, QuasiStaticSettings,
     QuasiStaticStepper, StaticError, solve_quasi_static,
 };
-pub use time_step::{InitialGuess, StepError, StepReport, TimeStepSettings, TimeStepper};
+pub use time_step::{InitialGuess, LastStep, StepError, StepReport, TimeStepSettings, TimeStepper};

@@ -26,6 +26,17 @@ pub enum InitialGuess {
     /// motion, so a smooth step starts an order of `Δt` closer to its solution. Default.
     #[default]
     Extrapolated,
+    /// Whichever of [`InitialGuess::Extrapolated`], [`InitialGuess::PreviousVelocity`] and
+    /// [`InitialGuess::Zero`] has the least incremental potential. Near its minimiser the potential
+    /// exceeds its minimum by half the squared distance in the Hessian's norm, so the least value is
+    /// the start nearest the step's solution: the extrapolation in smooth motion, rest or the previous
+    /// velocities where the extrapolation overshoots a motion that reverses from step to step. The
+    /// comparison (up to three evaluations of the potential) is skipped after a step that started
+    /// from the extrapolation and converged in one Newton iteration: the motion was smooth there, and
+    /// the extrapolation is taken. Far from the solution the potential is not its quadratic model and
+    /// its value is no distance: where steps bend a soft body far, the comparison can prefer a start
+    /// from which Newton needs more iterations.
+    LeastEnergy,
 }
 
 /// Settings of the time stepper.
@@ -147,6 +158,18 @@ impl StepReport {
     }
 }
 
+/// The last accepted step, from which the next step's start is built.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LastStep {
+    /// The velocities at its start, in the layout of the unknowns.
+    pub start_velocities: Vec<f64>,
+    /// Its time step \[s\].
+    pub dt: f64,
+    /// Whether it started from the extrapolation and converged in one Newton iteration without a
+    /// failed attempt: then [`InitialGuess::LeastEnergy`] takes the extrapolation without comparing.
+    pub smooth: bool,
+}
+
 /// Advances an incremental potential in time.
 pub struct TimeStepper {
     solver: NewtonSolver,
@@ -154,9 +177,10 @@ pub struct TimeStepper {
     t: f64,
     dt: f64,
     u: Vec<f64>,
-    /// The velocities at the start of the last accepted step (in the layout of the unknowns) and its
-    /// time step, for [`InitialGuess::Extrapolated`].
-    last_step: Option<(Vec<f64>, f64)>,
+    /// The last accepted step, for [`InitialGuess::Extrapolated`] and [`InitialGuess::LeastEnergy`].
+    last_step: Option<LastStep>,
+    /// Whether the current attempt started from the extrapolation.
+    started_from_extrapolation: bool,
 }
 
 impl TimeStepper {
@@ -175,6 +199,7 @@ impl TimeStepper {
             dt: settings.dt,
             u: vec![0.0; potential.n_dofs()],
             last_step: None,
+            started_from_extrapolation: false,
         })
     }
 
@@ -199,10 +224,9 @@ impl TimeStepper {
         self.dt = dt;
     }
 
-    /// The velocities at the start of the last accepted step, in the layout of the unknowns, and its
-    /// time step: what [`InitialGuess::Extrapolated`] extrapolates from (for a checkpoint; `None` before
-    /// the first step and with the other initial guesses).
-    pub fn last_step(&self) -> Option<&(Vec<f64>, f64)> {
+    /// The last accepted step: what [`InitialGuess::Extrapolated`] extrapolates from (for a
+    /// checkpoint; `None` before the first step and with the other initial guesses).
+    pub fn last_step(&self) -> Option<&LastStep> {
         self.last_step.as_ref()
     }
 
@@ -210,13 +234,13 @@ impl TimeStepper {
     ///
     /// # Errors
     /// Velocities whose length is not the number of unknowns (nothing is set).
-    pub fn set_last_step(&mut self, last_step: Option<(Vec<f64>, f64)>) -> Result<(), String> {
-        if let Some((velocities, _)) = &last_step
-            && velocities.len() != self.u.len()
+    pub fn set_last_step(&mut self, last_step: Option<LastStep>) -> Result<(), String> {
+        if let Some(last) = &last_step
+            && last.start_velocities.len() != self.u.len()
         {
             return Err(format!(
                 "the last step's velocities have {} entries, the scene has {} unknowns",
-                velocities.len(),
+                last.start_velocities.len(),
                 self.u.len()
             ));
         }
@@ -297,12 +321,16 @@ impl TimeStepper {
                 Ok(()) => match self.solve_attempt(potential) {
                     Ok(newton) => {
                         let wasted_iterations = attempt_start.since(&before).iterations;
-                        self.accept(potential, dt);
+                        let cost = self.solver.spent().since(&before);
+                        let smooth = self.started_from_extrapolation
+                            && attempts.is_empty()
+                            && cost.iterations - wasted_iterations <= 1;
+                        self.accept(potential, dt, smooth);
                         return Ok(StepReport {
                             t: self.t,
                             dt,
                             newton,
-                            cost: self.solver.spent().since(&before),
+                            cost,
                             reductions: attempts.len(),
                             wasted_iterations,
                         });
@@ -345,13 +373,20 @@ impl TimeStepper {
     }
 
     /// Commits the converged attempt of length `dt`, advances the time and sets the next time step
-    /// (grown after an adaptive step, the set one otherwise).
-    fn accept(&mut self, potential: &mut IncrementalPotential, dt: f64) {
-        if self.settings.initial_guess == InitialGuess::Extrapolated {
-            let mut start = self.last_step.take().map(|(v, _)| v).unwrap_or_default();
+    /// (grown after an adaptive step, the set one otherwise). `smooth`: see [`LastStep::smooth`].
+    fn accept(&mut self, potential: &mut IncrementalPotential, dt: f64, smooth: bool) {
+        if matches!(
+            self.settings.initial_guess,
+            InitialGuess::Extrapolated | InitialGuess::LeastEnergy
+        ) {
+            let mut start = self.last_step.take().map(|l| l.start_velocities).unwrap_or_default();
             start.resize(self.u.len(), 0.0);
             state_velocities(potential, &mut start);
-            self.last_step = Some((start, dt));
+            self.last_step = Some(LastStep {
+                start_velocities: start,
+                dt,
+                smooth,
+            });
         }
         potential.commit(&self.u);
         self.t += dt;
@@ -405,19 +440,60 @@ impl TimeStepper {
         Ok(())
     }
 
-    fn initial_guess(&mut self, potential: &IncrementalPotential) {
+    fn initial_guess(&mut self, potential: &mut IncrementalPotential) {
+        self.started_from_extrapolation = false;
         match self.settings.initial_guess {
             InitialGuess::Zero => self.u.fill(0.0),
             InitialGuess::PreviousVelocity => state_velocities(potential, &mut self.u),
-            InitialGuess::Extrapolated => {
-                state_velocities(potential, &mut self.u);
-                let dt = potential.dt();
-                if let Some((start, last_dt)) = &self.last_step {
-                    let ratio = dt / last_dt;
-                    for (u, v0) in self.u.iter_mut().zip(start) {
-                        *u += ratio * (*u - v0);
-                    }
+            InitialGuess::Extrapolated => self.extrapolated_velocities(potential),
+            InitialGuess::LeastEnergy => self.least_energy_start(potential),
+        }
+    }
+
+    /// [`InitialGuess::Extrapolated`] into `self.u`.
+    fn extrapolated_velocities(&mut self, potential: &IncrementalPotential) {
+        state_velocities(potential, &mut self.u);
+        if let Some(last) = &self.last_step {
+            let ratio = potential.dt() / last.dt;
+            for (u, v0) in self.u.iter_mut().zip(&last.start_velocities) {
+                *u += ratio * (*u - v0);
+            }
+        }
+        self.started_from_extrapolation = true;
+    }
+
+    /// [`InitialGuess::LeastEnergy`] into `self.u`. The candidates are compared with the fixed degrees
+    /// of freedom set, as Newton will start from them; a candidate whose potential cannot be evaluated
+    /// (a barrier crossed, a non-finite value) loses, and the extrapolation stands when all of them do.
+    fn least_energy_start(&mut self, potential: &mut IncrementalPotential) {
+        self.extrapolated_velocities(potential);
+        if self.last_step.as_ref().is_some_and(|last| last.smooth) {
+            return;
+        }
+        let extrapolated = self.u.clone();
+        let mut previous = vec![0.0; self.u.len()];
+        state_velocities(potential, &mut previous);
+        let zero = vec![0.0; self.u.len()];
+        let fixed = potential.fixed_dofs();
+        let mut value = |candidate: &[f64]| -> f64 {
+            let mut start = candidate.to_vec();
+            if let Some((mask, values)) = &fixed {
+                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+                    start[i] = values[i];
                 }
+            }
+            potential.value(&start).ok().filter(|v| v.is_finite()).unwrap_or(f64::INFINITY)
+        };
+        let mut best = value(&extrapolated);
+        for candidate in [previous, zero] {
+            if candidate == self.u {
+                continue;
+            }
+            let candidate_value = value(&candidate);
+            if candidate_value < best {
+                best = candidate_value;
+                self.u.copy_from_slice(&candidate);
+                self.started_from_extrapolation = false;
             }
         }
     }

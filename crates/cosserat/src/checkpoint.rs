@@ -24,7 +24,7 @@ use cosserat_contact::{CacheCounters, ContactStats};
 use cosserat_io::OutputError;
 use cosserat_io::checkpoint::{Decoder, Encoder};
 use cosserat_scene::spec::SceneSpec;
-use cosserat_solver::{CarriedState, LevelIncrement, PredictorMemory};
+use cosserat_solver::{CarriedState, LastStep, LevelIncrement, PredictorMemory};
 use nalgebra::{Quaternion, Vector3};
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -73,9 +73,8 @@ pub enum StepperState {
         next_output: f64,
         /// What the last Newton solve left for the next.
         newton: CarriedState,
-        /// The velocities at the start of the last step and its time step, from which the next step's
-        /// initial guess is extrapolated.
-        last_step: Option<(Vec<f64>, f64)>,
+        /// The last step, from which the next step's initial guess is built.
+        last_step: Option<LastStep>,
     },
     /// A run through load levels.
     QuasiStatic {
@@ -218,9 +217,10 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             out.f64s(&[*t, *dt, *next_output]);
             save_newton(newton, out);
             out.bool(last_step.is_some());
-            if let Some((velocities, step)) = last_step {
-                out.f64s(velocities);
-                out.f64(*step);
+            if let Some(last) = last_step {
+                out.f64s(&last.start_velocities);
+                out.f64(last.dt);
+                out.bool(last.smooth);
             }
         }
         StepperState::QuasiStatic {
@@ -269,7 +269,11 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
             };
             let newton = load_newton(input)?;
             let last_step = if input.bool()? {
-                Some((input.f64s()?, input.f64()?))
+                Some(LastStep {
+                    start_velocities: input.f64s()?,
+                    dt: input.f64()?,
+                    smooth: input.bool()?,
+                })
             } else {
                 None
             };

@@ -287,6 +287,20 @@ fn a_resumed_run_of_a_sheet_in_tension_is_bit_identical() {
 }
 
 #[test]
+fn a_resumed_run_from_the_least_energy_start_is_bit_identical() {
+    // The stretched strip started from the least incremental potential, with a checkpoint after every
+    // step. Its steps from the eighth on start from the extrapolation and converge in one iteration, so
+    // the next start is taken without comparing: a run resumed after step 8 must know that its last
+    // step was smooth to start step 9 as the uninterrupted run does.
+    let text = stretched_strip()
+        .replace("checkpoint_every = 3", "checkpoint_every = 1")
+        .replace("[mesh]", "[solver]\ninitial_guess = \"least_energy\"\n[mesh]");
+    let (expected, resumed) = check_bit_identity("least_energy", &text, 8);
+    assert_eq!(resumed.resumed_from, Some(8));
+    assert_eq!(expected.n_steps, 12);
+}
+
+#[test]
 fn a_resumed_contact_run_with_friction_is_bit_identical() {
     let (expected, resumed) = check_bit_identity("contact", &contact_plate(), 10);
     assert_eq!(resumed.resumed_from, Some(8));

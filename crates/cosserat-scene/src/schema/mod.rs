@@ -212,8 +212,13 @@ pub enum DomainSplitName {
 #[serde(rename_all = "snake_case")]
 pub enum InitialGuessName {
     /// The velocities extrapolated linearly in time from the last two steps (the previous velocities in
-    /// the first step).
+    /// the first step; default).
     Extrapolated,
+    /// Whichever of `"extrapolated"`, `"previous_velocity"` and `"zero"` has the least incremental
+    /// potential: the nearest to the step's solution in the energy's own norm. For motions that reverse
+    /// from step to step (a thin sheet pulled taut at once, a growing disk buckling); not for steps that
+    /// rotate a body far, nor with contact.
+    LeastEnergy,
     /// The previous step's velocities.
     PreviousVelocity,
     /// Zero velocities (the reference code).

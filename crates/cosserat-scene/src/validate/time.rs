@@ -267,6 +267,7 @@ impl Ctx<'_> {
                 Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
                 Some(InitialGuessName::Zero) => InitialGuess::Zero,
                 None | Some(InitialGuessName::Extrapolated) => InitialGuess::Extrapolated,
+                Some(InitialGuessName::LeastEnergy) => InitialGuess::LeastEnergy,
             },
             project_pd: s.project_pd.unwrap_or(d.project_pd),
             indefinite_hessian: match s.indefinite_hessian {
