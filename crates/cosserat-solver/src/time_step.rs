@@ -179,8 +179,6 @@ pub struct TimeStepper {
     u: Vec<f64>,
     /// The last accepted step, for [`InitialGuess::Extrapolated`] and [`InitialGuess::LeastEnergy`].
     last_step: Option<LastStep>,
-    /// Whether the current attempt started from the extrapolation.
-    started_from_extrapolation: bool,
 }
 
 impl TimeStepper {
@@ -199,7 +197,6 @@ impl TimeStepper {
             dt: settings.dt,
             u: vec![0.0; potential.n_dofs()],
             last_step: None,
-            started_from_extrapolation: false,
         })
     }
 
@@ -313,7 +310,7 @@ impl TimeStepper {
                 });
             }
             self.solver.settings_mut().residual_scale = dt;
-            self.initial_guess(potential);
+            let from_extrapolation = self.initial_guess(potential);
             let attempt_start = self.solver.spent();
             // Contact candidates for this attempt; a grown pattern needs a new symbolic analysis.
             let error = match self.prepare_dynamic(potential) {
@@ -322,9 +319,8 @@ impl TimeStepper {
                     Ok(newton) => {
                         let wasted_iterations = attempt_start.since(&before).iterations;
                         let cost = self.solver.spent().since(&before);
-                        let smooth = self.started_from_extrapolation
-                            && attempts.is_empty()
-                            && cost.iterations - wasted_iterations <= 1;
+                        let smooth =
+                            from_extrapolation && attempts.is_empty() && cost.iterations - wasted_iterations <= 1;
                         self.accept(potential, dt, smooth);
                         return Ok(StepReport {
                             t: self.t,
@@ -352,9 +348,7 @@ impl TimeStepper {
     /// candidates grown around it (up to three times).
     fn solve_attempt(&mut self, potential: &mut IncrementalPotential) -> Result<NewtonReport, NewtonError> {
         let fixed = potential.fixed_dofs().map(|(mask, values)| {
-            for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
-                self.u[i] = values[i];
-            }
+            set_fixed(&mut self.u, &mask, &values);
             mask
         });
         let mut result = {
@@ -440,14 +434,15 @@ impl TimeStepper {
         Ok(())
     }
 
-    fn initial_guess(&mut self, potential: &mut IncrementalPotential) {
-        self.started_from_extrapolation = false;
+    /// Newton's start into `self.u`; returns whether it is the extrapolation.
+    fn initial_guess(&mut self, potential: &mut IncrementalPotential) -> bool {
         match self.settings.initial_guess {
             InitialGuess::Zero => self.u.fill(0.0),
             InitialGuess::PreviousVelocity => state_velocities(potential, &mut self.u),
             InitialGuess::Extrapolated => self.extrapolated_velocities(potential),
-            InitialGuess::LeastEnergy => self.least_energy_start(potential),
+            InitialGuess::LeastEnergy => return self.least_energy_start(potential),
         }
+        self.settings.initial_guess == InitialGuess::Extrapolated
     }
 
     /// [`InitialGuess::Extrapolated`] into `self.u`.
@@ -459,16 +454,16 @@ impl TimeStepper {
                 *u += ratio * (*u - v0);
             }
         }
-        self.started_from_extrapolation = true;
     }
 
     /// [`InitialGuess::LeastEnergy`] into `self.u`. The candidates are compared with the fixed degrees
     /// of freedom set, as Newton will start from them; a candidate whose potential cannot be evaluated
     /// (a barrier crossed, a non-finite value) loses, and the extrapolation stands when all of them do.
-    fn least_energy_start(&mut self, potential: &mut IncrementalPotential) {
+    /// Returns whether the extrapolation was taken.
+    fn least_energy_start(&mut self, potential: &mut IncrementalPotential) -> bool {
         self.extrapolated_velocities(potential);
         if self.last_step.as_ref().is_some_and(|last| last.smooth) {
-            return;
+            return true;
         }
         let extrapolated = self.u.clone();
         let mut previous = vec![0.0; self.u.len()];
@@ -478,13 +473,12 @@ impl TimeStepper {
         let mut value = |candidate: &[f64]| -> f64 {
             let mut start = candidate.to_vec();
             if let Some((mask, values)) = &fixed {
-                for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
-                    start[i] = values[i];
-                }
+                set_fixed(&mut start, mask, values);
             }
             potential.value(&start).ok().filter(|v| v.is_finite()).unwrap_or(f64::INFINITY)
         };
         let mut best = value(&extrapolated);
+        let mut from_extrapolation = true;
         for candidate in [previous, zero] {
             if candidate == self.u {
                 continue;
@@ -493,9 +487,17 @@ impl TimeStepper {
             if candidate_value < best {
                 best = candidate_value;
                 self.u.copy_from_slice(&candidate);
-                self.started_from_extrapolation = false;
+                from_extrapolation = false;
             }
         }
+        from_extrapolation
+    }
+}
+
+/// The values of the fixed degrees of freedom (where `mask` is set) into `u`.
+fn set_fixed(u: &mut [f64], mask: &[bool], values: &[f64]) {
+    for (i, _) in mask.iter().enumerate().filter(|(_, m)| **m) {
+        u[i] = values[i];
     }
 }
 
