@@ -167,6 +167,22 @@ fn ring_ladder(pair: Pair) -> Vec<Mesh> {
         .collect()
 }
 
+/// The slit annular plate: `n_radial × n_angular` with ten times as many elements around as across,
+/// as the reference's own meshes; the element length is the radial one.
+fn slit_annular_ladder(pair: Pair) -> Vec<Mesh> {
+    let ns: &[usize] = match pair {
+        Pair::Tri3Tri3 => &[8, 16],
+        _ => &[2, 4, 8, 16],
+    };
+    ns.iter()
+        .map(|&n| Mesh {
+            label: format!("{n}×{}", 10 * n),
+            overrides: vec![format!("mesh.n_radial={n}"), format!("mesh.n_angular={}", 10 * n)],
+            h: 4.0 / n as f64,
+        })
+        .collect()
+}
+
 fn table_value(table: &[(f64, f64, f64)], lambda: f64, second: bool) -> Option<f64> {
     table
         .iter()
@@ -277,6 +293,30 @@ pub fn registry() -> Vec<Problem> {
             ladder: ring_ladder,
             default_mesh: "128×1",
             curved: true,
+            study_against_second: false,
+        },
+        Problem {
+            name: "slit_annular_plate",
+            title: "Slit annular plate lifted by a line force (Sze 3.3)",
+            scene: "scenes/validation/slit_annular_plate.toml",
+            reference_note: "Sze, Liu & Lo (2004) table (their 10×80 S4R result, 3 decimals)",
+            components: vec![
+                Component {
+                    label: "W_A",
+                    read: |p, r| col(p, r, "A.uz"),
+                    reference: |l| table_value(&reference::SZE_SLIT_ANNULAR, l, false).unwrap_or(f64::NAN),
+                    second: None,
+                },
+                Component {
+                    label: "W_B",
+                    read: |p, r| col(p, r, "B.uz"),
+                    reference: |l| table_value(&reference::SZE_SLIT_ANNULAR, l, true).unwrap_or(f64::NAN),
+                    second: None,
+                },
+            ],
+            ladder: slit_annular_ladder,
+            default_mesh: "4×40",
+            curved: false,
             study_against_second: false,
         },
     ]

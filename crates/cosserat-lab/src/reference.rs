@@ -57,6 +57,35 @@ pub const SZE_END_MOMENT_FE: [(f64, f64, f64); 20] = [
     (1.00, 12.000, 0.000),
 ];
 
+/// Sze 3.3, slit annular plate lifted by a line force (radii 6 and 10, h = 0.03, E = 21e6, ν = 0,
+/// q_max = 0.8 per unit length), Sze's 10 × 80 FE result: `(P/P_max, W_A, W_B)`, the vertical
+/// displacements of the loaded side at the inner (A) and the outer (B) edge.
+pub const SZE_SLIT_ANNULAR: [(f64, f64, f64); 23] = [
+    (0.025, 1.305, 1.789),
+    (0.05, 2.455, 3.370),
+    (0.075, 3.435, 4.720),
+    (0.1, 4.277, 5.876),
+    (0.125, 5.007, 6.872),
+    (0.15, 5.649, 7.736),
+    (0.2, 6.725, 9.160),
+    (0.25, 7.602, 10.288),
+    (0.3, 8.340, 11.213),
+    (0.35, 8.974, 11.992),
+    (0.4, 9.529, 12.661),
+    (0.45, 10.023, 13.247),
+    (0.5, 10.468, 13.768),
+    (0.55, 10.876, 14.240),
+    (0.6, 11.257, 14.674),
+    (0.65, 11.620, 15.081),
+    (0.7, 11.970, 15.469),
+    (0.75, 12.310, 15.842),
+    (0.8, 12.642, 16.202),
+    (0.85, 12.966, 16.550),
+    (0.9, 13.282, 16.886),
+    (0.95, 13.590, 17.212),
+    (1.0, 13.891, 17.528),
+];
+
 /// Sze 3.8, hinged cylindrical roof, isotropic, h = 12.7 (P_max = 3000): `(P/P_max, −W_C)` along the
 /// path, which has two limit points of the load.
 pub const SZE_HINGED_ROOF: [(f64, f64); 36] = [

@@ -187,6 +187,27 @@ impl Generator {
         }
     }
 
+    /// The named vertex sets a generator defines: the two sides of a slit annulus, `slit_start` (the
+    /// vertices at angle 0, whose elements begin the sweep, above the +x axis) and `slit_end` (their
+    /// duplicates at angle 2π, below it). Both sides lie at the same rest positions, so only these
+    /// groups (or vertex lists) tell them apart.
+    pub fn groups(&self) -> Vec<MeshGroup> {
+        match self {
+            Generator::Annulus(settings) => settings.slit_sides().map_or_else(Vec::new, |(start, end)| {
+                let side = |name: &str, mut vertices: Vec<usize>| {
+                    vertices.sort_unstable();
+                    MeshGroup {
+                        name: name.to_string(),
+                        dim: 1,
+                        vertices,
+                    }
+                };
+                vec![side("slit_start", start), side("slit_end", end)]
+            }),
+            _ => Vec::new(),
+        }
+    }
+
     /// The generated mesh with its exact surface.
     ///
     /// # Errors
@@ -375,8 +396,8 @@ pub struct BuiltMesh {
     /// What the input does that is allowed but probably not meant (see
     /// [`ObjMesh::warnings`](crate::obj::ObjMesh::warnings)).
     pub warnings: Vec<String>,
-    /// The named vertex sets of a mesh file (Gmsh physical groups, OBJ groups); empty for generators
-    /// and after refinement (which the groups would not follow).
+    /// The named vertex sets of a mesh file (Gmsh physical groups, OBJ groups) or of a generator
+    /// ([`Generator::groups`]); empty after refinement (which the groups would not follow).
     pub groups: Vec<MeshGroup>,
 }
 
@@ -451,6 +472,9 @@ fn source_mesh(
             let mut generated = generator.generate().map_err(MeshSourceError::Generator)?;
             for _ in 0..recipe.refine {
                 generated = generated.refine_on_surface();
+            }
+            if recipe.refine == 0 {
+                groups = generator.groups();
             }
             ShellMesh::from_tri3(generated.mesh.clone(), recipe.pair, |node| generated.place(node))
         }

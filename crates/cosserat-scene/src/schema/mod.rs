@@ -366,7 +366,8 @@ pub struct MeshSection {
     pub n_radial: Option<usize>,
     /// Disk/annulus vertices per ring.
     pub n_angular: Option<usize>,
-    /// Annulus cut open along +x.
+    /// Annulus cut open along +x; its two sides are the groups `slit_start` (the elements above the
+    /// axis) and `slit_end` (below it).
     pub slit: Option<bool>,
     /// Cylinder length \[m\].
     pub length: Option<f64>,
@@ -675,7 +676,8 @@ pub struct RegionSection {
     /// Boundary loop index.
     pub boundary_loop: Option<usize>,
     /// A named group of the mesh file: a Gmsh physical group (curves or surfaces) or an OBJ `g`/`o`
-    /// group.
+    /// group; or of the generator: `slit_start` and `slit_end`, the two sides of a slit annulus (on
+    /// an unrefined mesh).
     pub group: Option<String>,
     /// The nearest node to a point.
     pub nearest: Option<[f64; 3]>,

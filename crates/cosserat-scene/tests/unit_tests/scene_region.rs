@@ -239,3 +239,34 @@ fn inconsistent_meshes_are_reported_not_panicked_on() {
     bad.corners.elements[0][0] = 99;
     assert!(ShellNodes::new("bad index", &bad, ElementPair::Tri3Tri3).is_err());
 }
+
+/// The two sides of a slit annulus lie at the same rest positions: only the generator's groups tell
+/// them apart. With quadratic elements each side selects its vertices and the mid-edge nodes between
+/// them, and a refined mesh has no groups (refinement would not follow them).
+#[test]
+fn the_groups_of_a_slit_annulus_select_one_side_each() {
+    let text = |refine: usize| {
+        format!(
+            "name = \"slit\"\n[time]\nmode = \"quasi_static\"\nlevels = [1.0]\n\
+             [mesh]\ngenerator = \"annulus\"\ninner_radius = 6.0\nradius = 10.0\nn_radial = 2\nn_angular = 24\n\
+             slit = true\nelement = \"tri6\"\nrefine = {refine}\n\
+             [material]\nmodel = \"plate\"\nthickness = 0.03\nyoungs_modulus = 21e6\npoisson_ratio = 0.0\ndensity = 1.0\nlength_scale = 1e-4\n\
+             [[boundary]]\nname = \"clamped\"\nregion = {{ group = \"slit_end\" }}\nposition = {{ exact = true }}\n\
+             [[load]]\nname = \"lift\"\nregion = {{ group = \"slit_start\" }}\nforce = [0.0, 0.0, 1.0]\n"
+        )
+    };
+    let dir = std::env::temp_dir();
+    let spec =
+        cosserat_scene::spec::SceneSpec::from_str(&text(0), "slit.toml", &dir, &[]).unwrap_or_else(|e| panic!("{e}"));
+    let nodes = &spec.shells[0].mesh.tri6.as_ref().unwrap().nodes;
+    let clamped = &spec.boundaries[0].selection.disp_nodes;
+    let lifted = &spec.loads[0].selection.disp_nodes;
+    // Three vertices and two mid-edge nodes per side, on the +x axis from r = 6 to 10.
+    for side in [clamped, lifted] {
+        assert_eq!(side.len(), 5);
+        assert!(side.iter().all(|&i| nodes[i].y == 0.0 && (6.0..=10.0).contains(&nodes[i].x)));
+    }
+    assert!(clamped.iter().all(|i| !lifted.contains(i)), "the sides share no node");
+    let err = cosserat_scene::spec::SceneSpec::from_str(&text(1), "slit.toml", &dir, &[]).unwrap_err();
+    assert!(err.to_string().contains("no group `slit_end`"), "{err}");
+}

@@ -22,6 +22,33 @@ pub struct AnnulusSettings {
     pub slit: bool,
 }
 
+impl AnnulusSettings {
+    /// The corner vertices on the two sides of the slit, from the inner boundary outwards: first the
+    /// side at angle 0, whose elements begin the sweep, then its duplicates at angle 2π, whose elements
+    /// end it (a disk's centre vertex lies on both). `None` without a slit. The indices are those of
+    /// [`annulus`]'s mesh.
+    pub fn slit_sides(&self) -> Option<(Vec<usize>, Vec<usize>)> {
+        if !self.slit {
+            return None;
+        }
+        let per_ring = self.n_angular + 1;
+        let (centre, rings) = if self.inner_radius == 0.0 {
+            (vec![0], self.n_radial)
+        } else {
+            (Vec::new(), self.n_radial + 1)
+        };
+        let side = |j: usize| {
+            let offset = centre.len();
+            centre
+                .iter()
+                .copied()
+                .chain((0..rings).map(|ring| offset + ring * per_ring + j))
+                .collect()
+        };
+        Some((side(0), side(self.n_angular)))
+    }
+}
+
 /// A disk of radius `radius` about the origin in `z = 0`; see [`annulus`].
 ///
 /// # Errors

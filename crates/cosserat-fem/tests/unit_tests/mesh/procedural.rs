@@ -145,6 +145,53 @@ fn curved_upgrades_of_an_annulus_put_boundary_nodes_on_the_circles() {
 }
 
 #[test]
+fn the_sides_of_a_slit_are_the_vertices_on_the_x_axis_of_the_elements_either_side() {
+    for inner_radius in [0.5, 0.0] {
+        let settings = AnnulusSettings {
+            inner_radius,
+            outer_radius: 1.5,
+            n_radial: 3,
+            n_angular: 12,
+            slit: true,
+        };
+        let annulus = procedural::annulus(&settings).unwrap();
+        let mesh = &annulus.mesh;
+        let (start, end) = settings.slit_sides().unwrap();
+        // Four rings of vertices, or the centre and three rings.
+        let rings = 4;
+        assert_eq!((start.len(), end.len()), (rings, rings));
+        for (&a, &b) in start.iter().zip(&end) {
+            assert_eq!(mesh.nodes[a], mesh.nodes[b], "the two sides coincide at rest");
+            assert!(mesh.nodes[a].y == 0.0 && mesh.nodes[a].x >= 0.0);
+        }
+        let radii: Vec<f64> = start.iter().map(|&v| mesh.nodes[v].x).collect();
+        assert!(radii.windows(2).all(|w| w[0] < w[1]), "inside out: {radii:?}");
+        assert!((radii[0] - inner_radius).abs() < 1e-15 && (radii[rings - 1] - 1.5).abs() < 1e-15);
+        // An element touching a side lies on that side of the cut: above the x axis at angle 0, below
+        // it at angle 2π; the centre vertex of a disk is on both.
+        let off_centre = |side: &[usize], v: usize| side.contains(&v) && !(inner_radius == 0.0 && v == 0);
+        for f in 0..mesh.n_elements() {
+            let c = centroid(mesh, f);
+            let touches = |side: &[usize]| mesh.elements[f].iter().any(|&v| off_centre(side, v));
+            if touches(&start) {
+                assert!(c.y > 0.0, "element {f} at the start side");
+            }
+            if touches(&end) {
+                assert!(c.y < 0.0, "element {f} at the end side");
+            }
+        }
+    }
+    let closed = AnnulusSettings {
+        inner_radius: 0.5,
+        outer_radius: 1.5,
+        n_radial: 3,
+        n_angular: 12,
+        slit: false,
+    };
+    assert_eq!(closed.slit_sides(), None);
+}
+
+#[test]
 fn cylinder_is_outward_and_on_the_surface() {
     let cyl = procedural::cylinder(0.7, 2.0, 9, 4).unwrap();
     assert_eq!(cyl.mesh.n_nodes(), 9 * 5);
