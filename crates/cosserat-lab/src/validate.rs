@@ -220,7 +220,7 @@ fn level_table(problem: &Problem, r: &ValidationRun, md: &mut String) -> Result<
     }
     writeln!(md, "{header}\n{rule}")?;
     for (lambda, values) in t {
-        let mut line = format!("| {lambda:.2} |");
+        let mut line = format!("| {} |", load_factor(*lambda));
         for (c, (v, reference, e)) in problem.components.iter().zip(values) {
             write!(line, " {v:.5} | {reference:.5} |")?;
             if let Some((_, f)) = c.second {
@@ -245,6 +245,15 @@ fn level_table(problem: &Problem, r: &ValidationRun, md: &mut String) -> Result<
         }
     }
     Ok(())
+}
+
+/// A tabulated load factor with the decimals it has: `0.05`, `0.025`, `1.00`.
+fn load_factor(lambda: f64) -> String {
+    let three = format!("{lambda:.3}");
+    match three.strip_suffix('0') {
+        Some(two) => two.to_string(),
+        None => three,
+    }
 }
 
 /// How to read the results: what the references can and cannot resolve, and what the ladders show.
@@ -400,4 +409,17 @@ fn problem_section(
         )?;
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::load_factor;
+
+    #[test]
+    fn load_factors_keep_their_third_decimal_only_where_they_have_one() {
+        assert_eq!(load_factor(0.025), "0.025");
+        assert_eq!(load_factor(0.05), "0.05");
+        assert_eq!(load_factor(0.35000000000000003), "0.35");
+        assert_eq!(load_factor(1.0), "1.00");
+    }
 }

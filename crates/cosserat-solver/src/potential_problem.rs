@@ -116,6 +116,10 @@ impl NewtonProblem for PotentialProblem<'_> {
         self.potential.max_step_fraction(x, dx)
     }
 
+    fn predicts_strains(&self) -> bool {
+        !self.potential.parts.shells.is_empty()
+    }
+
     fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
         self.potential.linearize_strains(x, dx).map_err(map_error)
     }

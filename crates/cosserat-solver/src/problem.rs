@@ -62,6 +62,13 @@ pub trait NewtonProblem {
         1.0
     }
 
+    /// Whether [`linearize_strains`](Self::linearize_strains) predicts stresses for the Hessians' second-order
+    /// terms: only then does [`NewtonSettings::mixed_integration_points`](crate::NewtonSettings::mixed_integration_points)
+    /// take full steps that raise the energy (relaxed steps). The default predicts nothing.
+    fn predicts_strains(&self) -> bool {
+        false
+    }
+
     /// With [`NewtonSettings::mixed_integration_points`](crate::NewtonSettings::mixed_integration_points):
     /// called with each Newton direction `dx` from the iterate `x`, before its line search. A problem
     /// whose Hessian has second-order terms weighted by stresses linearises its strains there (see

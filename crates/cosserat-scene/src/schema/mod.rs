@@ -269,10 +269,13 @@ pub struct SolverSection {
     /// dominates a step; the tolerance is the same, the iteration count grows (0.1 suits the
     /// volumetric Lotus slab, docs/micropolar-volume.md).
     pub reuse_factorisation: Option<f64>,
-    /// The mixed-integration-point Newton method (default `false`): the geometric terms of the Newton
-    /// matrix use stresses predicted linearly along the previous steps instead of the stresses at the
-    /// iterate. The same solutions with fewer iterations on thin shells under large rotations in
-    /// quasi-static runs (README, settings); ignored by the arc-length corrector.
+    /// The mixed-integration-point Newton method (default `true` in quasi-static runs, `false`
+    /// otherwise): the geometric terms of the Newton matrix use stresses predicted linearly along the
+    /// previous steps instead of the stresses at the iterate, and a full step that raises the energy by
+    /// a thin shell's spurious stretch is taken anyway (undone unless each step after it cuts the
+    /// energy's excess over its start fourfold until it falls below, within eight steps). The same
+    /// solutions with fewer iterations on thin shells under large rotations (README, settings);
+    /// ignored by the arc-length corrector.
     pub mixed_integration_points: Option<bool>,
 }
 

@@ -354,6 +354,6 @@ fn default_solver(time: &TimeSpec) -> SolverSpec {
         indefinite_hessian,
         max_step_reductions: 8,
         reuse_factorisation: None,
-        mixed_integration_points: false,
+        mixed_integration_points: matches!(time, TimeSpec::QuasiStatic { .. }),
     }
 }

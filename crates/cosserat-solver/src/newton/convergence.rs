@@ -208,7 +208,12 @@ impl ConvergenceTest {
                 best(window) > 0.5 * best(before)
             }
         };
-        no_progress && decrement.abs() <= DECREMENT_FACTOR * f64::EPSILON * self.energy_scale
+        no_progress && !self.resolves(decrement)
+    }
+
+    /// Whether a Newton decrement `−dx·∇Π` lies above the energy's round-off.
+    pub(crate) fn resolves(&self, decrement: f64) -> bool {
+        decrement.abs() > DECREMENT_FACTOR * f64::EPSILON * self.energy_scale
     }
 
     /// The record of a converged solve.

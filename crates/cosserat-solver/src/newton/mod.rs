@@ -37,6 +37,7 @@ use crate::problem::NewtonProblem;
 mod convergence;
 mod direction;
 mod evaluation;
+mod relaxed;
 mod report;
 mod settings;
 mod step;
@@ -45,6 +46,7 @@ pub(crate) use convergence::ConvergenceTest;
 pub use convergence::{Convergence, Criterion, Tolerance};
 use evaluation::problem_error;
 pub(crate) use evaluation::{round_off_scale, weighted_max_abs};
+use relaxed::{Relaxed, undo_relaxed};
 pub use report::{FactorisationCounts, NewtonReport, SolveCost};
 pub use settings::{IndefiniteHessian, NewtonSettings};
 
@@ -134,6 +136,11 @@ struct Run {
     reuse: bool,
     /// The state measured before the solve (see [`NewtonSolver::solve_from_prediction`]).
     measured: Option<MeasuredStart>,
+    /// With mixed integration points: the run of steps since a relaxed step, until the energy falls
+    /// below that of the point it left (see the `relaxed` module).
+    relaxed: Option<Relaxed>,
+    /// Whether relaxed steps may still be taken in this solve (not after a run of them was undone).
+    may_relax: bool,
 }
 
 impl Run {
@@ -157,6 +164,9 @@ enum Step {
     Full { alpha: f64 },
     /// A shorter step `α dx` was accepted.
     Backtracked { alpha: f64 },
+    /// The full (feasible) step `α dx` was taken although it raised the energy (see the `relaxed`
+    /// module).
+    Relaxed { alpha: f64 },
     /// No step length passed.
     Failed,
 }
@@ -347,6 +357,8 @@ impl NewtonSolver {
             shift_from_now: false,
             reuse: self.carry_factors,
             measured,
+            relaxed: None,
+            may_relax: self.settings.mixed_integration_points && problem.predicts_strains(),
         };
         let result = self.minimise(problem, x, &mut run);
         // A failed solve counts the iterations whose step was taken, as its residual history does.
@@ -398,6 +410,10 @@ impl NewtonSolver {
             if run.test.stagnated(&run.residuals, run.decrement, false) {
                 return Ok((at.energy, run.test.record(Criterion::Stagnated)));
             }
+            if run.relaxed.as_ref().is_some_and(Relaxed::overdue) {
+                at = undo_relaxed(problem, x, run);
+                continue;
+            }
             if k == s.max_iterations {
                 return Err(NewtonError::MaxIterations {
                     iterations: k,
@@ -422,11 +438,16 @@ impl NewtonSolver {
                         && s.linear_solver.kind != LinearSolverKind::Cg
                         && s.reuse_max_ratio.is_some_and(|ratio| run.last_residual() < ratio * r);
                 }
-                Step::Backtracked { .. } => run.reuse = false,
+                Step::Backtracked { .. } | Step::Relaxed { .. } => run.reuse = false,
                 // The old factors gave a poor direction: retry this point with a fresh Newton step.
                 Step::Failed if chord => run.reuse = false,
                 // The indefinite Hessian's own direction gave no step: retry this point shifted.
                 Step::Failed if retry_shifted => run.reuse = false,
+                // No step recovers from a relaxed step: go back to where it started.
+                Step::Failed if run.relaxed.is_some() => {
+                    at = undo_relaxed(problem, x, run);
+                    continue;
+                }
                 Step::Failed if run.test.stagnated(&run.residuals, run.decrement, true) => {
                     return Ok((at.energy, run.test.record(Criterion::Stagnated)));
                 }
@@ -438,16 +459,47 @@ impl NewtonSolver {
                     });
                 }
             }
-            if !matches!(step, Step::Failed) && (problem.rebase(x) | problem.follow_iterate(x)) {
-                // The same state in other unknowns, or the same unknowns under an adapted energy: its
-                // residual, gradient and Hessian are evaluated anew, and the old residual does not count.
-                if at.gradient {
-                    run.residuals.pop();
-                }
-                at.gradient = false;
-                run.reuse = false;
+            if matches!(step, Step::Failed) {
+                continue;
             }
+            self.settle(problem, x, &mut at, run)?;
         }
+    }
+
+    /// After an accepted step to `x`: ends a run from a relaxed step that has recovered, rebases the
+    /// rotations and lets the energy adapt to the iterate, after which its residual, gradient and
+    /// Hessian are evaluated anew.
+    fn settle<P: NewtonProblem + ?Sized>(
+        &mut self,
+        problem: &mut P,
+        x: &mut [f64],
+        at: &mut Point,
+        run: &mut Run,
+    ) -> Result<(), NewtonError> {
+        if let Some(relaxed) = &mut run.relaxed
+            && relaxed.recovered(at.energy)
+        {
+            run.relaxed = None;
+        }
+        // Rotations are rebased only outside a run from a relaxed step, whose start must stay in the
+        // unknowns it was left in to be restored; the Cayley parameters serve up to a half turn.
+        let rebased = run.relaxed.is_none() && problem.rebase(x);
+        let adapted = problem.follow_iterate(x);
+        if adapted && let Some(relaxed) = &mut run.relaxed {
+            relaxed.energy = problem
+                .value(&relaxed.start)
+                .map_err(|source| problem_error(run.iterations, source))?;
+        }
+        if rebased || adapted {
+            // The same state in other unknowns, or the same unknowns under an adapted energy: its
+            // residual, gradient and Hessian are evaluated anew, and the old residual does not count.
+            if at.gradient {
+                run.residuals.pop();
+            }
+            at.gradient = false;
+            run.reuse = false;
+        }
+        Ok(())
     }
 
     /// The line search along the direction just computed, with the mixed-integration-point strain
@@ -468,7 +520,7 @@ impl NewtonSolver {
                 .map_err(|source| problem_error(run.iterations, source))?;
         }
         let step = self.step(problem, x, slope, at, run)?;
-        if mixed && let Step::Full { alpha } | Step::Backtracked { alpha } = step {
+        if mixed && let Step::Full { alpha } | Step::Backtracked { alpha } | Step::Relaxed { alpha } = step {
             problem.advance_predicted_strains(alpha);
         }
         if run.iterations == 1 {
@@ -483,7 +535,7 @@ impl NewtonSolver {
     /// are shifted from now on in this solve.
     fn shift_after(&mut self, step: &Step, r: f64, run: &mut Run) -> bool {
         let poor = match step {
-            Step::Full { .. } => run.last_residual() >= r,
+            Step::Full { .. } | Step::Relaxed { .. } => run.last_residual() >= r,
             Step::Backtracked { .. } | Step::Failed => true,
         };
         run.indefinite && poor && self.shift_from_now(run)

@@ -76,6 +76,11 @@ pub struct NewtonReport {
     pub indefinite_start: bool,
     /// Doublings of shifted steps along negative curvature.
     pub extrapolations: usize,
+    /// Full steps taken although they raised the energy (with mixed integration points).
+    pub relaxed_steps: usize,
+    /// Steps undone (the relaxed ones and those after them) because the energy did not fall below the
+    /// relaxed steps' start; they count among the iterations.
+    pub undone_relaxed_steps: usize,
     /// The test the solve passed, its tolerance, load scale and round-off floor.
     pub convergence: Convergence,
     /// Which factorisation solved each step, counted.
@@ -111,6 +116,8 @@ impl NewtonReport {
             shifted_iterations: 0,
             indefinite_start: false,
             extrapolations: 0,
+            relaxed_steps: 0,
+            undone_relaxed_steps: 0,
             convergence: Convergence {
                 criterion: Criterion::Residual,
                 tolerance: f64::NAN,

@@ -88,7 +88,13 @@ pub struct NewtonSettings {
     /// to the same solutions. In thin shells a step's second-order strain error (spurious stretching
     /// after a large rotation) carries membrane stresses far above the bending stresses, and the
     /// ordinary Hessian then predicts the next step poorly; the predicted stresses leave that error
-    /// out. See [`NewtonProblem::linearize_strains`](crate::NewtonProblem::linearize_strains).
+    /// out. For a problem that predicts them ([`NewtonProblem::predicts_strains`](crate::NewtonProblem::predicts_strains)),
+    /// the full step of a positive definite matrix is taken even where it raises the energy (a relaxed
+    /// step): the stretch that raises it is what the next step removes, where a line search would cut
+    /// the step and crawl. The steps after it are searched as usual; unless each cuts the energy's excess
+    /// over the relaxed step's start fourfold until it falls below, within eight steps, they are undone
+    /// (see the `relaxed` module). See
+    /// [`NewtonProblem::linearize_strains`](crate::NewtonProblem::linearize_strains).
     pub mixed_integration_points: bool,
     /// The sparse linear solver (default: `Auto`, AMD ordering, sequential).
     pub linear_solver: LinearSolverSettings,

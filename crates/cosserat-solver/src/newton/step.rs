@@ -1,14 +1,15 @@
-//! The line search of an iteration: the full feasible step with its gradient, then backtracking on
-//! energies with the (noise-resistant) Armijo test of [`crate::line_search`].
+//! The line search of an iteration: the full feasible step with its gradient, then (with mixed
+//! integration points, as a relaxed step, see the `relaxed` module) the full step anyway, or
+//! backtracking on energies with the (noise-resistant) Armijo test of [`crate::line_search`].
 
 use super::evaluation::{non_finite, problem_error};
-use super::{NewtonSolver, Point, Run, Step};
+use super::{NewtonSolver, Point, Relaxed, Run, Step};
 use crate::error::{NewtonError, NonFiniteQuantity, ProblemError};
 use crate::problem::NewtonProblem;
 
 impl NewtonSolver {
     /// Moves `x` along `dx` (slope `dx·∇Π`): the full feasible step if it passes the convergence or the
-    /// Armijo test, otherwise the first backtracked step that passes Armijo's.
+    /// Armijo test or may be a relaxed step, otherwise the first backtracked step that passes Armijo's.
     pub(super) fn step<P: NewtonProblem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -41,6 +42,13 @@ impl NewtonSolver {
             self.accept_with_gradient(x, run, e1);
             *at = Point::with_gradient(e1);
             return Ok(Step::Full { alpha });
+        }
+        if self.may_relax(run, slope) {
+            run.relaxed = Some(Relaxed::new(x, at.energy));
+            run.report.relaxed_steps += 1;
+            self.accept_with_gradient(x, run, e1);
+            *at = Point::with_gradient(e1);
+            return Ok(Step::Relaxed { alpha });
         }
         for _ in 0..self.settings.max_line_search_iterations {
             alpha *= self.settings.backtracking_factor;

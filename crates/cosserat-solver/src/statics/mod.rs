@@ -25,7 +25,9 @@ pub struct QuasiStaticSettings {
     /// ([`IndefiniteHessian::Factorise`]): from a thin shell's predicted start, whose Hessian is
     /// indefinite while the prediction's membrane error lasts, they converge in far fewer iterations
     /// than the shift's descent (docs/model-notes.md); a level they cannot reach even after every
-    /// bisection is tried once more with the shift (see [`LoadLevelReport::shift_retries`]).
+    /// bisection is tried once more with the shift (see [`LoadLevelReport::shift_retries`]). It uses
+    /// mixed integration points ([`NewtonSettings::mixed_integration_points`]), whose relaxed steps
+    /// cross a thin shell's spurious stretch where the line search would crawl.
     pub newton: NewtonSettings,
     /// How many times an increment may be bisected in total for one requested level.
     pub max_bisections: usize,
@@ -45,6 +47,7 @@ impl Default for QuasiStaticSettings {
         Self {
             newton: NewtonSettings {
                 indefinite_hessian: IndefiniteHessian::Factorise,
+                mixed_integration_points: true,
                 ..NewtonSettings::default()
             },
             max_bisections: 10,

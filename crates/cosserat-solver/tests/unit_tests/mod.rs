@@ -8,4 +8,5 @@ mod convergence;
 mod error;
 mod newton;
 mod newton_cg;
+mod newton_relaxed;
 mod toy;
