@@ -112,6 +112,9 @@ pub struct Problem {
     /// Whether the study measures errors against the components' second values instead of the
     /// reference (when the reference is a rounded table and the second value a closed form).
     pub study_against_second: bool,
+    /// The smallest error the reference resolves, where it is a finite element result and not a
+    /// closed form (its own discretisation error); the study reports no cheapest run for finer targets.
+    pub resolution: Option<f64>,
 }
 
 fn col(p: &ProbeTable, row: usize, name: &str) -> Result<f64> {
@@ -227,6 +230,7 @@ pub fn registry() -> Vec<Problem> {
             default_mesh: "20×2",
             curved: false,
             study_against_second: true,
+            resolution: None,
         },
         Problem {
             name: "end_moment_rollup",
@@ -251,6 +255,7 @@ pub fn registry() -> Vec<Problem> {
             default_mesh: "48×4",
             curved: false,
             study_against_second: false,
+            resolution: None,
         },
         Problem {
             name: "cantilever_small_load",
@@ -270,6 +275,7 @@ pub fn registry() -> Vec<Problem> {
             default_mesh: "20×2",
             curved: false,
             study_against_second: false,
+            resolution: None,
         },
         Problem {
             name: "ring_diametral_compression",
@@ -294,6 +300,7 @@ pub fn registry() -> Vec<Problem> {
             default_mesh: "128×1",
             curved: true,
             study_against_second: false,
+            resolution: None,
         },
         Problem {
             name: "slit_annular_plate",
@@ -318,6 +325,9 @@ pub fn registry() -> Vec<Problem> {
             default_mesh: "4×40",
             curved: false,
             study_against_second: false,
+            // The table lies 0.2 % above the limit that the refined meshes of every discretisation
+            // approach (docs/validation.md).
+            resolution: Some(2e-3),
         },
     ]
 }
