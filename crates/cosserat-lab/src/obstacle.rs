@@ -41,8 +41,8 @@ pub const DISCRETISATIONS: [Discretisation; 6] = [
     Discretisation::new(Pair::Tri6Tri3, Interpolation::Stabilized),
     Discretisation::new(Pair::Tri6Tri3, Interpolation::Regge),
     Discretisation::new(Pair::Tri6Tri3, Interpolation::ReggeStabilized),
-    Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized),
-    Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized).on_six_points(),
+    Discretisation::DEFAULT,
+    Discretisation::DEFAULT.on_six_points(),
 ];
 
 fn hemisphere_meshes(meshes: &[(usize, usize)]) -> Vec<Mesh> {

@@ -398,6 +398,10 @@ pub struct Discretisation {
 }
 
 impl Discretisation {
+    /// The default discretisation of a scene with quadratic displacements: Tri6/Tri6 with Regge
+    /// membrane strains and stabilised shear and drilling, on the 3-point rule.
+    pub const DEFAULT: Self = Self::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
+
     /// A pair with a strain interpolation.
     pub const fn new(pair: Pair, interpolation: Interpolation) -> Self {
         Self {
@@ -502,7 +506,7 @@ mod tests {
             );
             shell.quadrature_rule().n_points()
         };
-        let default = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
+        let default = Discretisation::DEFAULT;
         let six = default.on_six_points();
         assert_eq!(default.label(), "Tri6/Tri6 regge_stabilized");
         assert_eq!(six.label(), "Tri6/Tri6 regge_stabilized 6-point");

@@ -56,8 +56,8 @@ const STUDIED: [Discretisation; 7] = [
     Discretisation::new(Pair::Tri6Tri3, Interpolation::Stabilized),
     Discretisation::new(Pair::Tri6Tri3, Interpolation::ReggeStabilized),
     Discretisation::paper(Pair::Tri6Tri6),
-    Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized),
-    Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized).on_six_points(),
+    Discretisation::DEFAULT,
+    Discretisation::DEFAULT.on_six_points(),
 ];
 
 impl Discretisation {
@@ -848,7 +848,7 @@ mod tests {
     #[test]
     fn unreached_bound_is_the_cheapest_finest_paper_run() {
         let run = |discretisation: Discretisation, seconds: f64| study_run(discretisation, seconds, None);
-        let regge = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
+        let regge = Discretisation::DEFAULT;
         let runs = [
             run(Discretisation::paper(Pair::Tri3Tri3), 0.1),
             run(Discretisation::paper(Pair::Tri3Tri3), 2.5),

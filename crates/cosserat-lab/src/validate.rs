@@ -6,7 +6,7 @@
 //! quantity over the levels (the definition); a run's error is the largest over levels.
 
 use crate::plot::{Mark, Plot, Series};
-use crate::problem::{Discretisation, Errors, Interpolation, LevelTable, Pair, Problem, compare, registry};
+use crate::problem::{Discretisation, Errors, LevelTable, Pair, Problem, compare, registry};
 use crate::runner::{RunOutcome, Runner, run_described};
 use anyhow::Result;
 use cosserat::RunDescription;
@@ -33,15 +33,16 @@ pub const DISCRETISATIONS: [Discretisation; 4] = [
     Discretisation::paper(Pair::Tri3Tri3),
     Discretisation::paper(Pair::Tri6Tri3),
     Discretisation::paper(Pair::Tri6Tri6),
-    DEFAULT,
+    Discretisation::DEFAULT,
 ];
-
-/// The default discretisation of a scene with quadratic displacements.
-const DEFAULT: Discretisation = Discretisation::new(Pair::Tri6Tri6, Interpolation::ReggeStabilized);
 
 /// Colour index of a discretisation in the plots (the reference is 0).
 fn color(d: Discretisation) -> usize {
-    if d == DEFAULT { 4 } else { d.pair.color() }
+    if d == Discretisation::DEFAULT {
+        4
+    } else {
+        d.pair.color()
+    }
 }
 
 /// One run of a problem.
@@ -325,7 +326,7 @@ fn summary_header() -> String {
     let labels: Vec<String> = DISCRETISATIONS.iter().map(|d| d.label()).collect();
     format!(
         "| problem | scene's mesh | error: Tri6/Tri3 | {} | coarsest mesh within 1 %: {} |\n|---|---|---|---|{}",
-        DEFAULT.label(),
+        Discretisation::DEFAULT.label(),
         labels.join(" | "),
         "---|".repeat(labels.len())
     )
@@ -349,7 +350,7 @@ fn summary_row(problem: &Problem, runs: &[ValidationRun], summary: &mut String) 
         problem.title,
         problem.default_mesh,
         error(Discretisation::paper(Pair::Tri6Tri3)),
-        error(DEFAULT),
+        error(Discretisation::DEFAULT),
         within.join(" | ")
     )?;
     Ok(())
@@ -389,7 +390,7 @@ fn problem_section(
     for r in runs {
         writeln!(body, "{}", run_row(problem, r))?;
     }
-    for d in [Discretisation::paper(Pair::Tri6Tri3), DEFAULT] {
+    for d in [Discretisation::paper(Pair::Tri6Tri3), Discretisation::DEFAULT] {
         let Some(r) = on_scene_mesh(problem, runs, d) else {
             continue;
         };
