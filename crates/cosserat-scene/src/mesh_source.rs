@@ -194,13 +194,11 @@ impl Generator {
     pub fn groups(&self) -> Vec<MeshGroup> {
         match self {
             Generator::Annulus(settings) => settings.slit_sides().map_or_else(Vec::new, |(start, end)| {
-                let side = |name: &str, mut vertices: Vec<usize>| {
-                    vertices.sort_unstable();
-                    MeshGroup {
-                        name: name.to_string(),
-                        dim: 1,
-                        vertices,
-                    }
+                // `slit_sides` lists each side inside out, in ascending order as a group's vertices are.
+                let side = |name: &str, vertices| MeshGroup {
+                    name: name.to_string(),
+                    dim: 1,
+                    vertices,
                 };
                 vec![side("slit_start", start), side("slit_end", end)]
             }),

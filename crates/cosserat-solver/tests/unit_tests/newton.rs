@@ -21,7 +21,7 @@ fn reference_newton() -> NewtonSettings {
     }
 }
 
-fn solve<P: NewtonProblem>(
+pub(super) fn solve<P: NewtonProblem>(
     problem: &mut P,
     x: &mut [f64],
     settings: NewtonSettings,

@@ -23,7 +23,8 @@ pub struct AnnulusSettings {
 }
 
 impl AnnulusSettings {
-    /// The corner vertices on the two sides of the slit, from the inner boundary outwards: first the
+    /// The corner vertices on the two sides of the slit, from the inner boundary outwards (ascending
+    /// indices): first the
     /// side at angle 0, whose elements begin the sweep, then its duplicates at angle 2π, whose elements
     /// end it (a disk's centre vertex lies on both). `None` without a slit. The indices are those of
     /// [`annulus`]'s mesh.

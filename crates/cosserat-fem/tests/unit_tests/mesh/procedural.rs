@@ -160,6 +160,7 @@ fn the_sides_of_a_slit_are_the_vertices_on_the_x_axis_of_the_elements_either_sid
         // Four rings of vertices, or the centre and three rings.
         let rings = 4;
         assert_eq!((start.len(), end.len()), (rings, rings));
+        assert!(start.windows(2).all(|w| w[0] < w[1]) && end.windows(2).all(|w| w[0] < w[1]));
         for (&a, &b) in start.iter().zip(&end) {
             assert_eq!(mesh.nodes[a], mesh.nodes[b], "the two sides coincide at rest");
             assert!(mesh.nodes[a].y == 0.0 && mesh.nodes[a].x >= 0.0);
