@@ -195,18 +195,28 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 })
                 .collect();
             let node_r = std::array::from_fn(|k| &node_r[k]);
-            let strains = match self.tying_maps(e, state) {
-                Some(maps) => {
-                    assumed_kernel::element_strains(&points, node_r, &maps, &self.disc.rest.tying_twins, self.disc.axl)
-                }
+            let (strains, hourglass) = match self.tying_maps(e, state) {
+                Some(maps) => assumed_kernel::element_strains_and_hourglass(
+                    &points,
+                    node_r,
+                    &maps,
+                    &self.disc.rest.tying_twins,
+                    self.disc.axl,
+                ),
                 None => {
                     let projection = self.disc.rest.projections.get(e);
-                    projected::element_strains(&points, node_r, projection, self.disc.axl)
+                    (
+                        projected::element_strains(&points, node_r, projection, self.disc.axl),
+                        0.0,
+                    )
                 }
             };
             for (p, s) in points.iter().zip(&strains) {
                 parts.add(s, p.density.matrix(), p.shape.weight);
             }
+            // The drilling hourglass term holds turns about the normal.
+            parts.drilling += hourglass;
+            parts.total += hourglass;
         }
         parts
     }

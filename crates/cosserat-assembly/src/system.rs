@@ -59,7 +59,7 @@ impl ElementPair {
     /// The quadrature rule of this pair with `interpolation` when none is chosen: the model's pairing
     /// ([`QuadratureRule::for_element_pair`]), except quadratic rotations with Regge membrane strains
     /// and stabilised shear and drilling, which take the 3-point rule their strains are built for (its
-    /// points are the interior tying points; the six-point rule costs 1.8 times as much per element
+    /// points are the interior tying points; the six-point rule costs 1.6 times as much per element
     /// for the same accuracy, docs/model-notes.md).
     pub fn default_quadrature(self, interpolation: StrainInterpolation) -> QuadratureRule {
         match (self, interpolation) {

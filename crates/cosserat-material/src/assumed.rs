@@ -44,7 +44,7 @@ use nalgebra::{DMatrix, Matrix2, SMatrix};
 /// of the interior degree-2 rule.
 pub const N_TYING: usize = 10;
 /// The first of the interior tying points (the degree-2 rule's points, equal weights).
-const FIRST_INTERIOR: usize = 7;
+pub(crate) const FIRST_INTERIOR: usize = 7;
 /// Number of tied strain entries per tying point: `Ê` entries 0–5 (the tangential and normal rows of
 /// its two variable columns).
 pub const TIED: usize = 6;

@@ -16,6 +16,7 @@
 //! strains, so its stress is added to the quadrature point's and its Jacobian is the quadrature point's.
 
 use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap, TyingTwins};
+use crate::drilling_hourglass::DrillingHourglass;
 use crate::kernel::PointShape;
 use crate::kernel::strain_vector;
 use crate::model::AxlVariant;
@@ -56,6 +57,18 @@ pub fn element_strains<const NU: usize, const NR: usize>(
     twins: &TyingTwins,
     variant: AxlVariant,
 ) -> Vec<StrainVector> {
+    element_strains_and_hourglass(points, node_r, maps, twins, variant).0
+}
+
+/// [`element_strains`], and the energy of the element's drilling hourglass term (J; see
+/// [`crate::drilling_hourglass`]), zero where it has none.
+pub fn element_strains_and_hourglass<const NU: usize, const NR: usize>(
+    points: &[ValuePoint<'_, NU, NR>],
+    node_r: [&Matrix3<f64>; NR],
+    maps: &[TyingMap],
+    twins: &TyingTwins,
+    variant: AxlVariant,
+) -> (Vec<StrainVector>, f64) {
     let first = points.len() - N_TYING;
     let strains: Vec<StrainVector> = points
         .iter()
@@ -68,7 +81,10 @@ pub fn element_strains<const NU: usize, const NR: usize>(
             strain_vector(p.shape, &p.f_hat, &p.r, node_r, p.offset, variant)
         })
         .collect();
-    assumed(&strains, maps, twins)
+    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
+    let hourglass =
+        DrillingHourglass::of(NR == 6, quadrature, maps, twins).map_or(0.0, |h| h.energy(&tied(&strains, twins)));
+    (assumed(&strains, maps, twins), hourglass)
 }
 
 /// The derivatives `σ̂_q` of the element energy with respect to the raw `strains` of all its points,
@@ -90,6 +106,10 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
         *out = ws;
         out.fixed_rows_mut::<TIED>(0)
             .copy_from(&m.own.tr_mul(&ws.fixed_rows::<TIED>(0)));
+    }
+    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
+    if let Some(hourglass) = DrillingHourglass::of(NR == 6, quadrature, maps, twins) {
+        value += hourglass.add_stress(&tied(strains, twins), &mut tied_stress);
     }
     let first = points.len() - N_TYING;
     for t in 0..N_TYING {
@@ -188,6 +208,15 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
         })
         .collect();
     add_first_order(&tied_points, 3 * NU, h);
+    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
+    if let Some(hourglass) = DrillingHourglass::of(NR == 6, quadrature, maps, twins) {
+        let jacobian = |t: usize| {
+            membrane[twins.source(t, first)]
+                .as_ref()
+                .expect("an edge or interior tying point is evaluated")
+        };
+        hourglass.add_first_order(jacobian, h);
+    }
 }
 
 /// `out += J Mᵀ` for the `Ê` columns `J` of a point's Jacobian in the element's unknowns, over the

@@ -123,8 +123,13 @@ impl Coupling<'_> {
         variant: AxlVariant,
         volume: Option<&Moduli>,
     ) -> f64 {
-        let strains = self.element_strains(points, node_r, variant);
-        points
+        let (strains, hourglass) = match self {
+            Self::Projection(p) => (projected::element_strains(points, node_r, Some(p), variant), 0.0),
+            Self::Tying(maps, twins) => {
+                assumed_kernel::element_strains_and_hourglass(points, node_r, maps, &twins, variant)
+            }
+        };
+        let points_energy: f64 = points
             .iter()
             .zip(&strains)
             .map(|(p, s)| {
@@ -134,7 +139,8 @@ impl Coupling<'_> {
                 }
                 p.shape.weight * psi
             })
-            .sum()
+            .sum();
+        points_energy + hourglass
     }
 
     /// Energy and gradient of an element with respect to its unknowns (`out.hessian` is not touched).

@@ -38,6 +38,7 @@ pub mod assumed;
 pub mod assumed_kernel;
 pub mod coupled;
 pub mod density;
+pub mod drilling_hourglass;
 pub mod element;
 pub mod error;
 pub mod kernel;

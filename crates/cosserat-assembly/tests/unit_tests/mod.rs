@@ -3,6 +3,7 @@ mod common;
 mod curved;
 mod dynamic;
 mod finite;
+mod hourglass;
 mod pattern;
 mod potential;
 mod pressure;

@@ -175,7 +175,11 @@ impl Tally {
 /// The outcome of one Newton solve towards a level.
 enum Attempt {
     Converged(NewtonReport),
-    Failed(NewtonError),
+    /// The solve failed; `predicted`: it started from a prediction.
+    Failed {
+        error: NewtonError,
+        predicted: bool,
+    },
 }
 
 impl QuasiStaticStepper {
@@ -308,14 +312,14 @@ impl QuasiStaticStepper {
                     }
                     tally.sub_levels += 1;
                 }
-                Attempt::Failed(error) => {
+                Attempt::Failed { error, predicted } => {
                     tally.waste(&error);
                     if tally.bisections >= self.settings.max_bisections {
                         return Err(fail(error.into(), &tally));
                     }
                     tally.bisections += 1;
-                    // A failed predictor is not trusted for the bisected step.
-                    self.predictor.clear();
+                    // A failed predictor is not trusted for the bisected step, nor its secant again.
+                    self.predictor.clear(predicted);
                     self.limit = Some(0.5 * (lambda - from));
                 }
             }
@@ -360,7 +364,7 @@ impl QuasiStaticStepper {
                 self.current = lambda;
                 Attempt::Converged(report)
             }
-            Err(error) => Attempt::Failed(error),
+            Err(error) => Attempt::Failed { error, predicted },
         })
     }
 

@@ -8,8 +8,11 @@
 //! through the last three equilibria (exact for paths quadratic in the load factor) leaves an error
 //! of the order of the cube of the rotation per level, which such a shell needs; on thicker shells it
 //! starts Newton no better than the secant, and often a little worse. So a run predicts with the
-//! secant until a level shows the secant's failure (its solve started at an indefinite Hessian) and
-//! with the quadratic from then on.
+//! secant until a level shows the secant's failure (its solve started at an indefinite Hessian, or
+//! failed from a prediction) and with the quadratic from then on. Where the quadratic has too little
+//! to go on (one increment, after a bisection) such a run starts from the last equilibrium instead of
+//! the secant it knows to fail: Newton's first step from there is the tangent prediction, and the
+//! relaxed steps of the mixed-integration-point iteration cross the stretch it leaves.
 
 /// A converged load increment: the change of the unknowns from one equilibrium to the next, and of
 /// the load factor.
@@ -61,14 +64,16 @@ impl PredictorMemory {
         self.quadratic |= poor_start;
     }
 
-    /// Forgets the increments (after a failed solve, whose prediction is not trusted); the kind of
-    /// prediction stays.
-    pub(crate) fn clear(&mut self) {
+    /// Forgets the increments (after a failed solve, whose prediction is not trusted); a failed solve
+    /// that started from a prediction makes the predictions quadratic from now on.
+    pub(crate) fn clear(&mut self, predicted: bool) {
         self.increments.clear();
+        self.quadratic |= predicted;
     }
 
     /// Writes into `u` the predicted increment for a load step `c` from the last equilibrium; returns
-    /// false (and leaves `u` alone) when nothing is known to extrapolate from.
+    /// false (and leaves `u` alone) when nothing is known to extrapolate from, or only the one
+    /// increment of a secant that a quadratic run knows to fail.
     pub(crate) fn predict(&self, c: f64, u: &mut [f64]) -> bool {
         match self.increments.as_slice() {
             [.., earlier, last] if self.quadratic && earlier.step != 0.0 && last.step != 0.0 => {
@@ -82,7 +87,7 @@ impl PredictorMemory {
                 }
                 true
             }
-            [.., last] if last.step != 0.0 => {
+            [.., last] if !self.quadratic && last.step != 0.0 => {
                 let scale = c / last.step;
                 u.iter_mut().zip(&last.du).for_each(|(u, d)| *u = d * scale);
                 true
@@ -130,7 +135,7 @@ mod tests {
 
     #[test]
     fn one_increment_predicts_the_secant_and_none_predicts_nothing() {
-        let mut memory = PredictorMemory::new(Vec::new(), true);
+        let mut memory = PredictorMemory::new(Vec::new(), false);
         let mut u = [7.0];
         assert!(!memory.predict(0.5, &mut u));
         assert_eq!(u, [7.0]);
@@ -140,13 +145,37 @@ mod tests {
     }
 
     #[test]
+    fn a_quadratic_run_with_one_increment_starts_from_the_equilibrium() {
+        let mut memory = PredictorMemory::new(vec![increment(2.0, 0.25)], true);
+        let mut u = [7.0];
+        assert!(!memory.predict(0.5, &mut u), "the secant a quadratic run knows to fail");
+        assert_eq!(u, [7.0]);
+        memory.push(increment(3.0, 0.25), false);
+        assert!(memory.predict(0.25, &mut u));
+    }
+
+    #[test]
+    fn a_solve_that_fails_from_a_prediction_makes_the_predictions_quadratic() {
+        let mut memory = PredictorMemory::default();
+        memory.push(increment(1.0, 1.0), false);
+        memory.clear(false);
+        assert!(
+            !memory.is_quadratic(),
+            "a failed solve from the equilibrium says nothing of the secant"
+        );
+        memory.push(increment(1.0, 1.0), false);
+        memory.clear(true);
+        assert!(memory.is_quadratic() && memory.increments().is_empty());
+    }
+
+    #[test]
     fn a_poor_start_makes_the_predictions_quadratic_for_good() {
         let mut memory = PredictorMemory::default();
         memory.push(increment(1.0, 1.0), false);
         assert!(!memory.is_quadratic());
         memory.push(increment(2.0, 1.0), true);
         memory.push(increment(3.0, 1.0), false);
-        memory.clear();
+        memory.clear(false);
         assert!(memory.is_quadratic() && memory.increments().is_empty());
     }
 
