@@ -30,16 +30,16 @@ fn tied(strains: &[StrainVector], twins: &TyingTwins) -> SVector<f64, N_TIED> {
     SVector::from_fn(|i, _| strains[twins.source(i / TIED, first)][i % TIED])
 }
 
-/// The assumed strains of the quadrature points from the raw strains of all points.
-fn assumed(strains: &[StrainVector], maps: &[TyingMap], twins: &TyingTwins) -> Vec<StrainVector> {
-    let z = tied(strains, twins);
+/// The assumed strains of the quadrature points from the raw strains of all points and the tied
+/// strains `z` among them.
+fn assumed(strains: &[StrainVector], z: &SVector<f64, N_TIED>, maps: &[TyingMap]) -> Vec<StrainVector> {
     strains
         .iter()
         .zip(maps)
         .map(|(s, m)| {
             // In place: the tied map is a 6 × 60 matrix, which a product by value would copy.
             let mut assumed = SVector::<f64, TIED>::zeros();
-            assumed.gemv(1.0, &m.tied, &z, 0.0);
+            assumed.gemv(1.0, &m.tied, z, 0.0);
             assumed.gemv(1.0, &m.own, &s.fixed_rows::<TIED>(0), 1.0);
             let mut out = *s;
             out.fixed_rows_mut::<TIED>(0).copy_from(&assumed);
@@ -49,18 +49,7 @@ fn assumed(strains: &[StrainVector], maps: &[TyingMap], twins: &TyingTwins) -> V
 }
 
 /// The strains its energy is a density of, at each quadrature point of an element (`maps.len()`
-/// points, then the tying points).
-pub fn element_strains<const NU: usize, const NR: usize>(
-    points: &[ValuePoint<'_, NU, NR>],
-    node_r: [&Matrix3<f64>; NR],
-    maps: &[TyingMap],
-    twins: &TyingTwins,
-    variant: AxlVariant,
-) -> Vec<StrainVector> {
-    element_strains_and_hourglass(points, node_r, maps, twins, variant).0
-}
-
-/// [`element_strains`], and the energy of the element's drilling hourglass term (J; see
+/// points, then the tying points), and the energy of the element's drilling hourglass term (J; see
 /// [`crate::drilling_hourglass`]), zero where it has none.
 pub fn element_strains_and_hourglass<const NU: usize, const NR: usize>(
     points: &[ValuePoint<'_, NU, NR>],
@@ -81,10 +70,20 @@ pub fn element_strains_and_hourglass<const NU: usize, const NR: usize>(
             strain_vector(p.shape, &p.f_hat, &p.r, node_r, p.offset, variant)
         })
         .collect();
+    let z = tied(&strains, twins);
     let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
-    let hourglass =
-        DrillingHourglass::of(NR == 6, quadrature, maps, twins).map_or(0.0, |h| h.energy(&tied(&strains, twins)));
-    (assumed(&strains, maps, twins), hourglass)
+    let hourglass = DrillingHourglass::of(NR == 6, quadrature, maps, twins).map_or(0.0, |h| h.energy(&z));
+    (assumed(&strains, &z, maps), hourglass)
+}
+
+/// The drilling hourglass term of an element with `maps` at its quadrature points, if it has one.
+fn hourglass_of<const NU: usize, const NR: usize>(
+    points: &[ElementPoint<'_, NU, NR>],
+    maps: &[TyingMap],
+    twins: &TyingTwins,
+) -> Option<DrillingHourglass> {
+    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
+    DrillingHourglass::of(NR == 6, quadrature, maps, twins)
 }
 
 /// The derivatives `σ̂_q` of the element energy with respect to the raw `strains` of all its points,
@@ -95,7 +94,8 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
     maps: &[TyingMap],
     twins: &TyingTwins,
 ) -> (f64, Vec<StrainVector>) {
-    let smoothed = assumed(strains, maps, twins);
+    let z = tied(strains, twins);
+    let smoothed = assumed(strains, &z, maps);
     let mut value = 0.0;
     let mut sigma = vec![StrainVector::zeros(); points.len()];
     let mut tied_stress = SVector::<f64, N_TIED>::zeros();
@@ -107,9 +107,8 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
         out.fixed_rows_mut::<TIED>(0)
             .copy_from(&m.own.tr_mul(&ws.fixed_rows::<TIED>(0)));
     }
-    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
-    if let Some(hourglass) = DrillingHourglass::of(NR == 6, quadrature, maps, twins) {
-        value += hourglass.add_stress(&tied(strains, twins), &mut tied_stress);
+    if let Some(hourglass) = hourglass_of(points, maps, twins) {
+        value += hourglass.add_stress(&z, &mut tied_stress);
     }
     let first = points.len() - N_TYING;
     for t in 0..N_TYING {
@@ -208,8 +207,7 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
         })
         .collect();
     add_first_order(&tied_points, 3 * NU, h);
-    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
-    if let Some(hourglass) = DrillingHourglass::of(NR == 6, quadrature, maps, twins) {
+    if let Some(hourglass) = hourglass_of(points, maps, twins) {
         let jacobian = |t: usize| {
             membrane[twins.source(t, first)]
                 .as_ref()

@@ -102,19 +102,6 @@ pub enum Coupling<'a> {
 }
 
 impl Coupling<'_> {
-    /// The strains the energy is a density of, at each of the element's points.
-    pub fn element_strains<const NU: usize, const NR: usize>(
-        self,
-        points: &[ValuePoint<'_, NU, NR>],
-        node_r: [&Matrix3<f64>; NR],
-        variant: AxlVariant,
-    ) -> Vec<StrainVector> {
-        match self {
-            Self::Projection(p) => projected::element_strains(points, node_r, Some(p), variant),
-            Self::Tying(maps, twins) => assumed_kernel::element_strains(points, node_r, maps, &twins, variant),
-        }
-    }
-
     /// The energy of an element (weighted sum over its points, J), plus the nonlinear volume term.
     pub fn element_value<const NU: usize, const NR: usize>(
         self,

@@ -216,7 +216,7 @@ pub enum InitialGuessName {
     Extrapolated,
     /// Whichever of `"extrapolated"`, `"previous_velocity"` and `"zero"` has the least incremental
     /// potential: the nearest to the step's solution in the energy's own norm. For motions that reverse
-    /// from step to step (a thin sheet pulled taut at once, a growing disk buckling); not for steps that
+    /// from step to step (a thin sheet pulled taut at once); not for steps that
     /// rotate a body far, nor with contact.
     LeastEnergy,
     /// The previous step's velocities.

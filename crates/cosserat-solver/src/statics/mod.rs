@@ -175,10 +175,10 @@ impl Tally {
 /// The outcome of one Newton solve towards a level.
 enum Attempt {
     Converged(NewtonReport),
-    /// The solve failed; `predicted`: it started from a prediction.
+    /// The solve failed; `poor_prediction`: it started from a prediction at an indefinite Hessian.
     Failed {
         error: NewtonError,
-        predicted: bool,
+        poor_prediction: bool,
     },
 }
 
@@ -312,14 +312,14 @@ impl QuasiStaticStepper {
                     }
                     tally.sub_levels += 1;
                 }
-                Attempt::Failed { error, predicted } => {
+                Attempt::Failed { error, poor_prediction } => {
                     tally.waste(&error);
                     if tally.bisections >= self.settings.max_bisections {
                         return Err(fail(error.into(), &tally));
                     }
                     tally.bisections += 1;
                     // A failed predictor is not trusted for the bisected step, nor its secant again.
-                    self.predictor.clear(predicted);
+                    self.predictor.clear(poor_prediction);
                     self.limit = Some(0.5 * (lambda - from));
                 }
             }
@@ -364,7 +364,11 @@ impl QuasiStaticStepper {
                 self.current = lambda;
                 Attempt::Converged(report)
             }
-            Err(error) => Attempt::Failed { error, predicted },
+            // A failed solve from a prediction whose Hessian was indefinite shows the secant's stretch.
+            Err(error) => Attempt::Failed {
+                error,
+                poor_prediction: predicted && self.solver.started_indefinite(),
+            },
         })
     }
 

@@ -8,8 +8,8 @@
 //! through the last three equilibria (exact for paths quadratic in the load factor) leaves an error
 //! of the order of the cube of the rotation per level, which such a shell needs; on thicker shells it
 //! starts Newton no better than the secant, and often a little worse. So a run predicts with the
-//! secant until a level shows the secant's failure (its solve started at an indefinite Hessian, or
-//! failed from a prediction) and with the quadratic from then on. Where the quadratic has too little
+//! secant until a level shows the secant's failure (its solve started from the prediction at an
+//! indefinite Hessian, whether it converged or not) and with the quadratic from then on. Where the quadratic has too little
 //! to go on (one increment, after a bisection) such a run starts from the last equilibrium instead of
 //! the secant it knows to fail: Newton's first step from there is the tangent prediction, and the
 //! relaxed steps of the mixed-integration-point iteration cross the stretch it leaves.
@@ -64,11 +64,12 @@ impl PredictorMemory {
         self.quadratic |= poor_start;
     }
 
-    /// Forgets the increments (after a failed solve, whose prediction is not trusted); a failed solve
-    /// that started from a prediction makes the predictions quadratic from now on.
-    pub(crate) fn clear(&mut self, predicted: bool) {
+    /// Forgets the increments (after a failed solve, whose prediction is not trusted); `poor_start`
+    /// tells that the solve started from a prediction at an indefinite Hessian, which makes the
+    /// predictions quadratic from now on.
+    pub(crate) fn clear(&mut self, poor_start: bool) {
         self.increments.clear();
-        self.quadratic |= predicted;
+        self.quadratic |= poor_start;
     }
 
     /// Writes into `u` the predicted increment for a load step `c` from the last equilibrium; returns
@@ -155,7 +156,7 @@ mod tests {
     }
 
     #[test]
-    fn a_solve_that_fails_from_a_prediction_makes_the_predictions_quadratic() {
+    fn a_solve_that_fails_from_a_poor_prediction_makes_the_predictions_quadratic() {
         let mut memory = PredictorMemory::default();
         memory.push(increment(1.0, 1.0), false);
         memory.clear(false);

@@ -474,11 +474,13 @@ fn strip_pulled_at_once() -> String {
 }
 
 #[test]
-fn the_least_energy_start_spares_a_strip_pulled_taut_the_overshooting_extrapolation() {
-    // The strip's stretch alternates from step to step as backward Euler damps it: the extrapolation of
-    // the last two steps' velocities overshoots that motion into a start where the Hessian is
-    // indefinite, and Newton's shifted steps converge slowly from there. The least-energy start (the
-    // least incremental potential of the extrapolation, the previous velocities and rest) avoids it.
+fn a_strip_pulled_taut_at_once_converges_in_a_step_or_two_from_either_start() {
+    // The strip's stretch alternates from step to step as backward Euler damps it, and the
+    // extrapolation of the last two steps' velocities overshoots that motion. With the turns about the
+    // normal held on the default's 3-point rule (the drilling hourglass term), neither that start nor
+    // the least-energy one (the least incremental potential of the extrapolation, the previous
+    // velocities and rest) meets an indefinite Hessian; without it the overshooting start did, and the
+    // shift took 4 to 7 iterations per step over round-off draws.
     let d = dir("strip_pulled_at_once");
     let scene = write_scene(&d, &strip_pulled_at_once());
     let run = |guess: &str| {
@@ -491,18 +493,17 @@ fn the_least_energy_start_spares_a_strip_pulled_taut_the_overshooting_extrapolat
         let last: Vec<f64> = probes.lines().last().unwrap().split(',').map(|v| v.parse().unwrap()).collect();
         (summary, last[1])
     };
-    let (extrapolated, _) = run("\"extrapolated\"");
-    let (least, tip) = run("\"least_energy\"");
-    // Uniaxial stress: the end moves F L / (E h b) = 10 · 0.1 / (1e9 · 1e-4 · 0.01) = 1 mm; backward
-    // Euler has damped the strip's oscillation about it to a fraction of a percent at the end.
-    assert!((tip - 1e-3).abs() < 1e-2 * 1e-3, "tip displacement {tip:e} m");
-    assert_eq!((least.n_steps, extrapolated.n_steps), (12, 12));
-    // The extrapolation's count moves with round-off (about 4 to 7 per step over relative changes of E
-    // of 1e-9 to 1e-7), the least-energy start's hardly (about 2): the bound leaves room for the draw.
-    assert!(
-        least.avg_newton_iterations < 0.6 * extrapolated.avg_newton_iterations,
-        "Newton iterations per step: {} from the least-energy start, {} from the extrapolation",
-        least.avg_newton_iterations,
-        extrapolated.avg_newton_iterations
-    );
+    for guess in ["\"extrapolated\"", "\"least_energy\""] {
+        let (summary, tip) = run(guess);
+        // Uniaxial stress: the end moves F L / (E h b) = 10 · 0.1 / (1e9 · 1e-4 · 0.01) = 1 mm; backward
+        // Euler has damped the strip's oscillation about it to a fraction of a percent at the end.
+        assert!((tip - 1e-3).abs() < 1e-2 * 1e-3, "{guess}: tip displacement {tip:e} m");
+        assert_eq!(summary.n_steps, 12, "{guess}");
+        assert!(
+            summary.avg_newton_iterations <= 1.5 && summary.max_newton_iterations <= 2,
+            "{guess}: {} Newton iterations per step, at most {}",
+            summary.avg_newton_iterations,
+            summary.max_newton_iterations
+        );
+    }
 }
