@@ -9,10 +9,11 @@
 //! of the order of the cube of the rotation per level, which such a shell needs; on thicker shells it
 //! starts Newton no better than the secant, and often a little worse. So a run predicts with the
 //! secant until a level shows the secant's failure (its solve started from the prediction at an
-//! indefinite Hessian, whether it converged or not) and with the quadratic from then on. Where the quadratic has too little
-//! to go on (one increment, after a bisection) such a run starts from the last equilibrium instead of
-//! the secant it knows to fail: Newton's first step from there is the tangent prediction, and the
-//! relaxed steps of the mixed-integration-point iteration cross the stretch it leaves.
+//! indefinite Hessian, whether it converged or not) and with the quadratic from then on. Where the
+//! quadratic has too little to go on (one increment, after a bisection) such a run starts from the
+//! last equilibrium instead of the secant it knows to fail: Newton's first step from there is the
+//! tangent prediction, and the relaxed steps of the mixed-integration-point iteration cross the
+//! stretch it leaves.
 
 /// A converged load increment: the change of the unknowns from one equilibrium to the next, and of
 /// the load factor.
