@@ -100,6 +100,48 @@ fn newtons_steps_and_descent_reach_the_same_equilibria_of_the_coarse_slit_plate(
     }
 }
 
+/// `solver.initial_guess = "zero"` starts each quasi-static level from the last equilibrium instead of
+/// the last increments extrapolated: the same equilibria, and on a thin plate turning far under its load
+/// fewer Newton iterations (Newton's first step is the tangent prediction, a relaxed step crosses the
+/// stretch it leaves, where an extrapolation's stretch starts the level at an indefinite Hessian).
+#[test]
+fn levels_from_the_last_equilibrium_reach_the_slit_plates_equilibria_in_fewer_iterations() {
+    let root = cosserat_lab::workspace_root();
+    std::env::set_current_dir(&root).unwrap();
+    let problem = registry().into_iter().find(|p| p.name == "slit_annular_plate").unwrap();
+    let run = |name: &str, guess: &str| {
+        let guess = format!("solver.initial_guess={guess}");
+        let outcome = run_default(name, problem.scene, &[guess.as_str()]);
+        let levels = compare(&problem, outcome.probes.as_ref().unwrap(), false).unwrap().1;
+        (levels, outcome.summary.unwrap().avg_newton_iterations)
+    };
+    let (extrapolated, from_extrapolation) = run("slit_extrapolated", "extrapolated");
+    let (equilibrium, from_equilibrium) = run("slit_from_equilibrium", "zero");
+    assert_eq!(
+        (extrapolated.len(), equilibrium.len()),
+        (23, 23),
+        "every tabulated level is written"
+    );
+    let largest = extrapolated
+        .iter()
+        .flat_map(|(_, v)| v.iter().map(|c| c.0.abs()))
+        .fold(0.0, f64::max);
+    for ((lambda, a), (_, b)) in extrapolated.iter().zip(&equilibrium) {
+        for (x, y) in a.iter().zip(b) {
+            assert!(
+                (x.0 - y.0).abs() <= 1e-4 * largest,
+                "λ = {lambda}: {} against {}",
+                x.0,
+                y.0
+            );
+        }
+    }
+    assert!(
+        from_equilibrium < 0.7 * from_extrapolation,
+        "Newton iterations per level: {from_equilibrium} from the last equilibrium, {from_extrapolation} extrapolated"
+    );
+}
+
 #[test]
 fn the_default_discretisation_keeps_the_plate_under_load_within_half_a_percent() {
     let root = cosserat_lab::workspace_root();

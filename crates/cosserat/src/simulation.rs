@@ -21,7 +21,8 @@ use cosserat_assembly::{IncrementalPotential, PSEUDO_TIME_STEP, SystemOptions};
 use cosserat_io::{BoundingBox, RunStatus, RunSummary, RunWriter, VtuFrame, write_failure_summary};
 use cosserat_scene::spec::{ModelKind, SceneSpec, SolverSpec, TimeSpec};
 use cosserat_solver::{
-    QuasiStaticSettings, QuasiStaticStepper, ScriptError, StepError, StepReport, TimeStepSettings, TimeStepper,
+    InitialGuess, QuasiStaticSettings, QuasiStaticStepper, ScriptError, StepError, StepReport, TimeStepSettings,
+    TimeStepper,
 };
 use std::path::Path;
 use std::time::Instant;
@@ -451,6 +452,7 @@ impl Simulation {
         let settings = QuasiStaticSettings {
             newton: self.time_step_settings(PSEUDO_TIME_STEP, false).newton,
             increment_control: defaults.increment_control.filter(|_| adaptive),
+            extrapolate: self.solver.initial_guess != InitialGuess::Zero,
             ..defaults
         };
         let (mut stepper, first) = match resume {

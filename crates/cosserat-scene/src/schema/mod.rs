@@ -251,7 +251,10 @@ pub struct SolverSection {
     /// `"auto"`).
     pub domain_split: Option<DomainSplitName>,
     /// Newton's starting point (default `"extrapolated"`: the velocities extrapolated from the last two
-    /// steps, which saves a third to a half of the Newton iterations of smooth motion).
+    /// steps, which saves a third to a half of the Newton iterations of smooth motion). In
+    /// `quasi_static` mode `"extrapolated"` starts each level from the last increments extrapolated to
+    /// its load and `"zero"` from the last equilibrium (for thin shells that turn far under their load;
+    /// docs/time-integration.md); the other two are dynamic only.
     pub initial_guess: Option<InitialGuessName>,
     /// Project element Hessians onto the PSD cone (default `false`).
     pub project_pd: Option<bool>,

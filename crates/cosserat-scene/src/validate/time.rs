@@ -243,6 +243,7 @@ impl Ctx<'_> {
             }
             r => r,
         };
+        let initial_guess = self.initial_guess(s.initial_guess, time)?;
         let max_newton_iterations = s.max_newton_iterations.unwrap_or(d.max_newton_iterations);
         if max_newton_iterations == 0 {
             return Err(self.invalid("solver.max_newton_iterations", "must be at least 1"));
@@ -263,12 +264,7 @@ impl Ctx<'_> {
                 Some(DomainSplitName::Off) => DomainSplit::Off,
                 Some(DomainSplitName::Always) => DomainSplit::Always,
             },
-            initial_guess: match s.initial_guess {
-                Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
-                Some(InitialGuessName::Zero) => InitialGuess::Zero,
-                None | Some(InitialGuessName::Extrapolated) => InitialGuess::Extrapolated,
-                Some(InitialGuessName::LeastEnergy) => InitialGuess::LeastEnergy,
-            },
+            initial_guess,
             project_pd: s.project_pd.unwrap_or(d.project_pd),
             indefinite_hessian: match s.indefinite_hessian {
                 None => d.indefinite_hessian,
@@ -279,6 +275,26 @@ impl Ctx<'_> {
             max_step_reductions: s.max_step_reductions.unwrap_or(d.max_step_reductions),
             reuse_factorisation,
             mixed_integration_points: s.mixed_integration_points.unwrap_or(d.mixed_integration_points),
+        })
+    }
+
+    /// Newton's start: a quasi-static level starts from an extrapolation or from the last equilibrium
+    /// alone.
+    fn initial_guess(&self, name: Option<InitialGuessName>, time: &TimeSpec) -> Result<InitialGuess, SceneError> {
+        Ok(match name {
+            Some(InitialGuessName::PreviousVelocity | InitialGuessName::LeastEnergy)
+                if matches!(time, TimeSpec::QuasiStatic { .. }) =>
+            {
+                return Err(self.invalid(
+                    "solver.initial_guess",
+                    "in `quasi_static` mode a level starts from the last increments extrapolated \
+                     (`\"extrapolated\"`, the default) or from the last equilibrium (`\"zero\"`)",
+                ));
+            }
+            Some(InitialGuessName::PreviousVelocity) => InitialGuess::PreviousVelocity,
+            Some(InitialGuessName::Zero) => InitialGuess::Zero,
+            None | Some(InitialGuessName::Extrapolated) => InitialGuess::Extrapolated,
+            Some(InitialGuessName::LeastEnergy) => InitialGuess::LeastEnergy,
         })
     }
 

@@ -171,6 +171,15 @@ fn time_values_are_checked() {
         "override `solver.reuse_factorisation=0.1`: solver.reuse_factorisation: not used in `arc_length` mode \
          (the corrector factorises the tangent every iteration)"
     );
+    assert_eq!(
+        message(
+            &[("dt = 0.01\nend = 1.0\n", "n_levels = 4\n")],
+            &["time.mode=quasi_static", "solver.initial_guess=least_energy"]
+        ),
+        "override `solver.initial_guess=least_energy`: solver.initial_guess: in `quasi_static` mode a level \
+         starts from the last increments extrapolated (`\"extrapolated\"`, the default) or from the last \
+         equilibrium (`\"zero\"`)"
+    );
 }
 
 #[test]
