@@ -10,7 +10,7 @@
 //! one load level, and along the load path traced by arc length.
 
 use cosserat::RunDescription;
-use cosserat_lab::problem::{compare, registry};
+use cosserat_lab::problem::{LevelTable, compare, registry};
 use cosserat_lab::runner::{RunOutcome, Runner, run_described};
 
 /// The converged tip deflection of the Plate under load \[mm\] (docs/experiments.md: the paper's pair
@@ -61,6 +61,23 @@ fn the_default_discretisation_follows_the_slit_annular_plate_within_one_percent(
     assert!(errors.max() <= 0.01, "errors {:?}", errors.per_component);
 }
 
+/// Both runs wrote every tabulated level of the slit plate, and their values agree to 1e-4 of the
+/// largest.
+fn assert_same_levels(a: &LevelTable, b: &LevelTable) {
+    assert_eq!((a.len(), b.len()), (23, 23), "every tabulated level is written");
+    let largest = a.iter().flat_map(|(_, v)| v.iter().map(|c| c.0.abs())).fold(0.0, f64::max);
+    for ((lambda, x), (_, y)) in a.iter().zip(b) {
+        for (u, v) in x.iter().zip(y) {
+            assert!(
+                (u.0 - v.0).abs() <= 1e-4 * largest,
+                "λ = {lambda}: {} against {}",
+                u.0,
+                v.0
+            );
+        }
+    }
+}
+
 /// Equilibria are minima of the energy, so a descent method (the shift) and Newton's own steps of
 /// indefinite matrices reach the same ones. On the slit annular plate's coarsest mesh (2 × 20 quads,
 /// cells about 70 thicknesses across) the bent plate's stresses soften the turns about the normal that
@@ -82,22 +99,7 @@ fn newtons_steps_and_descent_reach_the_same_equilibria_of_the_coarse_slit_plate(
         run("slit_coarse_factorise", "factorise"),
         run("slit_coarse_shift", "shift"),
     );
-    assert_eq!(
-        (newton.len(), descent.len()),
-        (23, 23),
-        "every tabulated level is written"
-    );
-    let largest = newton.iter().flat_map(|(_, v)| v.iter().map(|c| c.0.abs())).fold(0.0, f64::max);
-    for ((lambda, a), (_, b)) in newton.iter().zip(&descent) {
-        for (x, y) in a.iter().zip(b) {
-            assert!(
-                (x.0 - y.0).abs() <= 1e-4 * largest,
-                "λ = {lambda}: {} against {}",
-                x.0,
-                y.0
-            );
-        }
-    }
+    assert_same_levels(&newton, &descent);
 }
 
 /// `solver.initial_guess = "zero"` starts each quasi-static level from the last equilibrium instead of
@@ -117,25 +119,7 @@ fn levels_from_the_last_equilibrium_reach_the_slit_plates_equilibria_in_fewer_it
     };
     let (extrapolated, from_extrapolation) = run("slit_extrapolated", "extrapolated");
     let (equilibrium, from_equilibrium) = run("slit_from_equilibrium", "zero");
-    assert_eq!(
-        (extrapolated.len(), equilibrium.len()),
-        (23, 23),
-        "every tabulated level is written"
-    );
-    let largest = extrapolated
-        .iter()
-        .flat_map(|(_, v)| v.iter().map(|c| c.0.abs()))
-        .fold(0.0, f64::max);
-    for ((lambda, a), (_, b)) in extrapolated.iter().zip(&equilibrium) {
-        for (x, y) in a.iter().zip(b) {
-            assert!(
-                (x.0 - y.0).abs() <= 1e-4 * largest,
-                "λ = {lambda}: {} against {}",
-                x.0,
-                y.0
-            );
-        }
-    }
+    assert_same_levels(&extrapolated, &equilibrium);
     assert!(
         from_equilibrium < 0.7 * from_extrapolation,
         "Newton iterations per level: {from_equilibrium} from the last equilibrium, {from_extrapolation} extrapolated"
