@@ -197,13 +197,18 @@ mod tests {
 
     #[test]
     fn a_field_that_vanishes_at_the_three_points_has_hourglass_energy() {
-        // Zero at (1/6, 1/6), (2/3, 1/6) and (1/6, 2/3).
-        let z = tied_drilling(|r, s| (r - 1.0 / 6.0) * (s - 1.0 / 6.0));
-        let g = hourglass_strains(&z);
-        assert!(g.iter().all(|g| g.abs() > 1e-3), "{g:?}");
+        // Zero at (1/6, 1/6), (2/3, 1/6) and (1/6, 2/3): its linear interpolation from the three points
+        // vanishes, so its hourglass strain at each edge Gauss point is its value there.
+        let field = |r: f64, s: f64| (r - 1.0 / 6.0) * (s - 1.0 / 6.0);
+        let z = tied_drilling(field);
+        let edge: Vec<f64> = tying_points()[..N_EDGE].iter().map(|&[r, s]| field(r, s)).collect();
+        assert!(edge.iter().all(|g| g.abs() > 1e-3), "{edge:?}");
+        for (g, e) in hourglass_strains(&z).iter().zip(&edge) {
+            assert!((g - e).abs() <= 1e-15, "{g} against {e}");
+        }
         // c = α² k A / 6 with α = 0.3, k = uᵀ D u = 3 · 2, A = 0.5.
         let c = 0.09 * 6.0 * 0.5 / 6.0;
-        let expected: f64 = g.iter().map(|g| 0.5 * c * g * g).sum();
+        let expected: f64 = edge.iter().map(|g| 0.5 * c * g * g).sum();
         assert!(
             (term().energy(&z) - expected).abs() <= 1e-14 * expected,
             "{} against {expected}",
