@@ -24,8 +24,8 @@ use cosserat_material::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, assign_upper, f_hat, point_omega,
 };
 use cosserat_material::kernel::{
-    LocalDerivatives, PointInput, PointShape, add_node_second_derivatives, linearized_strains, point_gradient,
-    point_hessian_predicted_into, point_value,
+    LocalDerivatives, PointInput, PointShape, add_node_second_derivatives, linearized_membrane_strains,
+    linearized_strains, point_gradient, point_hessian_predicted_into, point_value,
 };
 use cosserat_material::projected::{self, ElementPoint, ValuePoint};
 use cosserat_material::rest::ShellRest;
@@ -399,13 +399,28 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         let dx: [Vector3<f64>; NU] =
             std::array::from_fn(|i| eval.layout.velocity(du, self.disc.disp_elements[e][i]) * eval.dt);
         let d_omega: [Vector3<f64>; NR] = std::array::from_fn(|k| eval.layout.omega(du, self.disc.rot_elements[e][k]));
-        let mut g = 0;
-        self.for_each_point(e, eval, |shape, input, _| {
-            let (s, ds) = linearized_strains::<NU, NR, NL>(shape, input, self.disc.axl, &f_hat(shape, &dx), &d_omega);
-            base[g] = s;
-            rate[g] = ds;
-            g += 1;
-        });
+        // A tying point's curvature strains are never read, and one on a quadrature point takes that
+        // point's strains.
+        let rest = &self.disc.rest;
+        let first_tying = rest.quadrature_points_per_element;
+        let twin = |g: usize| g >= first_tying && rest.tying_twins.is_twin(g - first_tying);
+        self.for_points_where(
+            e,
+            eval,
+            |g| !twin(g),
+            |g, shape, input, _| {
+                let d_f_hat = f_hat(shape, &dx);
+                (base[g], rate[g]) = if g < first_tying {
+                    linearized_strains::<NU, NR>(shape, input, self.disc.axl, &d_f_hat, &d_omega)
+                } else {
+                    linearized_membrane_strains::<NU, NR>(shape, input, &d_f_hat, &d_omega)
+                };
+            },
+        );
+        for g in (first_tying..rest.points_per_element).filter(|&g| twin(g)) {
+            let source = rest.tying_twins.source(g - first_tying, first_tying);
+            (base[g], rate[g]) = (base[source], rate[source]);
+        }
     }
 
     /// The predicted strains of element `e`'s points, if any.
@@ -422,7 +437,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         angular_velocities(eval, &self.disc.rot_elements[e])
     }
 
-    /// Calls `f(shape, input, density)` at each quadrature point of element `e`.
+    /// Calls `f(shape, input, density)` at each point of element `e`.
     #[inline]
     fn for_each_point(
         &self,
@@ -430,11 +445,23 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         eval: &Evaluation<'_>,
         mut f: impl FnMut(&PointShape<NU, NR>, &PointInput<'_, NR>, &DensityMatrix),
     ) {
+        self.for_points_where(e, eval, |_| true, |_, shape, input, d| f(shape, input, d));
+    }
+
+    /// Calls `f(g, shape, input, density)` at each point `g` of element `e` for which `include(g)`.
+    #[inline]
+    fn for_points_where(
+        &self,
+        e: usize,
+        eval: &Evaluation<'_>,
+        include: impl Fn(usize) -> bool,
+        mut f: impl FnMut(usize, &PointShape<NU, NR>, &PointInput<'_, NR>, &DensityMatrix),
+    ) {
         let x = self.positions(e, eval);
         let omega = self.omegas(e, eval);
         let r = &self.disc.rot_elements[e];
         let node_jets: [&RotationJet; NR] = std::array::from_fn(|k| eval.rotations.jet(r[k]));
-        for g in 0..self.disc.rest.points_per_element {
+        for g in (0..self.disc.rest.points_per_element).filter(|&g| include(g)) {
             let p = e * self.disc.rest.points_per_element + g;
             let shape = &self.disc.rest.shapes[p];
             let q = &eval.state.q_points[self.disc.first_point + p];
@@ -446,7 +473,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 node_jets,
                 offset: self.offset(p),
             };
-            f(shape, &input, self.disc.rest.densities.get(p));
+            f(g, shape, &input, self.disc.rest.densities.get(p));
         }
     }
 

@@ -22,7 +22,7 @@
 
 use crate::element::add_block;
 use crate::model::AxlVariant;
-use crate::strain_space::{DensityMatrix, Entry, StrainVector, VARIABLE_STRAINS};
+use crate::strain_space::{DensityMatrix, Entry, StrainVector};
 use cosserat_geometry::rotation::{RotationJet, axl, axl_upper, skew};
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
@@ -509,34 +509,77 @@ pub fn point_hessian_predicted_into<const NU: usize, const NR: usize, const NL: 
     second.ru
 }
 
-/// The strains of a point (offset subtracted) and their derivative `J δ` along a change `δ` of its
-/// locals: `d_f_hat` of `F̂₁, F̂₂` and `d_omega` of the nodal angular velocities.
-pub fn linearized_strains<const NU: usize, const NR: usize, const NL: usize>(
+/// The strains of a point (offset subtracted) and their derivative along a change of its locals:
+/// `d_f_hat` of `F̂₁, F̂₂` and `d_omega` of the nodal angular velocities.
+///
+/// The derivative is formed directly rather than as `J δ` from [`strain_jacobian`]: with the spins
+/// `v = Ξ ω̇` of the point's and the nodes' rotations (`∂R/∂ω_i = [ξ_i]× R`), `δÊ_γ = QᵀRᵀ (δF̂_γ + F̂_γ × v_p)`
+/// and `δΓ̂_γ = Qᵀ axl(Rᵀ (Σ_k C_γk [v_k]× R_k − [v_p]× X_γ))`, a few matrix products where the
+/// Jacobian takes three per node.
+pub fn linearized_strains<const NU: usize, const NR: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,
     variant: AxlVariant,
     d_f_hat: &[Vector3<f64>; 2],
     d_omega: &[Vector3<f64>; NR],
 ) -> (StrainVector, StrainVector) {
-    const { assert!(NL == 6 + 3 * NR, "NL must be 6 + 3 NR") };
     let (s, x) = point_strains(shape, input, variant);
-    let (jac_t, qrt) = strain_jacobian::<NU, NR, NL>(shape, input, &x, variant);
+    let qt = shape.frame.transpose();
+    let rt = input.point_jet.r.transpose();
+    let qrt = qt * rt;
+    let v_p = point_spin(shape, input, d_omega);
+    let node_spins: [Matrix3<f64>; NR] =
+        std::array::from_fn(|k| skew(&(input.node_jets[k].generators * d_omega[k])) * input.node_jets[k].r);
     let mut ds = StrainVector::zeros();
     for gamma in 0..2 {
-        let de = qrt * d_f_hat[gamma];
+        let de = qrt * (d_f_hat[gamma] + input.f_hat[gamma].cross(&v_p));
+        let mut dx = -(skew(&v_p) * x[gamma]);
+        for (k, spin) in node_spins.iter().enumerate() {
+            dx += spin * shape.rot_grad[(gamma, k)];
+        }
+        let dg = qt * axial(&(rt * dx), variant);
         for a in 0..3 {
             ds[3 * gamma + a] = de[a];
-        }
-    }
-    for (k, w) in d_omega.iter().enumerate() {
-        for i in 0..3 {
-            let row = jac_t.row(6 + 3 * k + i);
-            for (c, &entry) in VARIABLE_STRAINS.iter().enumerate() {
-                ds[entry] += row[c] * w[i];
-            }
+            ds[9 + 3 * gamma + a] = dg[a];
         }
     }
     (s, ds)
+}
+
+/// [`linearized_strains`] of the membrane strains `Ê_γ` alone, every other entry zero: for a tying point
+/// of the assumed strains, whose other strains nothing reads.
+pub fn linearized_membrane_strains<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    d_f_hat: &[Vector3<f64>; 2],
+    d_omega: &[Vector3<f64>; NR],
+) -> (StrainVector, StrainVector) {
+    let qrt = shape.frame.transpose() * input.point_jet.r.transpose();
+    let v_p = point_spin(shape, input, d_omega);
+    let (mut s, mut ds) = (StrainVector::zeros(), StrainVector::zeros());
+    for gamma in 0..2 {
+        let e = qrt * input.f_hat[gamma];
+        let de = qrt * (d_f_hat[gamma] + input.f_hat[gamma].cross(&v_p));
+        for a in 0..3 {
+            s[3 * gamma + a] = e[a] - input.offset[3 * gamma + a];
+            ds[3 * gamma + a] = de[a];
+        }
+    }
+    (s, ds)
+}
+
+/// The spin `v = Ξ Σ_k M_k ω̇_k` of a point's rotation along the nodal angular velocities `d_omega`
+/// (`δR = [v]× R`).
+fn point_spin<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    input: &PointInput<'_, NR>,
+    d_omega: &[Vector3<f64>; NR],
+) -> Vector3<f64> {
+    let mut rate = Vector3::zeros();
+    for (w, m) in d_omega.iter().zip(shape.rot_values.iter()) {
+        rate += w * *m;
+    }
+    input.point_jet.generators * rate
 }
 
 /// The Jacobian of a point's 12 variable strains with respect to its locals, transposed (row `c` =
