@@ -103,11 +103,14 @@ fn newtons_steps_and_descent_reach_the_same_equilibria_of_the_coarse_slit_plate(
 }
 
 /// `solver.initial_guess = "zero"` starts each quasi-static level from the last equilibrium instead of
-/// the last increments extrapolated: the same equilibria, and on a thin plate turning far under its load
-/// fewer Newton iterations (Newton's first step is the tangent prediction, a relaxed step crosses the
-/// stretch it leaves, where an extrapolation's stretch starts the level at an indefinite Hessian).
+/// the last increments extrapolated: the same equilibria. The extrapolation's spurious stretch, whose
+/// stress in a thin plate lies far above the loads, does not weight the first Newton matrix of a level
+/// (the stresses of the last equilibrium do, as the mixed-integration-point method carries them into a
+/// new step), so on the slit plate turning far under its load the extrapolated levels converge as fast
+/// as those from the equilibrium itself; weighted by the prediction's own stresses they took 1.75 times
+/// as many iterations.
 #[test]
-fn levels_from_the_last_equilibrium_reach_the_slit_plates_equilibria_in_fewer_iterations() {
+fn extrapolated_levels_of_the_slit_plate_converge_as_fast_as_levels_from_the_last_equilibrium() {
     let root = cosserat_lab::workspace_root();
     std::env::set_current_dir(&root).unwrap();
     let problem = registry().into_iter().find(|p| p.name == "slit_annular_plate").unwrap();
@@ -121,8 +124,8 @@ fn levels_from_the_last_equilibrium_reach_the_slit_plates_equilibria_in_fewer_it
     let (equilibrium, from_equilibrium) = run("slit_from_equilibrium", "zero");
     assert_same_levels(&extrapolated, &equilibrium);
     assert!(
-        from_equilibrium < 0.7 * from_extrapolation,
-        "Newton iterations per level: {from_equilibrium} from the last equilibrium, {from_extrapolation} extrapolated"
+        from_extrapolation <= from_equilibrium + 0.5,
+        "Newton iterations per level: {from_extrapolation} extrapolated, {from_equilibrium} from the last equilibrium"
     );
 }
 

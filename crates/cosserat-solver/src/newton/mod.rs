@@ -307,6 +307,13 @@ impl NewtonSolver {
     /// thin shell's stiff stretching can exceed the loads a millionfold and would loosen the test by as
     /// much. Costs one gradient evaluation at `start`.
     ///
+    /// With [`NewtonSettings::mixed_integration_points`], the first Hessian weights its second-order
+    /// terms with the stresses of `start`, as the mixed-integration-point method carries its stresses
+    /// from the last equilibrium into a new step: the prediction's own stresses carry its error, which
+    /// in a thin shell is a spurious membrane stress far above the loads, whose geometric stiffness
+    /// turns the first Hessian indefinite and sends the first step astray (out of the plane of a plane
+    /// problem, for example). Costs one linearisation of the strains at `start`.
+    ///
     /// # Errors
     /// As [`solve`](Self::solve); `start` must have the length of `x`.
     pub fn solve_from_prediction<P: NewtonProblem + ?Sized>(
@@ -325,7 +332,7 @@ impl NewtonSolver {
             load_scale: self.residual(&self.grad).max(self.reactions()),
             energy,
         };
-        self.solve_with_scale(problem, x, Some(measured))
+        self.solve_with_scale(problem, x, Some((measured, start)))
     }
 
     /// Minimises `problem` starting from `x`, which holds the solution on success. On failure `x`
@@ -341,16 +348,27 @@ impl NewtonSolver {
         self.solve_with_scale(problem, x, None)
     }
 
-    /// [`solve`](Self::solve) with the load scale measured before the solve, if any (see
+    /// [`solve`](Self::solve) with the load scale measured before the solve and the state it was
+    /// measured at, if the solve starts from a prediction (see
     /// [`solve_from_prediction`](Self::solve_from_prediction)).
     fn solve_with_scale<P: NewtonProblem + ?Sized>(
         &mut self,
         problem: &mut P,
         x: &mut [f64],
-        measured: Option<MeasuredStart>,
+        prediction: Option<(MeasuredStart, &[f64])>,
     ) -> Result<NewtonReport, NewtonError> {
         self.prepare(problem, x)?;
         problem.clear_predicted_strains();
+        if let Some((_, start)) = prediction
+            && self.settings.mixed_integration_points
+        {
+            // The strains of `start`, predicted along no step.
+            self.dx.fill(0.0);
+            problem
+                .linearize_strains(start, &self.dx)
+                .map_err(|source| problem_error(0, source))?;
+            problem.advance_predicted_strains(0.0);
+        }
         // A predicted start (a previous step's velocity, a path's secant) is an iterate too; nothing has
         // been evaluated yet, so whether it changed the energy does not matter.
         problem.follow_iterate(x);
@@ -365,7 +383,7 @@ impl NewtonSolver {
             indefinite: false,
             shift_from_now: false,
             reuse: self.carry_factors,
-            measured,
+            measured: prediction.map(|(measured, _)| measured),
             relaxed: None,
             may_relax: self.settings.mixed_integration_points && problem.predicts_strains(),
         };

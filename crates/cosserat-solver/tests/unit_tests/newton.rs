@@ -104,7 +104,11 @@ impl<P: NewtonProblem> NewtonProblem for Counting<P> {
     }
     fn linearize_strains(&mut self, x: &[f64], dx: &[f64]) -> Result<(), ProblemError> {
         assert_eq!((x.len(), dx.len()), (self.n_dofs(), self.n_dofs()));
-        self.calls.push("linearize".into());
+        self.calls.push(if dx.iter().all(|&d| d == 0.0) {
+            format!("linearize at {x:?}")
+        } else {
+            "linearize".into()
+        });
         Ok(())
     }
     fn advance_predicted_strains(&mut self, alpha: f64) {
@@ -733,6 +737,32 @@ fn mixed_integration_points_linearise_every_direction_and_advance_by_the_accepte
     let (plain, calls) = run(false);
     assert_eq!(calls.iter().filter(|c| *c != "hessian").collect::<Vec<_>>(), ["clear"]);
     assert_eq!(plain.iterations, report.iterations);
+}
+
+/// With `mixed_integration_points`, a solve from a prediction weights its first Hessian's second-order
+/// terms with the stresses of the state the prediction extrapolates (the last equilibrium), not with
+/// the prediction's own: before that Hessian the strains are linearised there along no step and
+/// advanced by nothing. A plain solve starts with the stresses of its own start.
+#[test]
+fn a_solve_from_a_prediction_starts_with_the_stresses_of_the_unpredicted_state() {
+    let settings = NewtonSettings {
+        mixed_integration_points: true,
+        ..reference_newton()
+    };
+    let mut problem = Counting::new(Rosenbrock::new(2));
+    let mut solver = NewtonSolver::for_problem(&problem, settings).unwrap();
+    let mut x = [-1.0, 1.1];
+    solver.solve_from_prediction(&mut problem, &mut x, &[-1.2, 1.0]).unwrap();
+    assert_eq!(
+        problem.calls[..4],
+        ["clear", "linearize at [-1.2, 1.0]", "advance 0", "hessian"],
+        "{:?}",
+        problem.calls
+    );
+    problem.calls.clear();
+    let mut x = [-1.0, 1.1];
+    solver.solve(&mut problem, &mut x).unwrap();
+    assert_eq!(problem.calls[..2], ["clear", "hessian"], "{:?}", problem.calls);
 }
 
 /// A solve from a prediction takes the scale of its relative test from the state the prediction
