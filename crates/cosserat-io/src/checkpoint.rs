@@ -16,7 +16,7 @@ use crate::atomic::write_atomic;
 const MAGIC: &[u8] = b"COSSERAT-CHECKPOINT\n";
 
 /// The version of the layout this build writes and reads.
-pub const CHECKPOINT_VERSION: u32 = 7;
+pub const CHECKPOINT_VERSION: u32 = 8;
 
 /// The CRC-32 of `bytes`: the fingerprint a checkpoint keeps of its scene, to refuse resuming with
 /// another one.

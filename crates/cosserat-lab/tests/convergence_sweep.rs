@@ -267,7 +267,7 @@ fn the_default_test_does_not_depend_on_the_unit_of_length() {
 /// this 20 × 2 mesh (w/L ≈ 0.056 against the elastica's 0.30172), so only the convergence and the
 /// invariance are checked here; docs/stability.md has the locking table.
 ///
-/// Each level starts from the secant predictor of the last two; its residual and reactions are the
+/// Each level starts from a prediction of the last increments; its residual and reactions are the
 /// predictor's error in the strip's stiff stretching, a millionfold the end force, and a test relative
 /// to them would accept wrong states (the scale is measured at the unpredicted start instead).
 #[test]

@@ -233,7 +233,6 @@ fn save_stepper(stepper: &StepperState, out: &mut Encoder) {
             out.usize(1);
             out.usize(*levels_done);
             out.f64(*load_factor);
-            out.bool(predictor.is_quadratic());
             out.usize(predictor.increments().len());
             for increment in predictor.increments() {
                 out.f64s(&increment.du);
@@ -288,7 +287,6 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
         1 => {
             let levels_done = input.usize()?;
             let load_factor = input.f64()?;
-            let quadratic = input.bool()?;
             let increments = (0..input.usize()?)
                 .map(|_| {
                     Ok(LevelIncrement {
@@ -297,7 +295,7 @@ fn load_stepper(input: &mut Decoder) -> Result<StepperState, OutputError> {
                     })
                 })
                 .collect::<Result<Vec<_>, OutputError>>()?;
-            let predictor = PredictorMemory::new(increments, quadratic);
+            let predictor = PredictorMemory::new(increments);
             let increment_limit = if input.bool()? { Some(input.f64()?) } else { None };
             Ok(StepperState::QuasiStatic {
                 levels_done,

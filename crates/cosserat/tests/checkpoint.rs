@@ -80,9 +80,8 @@ fn quasi_static_strip_with_intermediate_levels() -> String {
 }
 
 /// The strip ten times thinner (h/L = 1e-3, E scaled so that its bending stiffness stays) with quadratic
-/// rotations and `regge_stabilized`, and a checkpoint after every level: its secant predictions start
-/// Newton at strongly indefinite Hessians, so the run turns to quadratic predictions after its first
-/// levels, and a resumed run must continue them.
+/// rotations and `regge_stabilized`, and a checkpoint after every level: its levels start from quadratic
+/// predictions of the last two increments, which a resumed run must continue.
 fn thin_quasi_static_strip() -> String {
     strip("mode = \"quasi_static\"\nn_levels = 6", -1e-3, "t")
         .replace("checkpoint_every = 3", "checkpoint_every = 1")
@@ -363,8 +362,8 @@ fn a_resumed_quasi_static_run_with_intermediate_levels_is_bit_identical() {
 
 #[test]
 fn a_resumed_thin_quasi_static_run_continues_its_quadratic_predictions() {
-    // Without the predictor's kind in the checkpoint the resumed levels start from secant predictions
-    // and the outputs differ (checked by restoring a secant memory).
+    // The checkpoint keeps the predictor's increments: the resumed levels start from the same
+    // quadratic predictions, bit for bit.
     let (expected, resumed) = check_bit_identity("quasi_static_thin", &thin_quasi_static_strip(), 4);
     assert_eq!(resumed.resumed_from, Some(4));
     assert_eq!(resumed.n_steps, expected.n_steps);

@@ -253,7 +253,7 @@ pub struct SolverSection {
     /// Newton's starting point (default `"extrapolated"`: the velocities extrapolated from the last two
     /// steps, which saves a third to a half of the Newton iterations of smooth motion). In
     /// `quasi_static` mode `"extrapolated"` starts each level from the last increments extrapolated to
-    /// its load and `"zero"` from the last equilibrium (for thin shells that turn far under their load;
+    /// its load and `"zero"` from the last equilibrium (the same equilibria; for the thinnest shells,
     /// docs/time-integration.md); the other two are dynamic only.
     pub initial_guess: Option<InitialGuessName>,
     /// Project element Hessians onto the PSD cone (default `false`).
@@ -274,7 +274,8 @@ pub struct SolverSection {
     pub reuse_factorisation: Option<f64>,
     /// The mixed-integration-point Newton method (default `true` in quasi-static runs, `false`
     /// otherwise): the geometric terms of the Newton matrix use stresses predicted linearly along the
-    /// previous steps instead of the stresses at the iterate, and a full step that raises the energy by
+    /// previous steps instead of the stresses at the iterate (the first matrix of a level started from
+    /// a prediction, the last equilibrium's), and a full step that raises the energy by
     /// a thin shell's spurious stretch is taken anyway (undone unless each step after it cuts the
     /// energy's excess over its start fourfold until it falls below, within eight steps). The same
     /// solutions with fewer iterations on thin shells under large rotations (README, settings);

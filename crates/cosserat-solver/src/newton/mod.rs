@@ -99,8 +99,6 @@ pub struct NewtonSolver {
     last_shift: f64,
     /// The cost of every solve so far, converged or failed.
     spent: SolveCost,
-    /// Whether the last solve's first step started at an indefinite Hessian, converged or failed.
-    started_indefinite: bool,
 }
 
 /// What is known at the current iterate `x`.
@@ -229,7 +227,6 @@ impl NewtonSolver {
             x_extra: Vec::new(),
             last_shift: 0.0,
             spent: SolveCost::default(),
-            started_indefinite: false,
         }
     }
 
@@ -281,12 +278,6 @@ impl NewtonSolver {
     /// cost.
     pub fn spent(&self) -> SolveCost {
         self.spent
-    }
-
-    /// Whether the last solve's first step started at an indefinite Hessian
-    /// ([`NewtonReport::indefinite_start`]), also when it failed.
-    pub fn started_indefinite(&self) -> bool {
-        self.started_indefinite
     }
 
     /// This solver continuing the sum `spent` of the one it replaces.
@@ -394,7 +385,6 @@ impl NewtonSolver {
             Err(_) => run.residuals.len().saturating_sub(1),
         };
         self.spent.add(taken, &run.report);
-        self.started_indefinite = run.report.indefinite_start;
         if result.is_err() {
             problem.abandon_solve();
         }

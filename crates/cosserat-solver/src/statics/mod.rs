@@ -22,20 +22,20 @@ use thiserror::Error;
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct QuasiStaticSettings {
     /// Newton settings (the residual scale is 1: forces in N). The default takes Newton's own steps
-    /// ([`IndefiniteHessian::Factorise`]): from a thin shell's predicted start, whose Hessian is
-    /// indefinite while the prediction's membrane error lasts, they converge in far fewer iterations
-    /// than the shift's descent (docs/model-notes.md); a level they cannot reach even after every
-    /// bisection is tried once more with the shift (see [`LoadLevelReport::shift_retries`]). It uses
-    /// mixed integration points ([`NewtonSettings::mixed_integration_points`]), whose relaxed steps
-    /// cross a thin shell's spurious stretch where the line search would crawl.
+    /// ([`IndefiniteHessian::Factorise`]): where a thin shell's level starts at an indefinite Hessian
+    /// (plain Newton's first matrix takes the prediction's membrane error) they converge in far fewer
+    /// iterations than the shift's descent (docs/time-integration.md); a level they cannot reach even
+    /// after every bisection is tried once more with the shift (see
+    /// [`LoadLevelReport::shift_retries`]). It uses mixed integration points
+    /// ([`NewtonSettings::mixed_integration_points`]), whose first matrix of a predicted level takes the
+    /// last equilibrium's stresses and whose relaxed steps cross a thin shell's spurious stretch where
+    /// the line search would crawl.
     pub newton: NewtonSettings,
     /// How many times an increment may be bisected in total for one requested level.
     pub max_bisections: usize,
     /// Start each solve from a prediction extrapolated from the last converged increments instead of
-    /// from zero: the quadratic through the last three equilibria, the secant after the first level.
-    /// Smooth loading paths then start close to the solution; a secant alone leaves out the path's
-    /// curvature, which on a thin shell that turns under its load is a stretch whose forces lie
-    /// orders of magnitude above the loads.
+    /// from the last equilibrium: the quadratic through the last three equilibria, once two increments
+    /// are known (see the `predictor` module). Smooth loading paths then start close to the solution.
     pub extrapolate: bool,
     /// Intermediate levels where Newton needs many iterations; `None` inserts them only when a solve
     /// fails (bisection).
@@ -60,7 +60,7 @@ impl Default for QuasiStaticSettings {
 /// Load increments that follow Newton's effort (Crisfield's rule: the next increment is the last one
 /// times `√(desired / used)` iterations, between a quarter and twice the last).
 ///
-/// Thin shells converge far more slowly from a long secant prediction than from a short one: the
+/// Thin shells converge far more slowly from a long prediction than from a short one: the
 /// prediction's error sits in the stiff membrane, and the line search then cuts each step to a small
 /// fraction. Shorter increments cost more solves but fewer iterations in all.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -175,11 +175,7 @@ impl Tally {
 /// The outcome of one Newton solve towards a level.
 enum Attempt {
     Converged(NewtonReport),
-    /// The solve failed; `poor_prediction`: it started from a prediction at an indefinite Hessian.
-    Failed {
-        error: NewtonError,
-        poor_prediction: bool,
-    },
+    Failed(NewtonError),
 }
 
 impl QuasiStaticStepper {
@@ -218,7 +214,7 @@ impl QuasiStaticStepper {
     }
 
     /// The predictor's memory: the last converged increments (none after a bisection or before the
-    /// first level, at most two) and the kind of prediction.
+    /// first level, at most two).
     pub fn predictor(&self) -> &PredictorMemory {
         &self.predictor
     }
@@ -312,14 +308,14 @@ impl QuasiStaticStepper {
                     }
                     tally.sub_levels += 1;
                 }
-                Attempt::Failed { error, poor_prediction } => {
+                Attempt::Failed(error) => {
                     tally.waste(&error);
                     if tally.bisections >= self.settings.max_bisections {
                         return Err(fail(error.into(), &tally));
                     }
                     tally.bisections += 1;
-                    // A failed predictor is not trusted for the bisected step, nor its secant again.
-                    self.predictor.clear(poor_prediction);
+                    // A failed prediction is not trusted for the bisected step.
+                    self.predictor.clear();
                     self.limit = Some(0.5 * (lambda - from));
                 }
             }
@@ -341,7 +337,7 @@ impl QuasiStaticStepper {
         (tally, last_chance): (&mut Tally, bool),
     ) -> Result<Attempt, LevelFailure> {
         let configured = self.settings.newton.indefinite_hessian;
-        let (mut result, mut predicted) = self.solve_level(potential, lambda, apply)?;
+        let mut result = self.solve_level(potential, lambda, apply)?;
         if let Err(error) = &result
             && last_chance
             && configured != IndefiniteHessian::Shift
@@ -351,7 +347,7 @@ impl QuasiStaticStepper {
             self.solver.settings_mut().indefinite_hessian = IndefiniteHessian::Shift;
             let retried = self.solve_level(potential, lambda, apply);
             self.solver.settings_mut().indefinite_hessian = configured;
-            (result, predicted) = retried?;
+            result = retried?;
         }
         Ok(match result {
             Ok(report) => {
@@ -360,26 +356,21 @@ impl QuasiStaticStepper {
                     du: self.u.clone(),
                     step: lambda - self.current,
                 };
-                self.predictor.push(increment, predicted && report.indefinite_start);
+                self.predictor.push(increment);
                 self.current = lambda;
                 Attempt::Converged(report)
             }
-            // A failed solve from a prediction whose Hessian was indefinite shows the secant's stretch.
-            Err(error) => Attempt::Failed {
-                error,
-                poor_prediction: predicted && self.solver.started_indefinite(),
-            },
+            Err(error) => Attempt::Failed(error),
         })
     }
 
-    /// One Newton solve for level `lambda` from the last equilibrium (not committed), and whether it
-    /// started from a prediction.
+    /// One Newton solve for level `lambda` from the last equilibrium (not committed).
     fn solve_level(
         &mut self,
         potential: &mut IncrementalPotential,
         lambda: f64,
         apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
-    ) -> Result<(Result<NewtonReport, NewtonError>, bool), LevelFailure> {
+    ) -> Result<Result<NewtonReport, NewtonError>, LevelFailure> {
         apply(potential, lambda)?;
         let predicted = self.predict(lambda);
         self.prepare(potential)?;
@@ -393,18 +384,20 @@ impl QuasiStaticStepper {
             mask
         });
         let mut problem = PotentialProblem::new(potential, fixed);
-        let result = if predicted {
+        Ok(if predicted {
             self.solver.solve_from_prediction(&mut problem, &mut self.u, &start)
         } else {
             self.solver.solve(&mut problem, &mut self.u)
-        };
-        Ok((result, predicted))
+        })
     }
 
     /// The starting point for level `lambda`: the increment extrapolated from the last ones (see the
     /// `predictor` module), or zero. Returns whether it predicted.
     fn predict(&mut self, lambda: f64) -> bool {
-        let predicted = self.settings.extrapolate && self.predictor.predict(lambda - self.current, &mut self.u);
+        let c = lambda - self.current;
+        let plain = !self.solver.settings().mixed_integration_points;
+        let predicted = self.settings.extrapolate
+            && (self.predictor.predict(c, &mut self.u) || plain && self.predictor.secant(c, &mut self.u));
         if !predicted {
             self.u.fill(0.0);
         }
