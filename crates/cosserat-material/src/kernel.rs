@@ -512,10 +512,10 @@ pub fn point_hessian_predicted_into<const NU: usize, const NR: usize, const NL: 
 /// The strains of a point (offset subtracted) and their derivative along a change of its locals:
 /// `d_f_hat` of `F̂₁, F̂₂` and `d_omega` of the nodal angular velocities.
 ///
-/// The derivative is formed directly rather than as `J δ` from [`strain_jacobian`]: with the spins
-/// `v = Ξ ω̇` of the point's and the nodes' rotations (`∂R/∂ω_i = [ξ_i]× R`), `δÊ_γ = QᵀRᵀ (δF̂_γ + F̂_γ × v_p)`
-/// and `δΓ̂_γ = Qᵀ axl(Rᵀ (Σ_k C_γk [v_k]× R_k − [v_p]× X_γ))`, a few matrix products where the
-/// Jacobian takes three per node.
+/// The derivative is formed directly rather than as the strain Jacobian times the change: with the
+/// spins `v = Ξ ω̇` of the point's and the nodes' rotations (`∂R/∂ω_i = [ξ_i]× R`),
+/// `δÊ_γ = QᵀRᵀ (δF̂_γ + F̂_γ × v_p)` and `δΓ̂_γ = Qᵀ axl(Rᵀ (Σ_k C_γk [v_k]× R_k − [v_p]× X_γ))`, a
+/// few matrix products where the Jacobian takes three per node.
 pub fn linearized_strains<const NU: usize, const NR: usize>(
     shape: &PointShape<NU, NR>,
     input: &PointInput<'_, NR>,

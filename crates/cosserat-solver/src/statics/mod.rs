@@ -34,8 +34,9 @@ pub struct QuasiStaticSettings {
     /// How many times an increment may be bisected in total for one requested level.
     pub max_bisections: usize,
     /// Start each solve from a prediction extrapolated from the last converged increments instead of
-    /// from the last equilibrium: the quadratic through the last three equilibria, once two increments
-    /// are known (see the `predictor` module). Smooth loading paths then start close to the solution.
+    /// from the last equilibrium: the quadratic through the last three equilibria once two increments
+    /// are known, and with plain Newton the secant while one is (see the `predictor` module). Smooth
+    /// loading paths then start close to the solution.
     pub extrapolate: bool,
     /// Intermediate levels where Newton needs many iterations; `None` inserts them only when a solve
     /// fails (bisection).
