@@ -20,7 +20,7 @@
 //! microseconds per point instead of the hundreds of microseconds of an 18-direction second-order dual
 //! pass (the latter is kept as the test oracle, see `oracle`).
 
-use crate::element::add_block;
+use crate::element::{add_block, point_omega};
 use crate::model::AxlVariant;
 use crate::strain_space::{DensityMatrix, Entry, StrainVector};
 use cosserat_geometry::rotation::{RotationJet, axl, axl_upper, skew};
@@ -575,11 +575,7 @@ fn point_spin<const NU: usize, const NR: usize>(
     input: &PointInput<'_, NR>,
     d_omega: &[Vector3<f64>; NR],
 ) -> Vector3<f64> {
-    let mut rate = Vector3::zeros();
-    for (w, m) in d_omega.iter().zip(shape.rot_values.iter()) {
-        rate += w * *m;
-    }
-    input.point_jet.generators * rate
+    input.point_jet.generators * point_omega(shape, d_omega)
 }
 
 /// The Jacobian of a point's 12 variable strains with respect to its locals, transposed (row `c` =
