@@ -521,8 +521,7 @@ impl NewtonSolver {
     }
 
     /// The line search along the direction just computed, with the mixed-integration-point strain
-    /// prediction around it. Records whether the solve's first step started at an indefinite Hessian
-    /// ([`NewtonReport::indefinite_start`]).
+    /// prediction around it.
     fn search_along_direction<P: NewtonProblem + ?Sized>(
         &mut self,
         problem: &mut P,
@@ -540,9 +539,6 @@ impl NewtonSolver {
         let step = self.step(problem, x, slope, at, run)?;
         if mixed && let Step::Full { alpha } | Step::Backtracked { alpha } | Step::Relaxed { alpha } = step {
             problem.advance_predicted_strains(alpha);
-        }
-        if run.iterations == 1 {
-            run.report.indefinite_start = run.shifted || run.indefinite;
         }
         Ok(step)
     }

@@ -71,9 +71,6 @@ pub struct NewtonReport {
     /// Iterations whose Hessian was not positive definite and was shifted
     /// ([`IndefiniteHessian`](crate::IndefiniteHessian)).
     pub shifted_iterations: usize,
-    /// The Hessian at the initial iterate was not positive definite: the start lies where the energy
-    /// is not convex (in a thin shell's quasi-static level, a stretch left by the prediction).
-    pub indefinite_start: bool,
     /// Doublings of shifted steps along negative curvature.
     pub extrapolations: usize,
     /// Full steps taken although they raised the energy (with mixed integration points).
@@ -114,7 +111,6 @@ impl NewtonReport {
             feasibility_halvings: 0,
             direction_flips: 0,
             shifted_iterations: 0,
-            indefinite_start: false,
             extrapolations: 0,
             relaxed_steps: 0,
             undone_relaxed_steps: 0,
