@@ -10,23 +10,28 @@
 
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
-use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     CholeskySymbolicParams, LltRef, SymbolicCholesky, SymbolicCholeskyRaw, SymmetricOrdering,
     factorize_symbolic_cholesky,
 };
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 use super::pattern::UpperPattern;
+use super::reordered::ReorderedMatrix;
 use super::{FactorStats, FillOrdering};
 use crate::error::{LinearSolveError, LinearSolveStage};
 
 /// The symbolic Cholesky analysis of a fixed pattern with the buffers for numerical factors and
 /// solves.
 pub(crate) struct SymmetricFactor {
+    /// The analysis of the matrix in the factor's order (`reordered`, where there is a fill-reducing
+    /// order), so that it holds no permutation of its own.
     pub(super) symbolic: SymbolicCholesky<usize>,
+    /// The matrix in the factor's order; `None` for the identity order.
+    pub(super) reordered: Option<ReorderedMatrix>,
     /// Numerical values of `L` (shared by `L Lᵀ` and `L B Lᵀ`).
     pub(super) l_values: Vec<f64>,
     /// Workspace for numerical factorisation and solves, sized once.
@@ -39,6 +44,7 @@ impl std::fmt::Debug for SymmetricFactor {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("SymmetricFactor")
             .field("symbolic", &self.symbolic)
+            .field("reordered", &self.reordered.is_some())
             .field("len_l_values", &self.l_values.len())
             .field("par", &self.par)
             .field("stats", &self.stats)
@@ -74,23 +80,24 @@ impl SymmetricFactor {
 
     /// The factorisation order (`order[new] = old`).
     pub(crate) fn order(&self) -> Vec<usize> {
-        match self.symbolic.perm() {
-            Some(perm) => perm.arrays().0.to_vec(),
+        match &self.reordered {
+            Some(r) => r.order().to_vec(),
             None => (0..self.symbolic.nrows()).collect(),
         }
     }
 
     fn analyse(pattern: &UpperPattern, ord: SymmetricOrdering<'_, usize>, par: Par) -> Result<Self, LinearSolveError> {
-        let params = CholeskySymbolicParams {
-            supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
-            ..Default::default()
+        let order = match ord {
+            SymmetricOrdering::Identity => None,
+            SymmetricOrdering::Custom(perm) => Some(perm.arrays().0.to_vec()),
+            // faer's minimum degree order comes with its analysis.
+            _ => symbolic_analysis(pattern.as_ref(), ord)?.perm().map(|p| p.arrays().0.to_vec()),
         };
-        let symbolic = factorize_symbolic_cholesky(pattern.as_ref(), Side::Upper, ord, params).map_err(|source| {
-            LinearSolveError::Faer {
-                stage: LinearSolveStage::SymmetricSymbolic,
-                source,
-            }
-        })?;
+        let reordered = order.map(|order| ReorderedMatrix::new(pattern, order));
+        let symbolic = match &reordered {
+            Some(r) => symbolic_analysis(r.upper_pattern().as_ref(), SymmetricOrdering::Identity)?,
+            None => symbolic_analysis(pattern.as_ref(), SymmetricOrdering::Identity)?,
+        };
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
             symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
@@ -105,6 +112,7 @@ impl SymmetricFactor {
         let stats = factor_stats(&symbolic);
         Ok(Self {
             symbolic,
+            reordered,
             l_values,
             mem,
             par,
@@ -132,19 +140,19 @@ impl SymmetricFactor {
 
     /// The column, in the caller's numbering, of column `permuted` of the reordered matrix.
     pub(super) fn original_column(&self, permuted: usize) -> usize {
-        self.symbolic
-            .perm()
-            .and_then(|p| p.arrays().0.get(permuted).copied())
+        self.reordered
+            .as_ref()
+            .and_then(|r| r.order().get(permuted).copied())
             .unwrap_or(permuted)
     }
 
     /// Numerical Cholesky factorisation of the matrix whose upper triangle is `values`.
     pub(crate) fn factorise_llt(&mut self, pattern: &UpperPattern, values: &[f64]) -> Result<(), LinearSolveError> {
-        let a = SparseColMatRef::new(pattern.as_ref(), values);
+        let (a, side) = in_factor_order(&mut self.reordered, pattern, values);
         let result = self.symbolic.factorize_numeric_llt(
             &mut self.l_values,
             a,
-            Side::Upper,
+            side,
             LltRegularization::default(),
             self.par,
             MemStack::new(&mut self.mem),
@@ -160,13 +168,53 @@ impl SymmetricFactor {
 
     /// Solves `L Lᵀ x = rhs` in place with the last Cholesky factorisation.
     pub(crate) fn solve_llt_in_place(&mut self, rhs: &mut [f64]) {
-        let n = rhs.len();
-        LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, n, 1),
-            self.par,
-            MemStack::new(&mut self.mem),
-        );
+        let factor = LltRef::new(&self.symbolic, &self.l_values);
+        let (par, mem) = (self.par, &mut self.mem);
+        in_order(&mut self.reordered, rhs, |rhs| {
+            let n = rhs.len();
+            factor.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(rhs, n, 1),
+                par,
+                MemStack::new(mem),
+            );
+        });
+    }
+}
+
+/// The supernodal symbolic analysis of the upper triangle `pattern` in the order `ord`.
+fn symbolic_analysis(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    ord: SymmetricOrdering<'_, usize>,
+) -> Result<SymbolicCholesky<usize>, LinearSolveError> {
+    let params = CholeskySymbolicParams {
+        supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
+        ..Default::default()
+    };
+    factorize_symbolic_cholesky(pattern, Side::Upper, ord, params).map_err(|source| LinearSolveError::Faer {
+        stage: LinearSolveStage::SymmetricSymbolic,
+        source,
+    })
+}
+
+/// The matrix whose upper triangle is `values` as a numerical factorisation takes it: in the factor's
+/// order where there is one (its lower triangle), and which triangle it is.
+pub(super) fn in_factor_order<'a>(
+    reordered: &'a mut Option<ReorderedMatrix>,
+    pattern: &'a UpperPattern,
+    values: &'a [f64],
+) -> (SparseColMatRef<'a, usize, f64>, Side) {
+    match reordered {
+        Some(r) => (r.gather(values), Side::Lower),
+        None => (SparseColMatRef::new(pattern.as_ref(), values), Side::Upper),
+    }
+}
+
+/// Runs a solve in the factor's order on `rhs`.
+pub(super) fn in_order(reordered: &mut Option<ReorderedMatrix>, rhs: &mut [f64], solve: impl FnOnce(&mut [f64])) {
+    match reordered {
+        Some(r) => r.solve_in_order(rhs, solve),
+        None => solve(rhs),
     }
 }
 

@@ -12,11 +12,10 @@ use faer::dyn_stack::MemStack;
 use faer::linalg::cholesky::lblt::factor::{LbltParams, PivotingStrategy};
 use faer::linalg::cholesky::ldlt::factor::{LdltError, LdltRegularization};
 use faer::perm::PermRef;
-use faer::sparse::SparseColMatRef;
 use faer::sparse::linalg::cholesky::{IntranodeLbltRef, SymbolicCholeskyRaw};
-use faer::{Conj, MatMut, Side, Spec};
+use faer::{Conj, MatMut, Spec};
 
-use super::cholesky::SymmetricFactor;
+use super::cholesky::{SymmetricFactor, in_factor_order, in_order};
 use super::pattern::UpperPattern;
 use crate::error::{Factorisation, LinearSolveError};
 
@@ -57,7 +56,7 @@ impl LbltFactor {
         pattern: &UpperPattern,
         values: &[f64],
     ) -> Result<(), LinearSolveError> {
-        let a = SparseColMatRef::new(pattern.as_ref(), values);
+        let (a, side) = in_factor_order(&mut sym.reordered, pattern, values);
         if matches!(sym.symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_)) {
             // A diagonal factor (see `cholesky.rs`): unpivoted L D Lᵀ is exact, and faer's checked
             // routine reports a zero pivot (the intranode routine would ignore it).
@@ -68,7 +67,7 @@ impl LbltFactor {
             let result = sym.symbolic.factorize_numeric_ldlt(
                 &mut sym.l_values,
                 a,
-                Side::Upper,
+                side,
                 LdltRegularization::default(),
                 sym.par,
                 MemStack::new(&mut sym.mem),
@@ -88,7 +87,7 @@ impl LbltFactor {
             &mut self.perm_fwd,
             &mut self.perm_inv,
             a,
-            Side::Upper,
+            side,
             sym.par,
             MemStack::new(&mut sym.mem),
             lblt_params(),
@@ -136,11 +135,15 @@ impl LbltFactor {
     pub(crate) fn solve_in_place(&self, sym: &mut SymmetricFactor, rhs: &mut [f64]) {
         let n = rhs.len();
         let perm = PermRef::new_checked(&self.perm_fwd, &self.perm_inv, n);
-        IntranodeLbltRef::new(&sym.symbolic, &sym.l_values, &self.subdiag, perm).solve_in_place_with_conj(
-            Conj::No,
-            MatMut::from_column_major_slice_mut(rhs, n, 1),
-            sym.par,
-            MemStack::new(&mut sym.mem),
-        );
+        let factor = IntranodeLbltRef::new(&sym.symbolic, &sym.l_values, &self.subdiag, perm);
+        let (par, mem) = (sym.par, &mut sym.mem);
+        in_order(&mut sym.reordered, rhs, |rhs| {
+            factor.solve_in_place_with_conj(
+                Conj::No,
+                MatMut::from_column_major_slice_mut(rhs, n, 1),
+                par,
+                MemStack::new(mem),
+            );
+        });
     }
 }

@@ -37,6 +37,7 @@ mod metis;
 mod multifrontal;
 mod ordering;
 mod pattern;
+mod reordered;
 #[cfg(feature = "testing")]
 pub mod testing;
 mod two_domain;

@@ -28,7 +28,6 @@ use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization, cholesky_in_place, cholesky_in_place_scratch};
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
 use faer::reborrow::ReborrowMut;
-use faer::sparse::SymbolicSparseColMat;
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
@@ -44,6 +43,7 @@ use super::ordering::{
     upper_structure, whole_order,
 };
 use super::pattern::UpperPattern;
+use super::reordered::{csc, lower_entries};
 use crate::error::{LinearSolveError, LinearSolveStage, out_of_memory};
 
 const NONE: usize = usize::MAX;
@@ -407,43 +407,6 @@ fn supernodes(symbolic: &SymbolicCholesky<usize>) -> &SymbolicSupernodalCholesky
         SymbolicCholeskyRaw::Supernodal(sn) => sn,
         SymbolicCholeskyRaw::Simplicial(_) => unreachable!("domains are built supernodal only"),
     }
-}
-
-/// The entries of `pattern` whose row and column both have a local index, in the lower triangle of the
-/// local numbering: `(local row, local column, position)` with `row ≥ column`.
-fn lower_entries(pattern: &UpperPattern, local: &[usize]) -> Vec<(usize, usize, usize)> {
-    let mut out = Vec::new();
-    for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
-        let (lr, lc) = (local[r], local[c]);
-        if lr != NONE && lc != NONE {
-            out.push((lr.max(lc), lr.min(lc), k));
-        }
-    }
-    out
-}
-
-/// The compressed pattern of `n × n` with the given `(row, column, position)` entries (rows sorted in
-/// each column) and the values position of each stored entry.
-fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
-    let mut col_ptr = vec![0usize; n + 1];
-    for &(_, c, _) in entries {
-        col_ptr[c + 1] += 1;
-    }
-    for c in 0..n {
-        col_ptr[c + 1] += col_ptr[c];
-    }
-    let mut next = col_ptr.clone();
-    let mut slots = vec![(0usize, 0usize); entries.len()];
-    for &(r, c, k) in entries {
-        slots[next[c]] = (r, k);
-        next[c] += 1;
-    }
-    for c in 0..n {
-        slots[col_ptr[c]..col_ptr[c + 1]].sort_unstable();
-    }
-    let (row_idx, gather): (Vec<usize>, Vec<usize>) = slots.into_iter().unzip();
-    let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-    (pattern, gather)
 }
 
 /// `(values position, row, column)` of the stored entries of `Aₛₛ` in separator numbering, or `None`

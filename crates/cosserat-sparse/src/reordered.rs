@@ -1,0 +1,127 @@
+//! The matrix in the order of its symmetric factor, kept from one factorisation to the next.
+//!
+//! faer's supernodal factorisations read the lower triangle of `P A Pᵀ`, with `P` the fill-reducing
+//! order. Given `A`'s upper triangle and an analysis that holds `P`, they build that matrix on every
+//! call: count the entries of each permuted column, then move every row index and value, twice where a
+//! Cholesky attempt is followed by `L B Lᵀ`. The permuted pattern is the same every time, so it is
+//! built here once, with the position in `A`'s values of each of its entries; a factorisation then only
+//! gathers the values, and the analysis is made on the permuted pattern in its own order (no
+//! permutation left to faer). Solves move the right-hand side into the factor's order and back.
+//!
+//! It costs the permuted pattern's row indices, the gather map and a copy of the values: three words
+//! per stored entry of `A`.
+
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMat};
+
+use super::memory::mapped_zeros;
+use super::pattern::UpperPattern;
+
+/// `A` in the factor's order: the lower triangle of `P A Pᵀ` by columns, rows sorted.
+#[derive(Debug)]
+pub(crate) struct ReorderedMatrix {
+    /// `order[new] = old`.
+    order: Vec<usize>,
+    lower: SymbolicSparseColMat<usize>,
+    /// The index in `A`'s values of each stored entry of `lower`.
+    source: Vec<usize>,
+    values: Vec<f64>,
+    /// A right-hand side in the factor's order.
+    rhs: Vec<f64>,
+}
+
+impl ReorderedMatrix {
+    /// The pattern of `P A Pᵀ` for the factorisation order `order` (`order[new] = old`).
+    pub(crate) fn new(pattern: &UpperPattern, order: Vec<usize>) -> Self {
+        let n = pattern.n();
+        let mut new_of = vec![0; n];
+        for (new, &old) in order.iter().enumerate() {
+            new_of[old] = new;
+        }
+        let (lower, source) = csc(n, &lower_entries(pattern, &new_of));
+        Self {
+            order,
+            lower,
+            values: mapped_zeros(source.len()),
+            source,
+            rhs: vec![0.0; n],
+        }
+    }
+
+    /// The factorisation order (`order[new] = old`).
+    pub(crate) fn order(&self) -> &[usize] {
+        &self.order
+    }
+
+    /// The upper triangle of `P A Pᵀ`'s pattern, for the symbolic analysis.
+    ///
+    /// faer 0.24's symbolic analysis without a permutation reads its input as the upper triangle
+    /// whatever side it is told, so it gets the transpose of `lower`.
+    pub(crate) fn upper_pattern(&self) -> SymbolicSparseColMat<usize> {
+        let lower = self.lower.as_ref();
+        let transposed: Vec<(usize, usize, usize)> = (0..lower.ncols())
+            .flat_map(|j| {
+                lower.row_idx()[lower.col_ptr()[j]..lower.col_ptr()[j + 1]]
+                    .iter()
+                    .map(move |&i| (j, i, 0))
+            })
+            .collect();
+        csc(lower.ncols(), &transposed).0
+    }
+
+    /// `P A Pᵀ`'s lower triangle with the values of `A`'s upper triangle `values`.
+    pub(crate) fn gather(&mut self, values: &[f64]) -> SparseColMatRef<'_, usize, f64> {
+        for (v, &k) in self.values.iter_mut().zip(&self.source) {
+            *v = values[k];
+        }
+        SparseColMatRef::new(self.lower.as_ref(), &self.values)
+    }
+
+    /// Runs `solve` on `rhs` moved into the factor's order, and moves the solution back.
+    pub(crate) fn solve_in_order(&mut self, rhs: &mut [f64], solve: impl FnOnce(&mut [f64])) {
+        for (r, &old) in self.rhs.iter_mut().zip(&self.order) {
+            *r = rhs[old];
+        }
+        solve(&mut self.rhs);
+        for (r, &old) in self.rhs.iter().zip(&self.order) {
+            rhs[old] = *r;
+        }
+    }
+}
+
+/// The entries of `pattern` whose row and column both have a local index (`local[i]` is `usize::MAX`
+/// where `i` has none), in the lower triangle of the local numbering: `(local row, local column,
+/// position)` with `row ≥ column`.
+pub(crate) fn lower_entries(pattern: &UpperPattern, local: &[usize]) -> Vec<(usize, usize, usize)> {
+    let mut out = Vec::new();
+    for (k, (&r, &c)) in pattern.row_idx().iter().zip(pattern.col_idx()).enumerate() {
+        let (lr, lc) = (local[r], local[c]);
+        if lr != usize::MAX && lc != usize::MAX {
+            out.push((lr.max(lc), lr.min(lc), k));
+        }
+    }
+    out
+}
+
+/// The compressed pattern of `n × n` with the given `(row, column, position)` entries (rows sorted in
+/// each column) and the values position of each stored entry.
+pub(crate) fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
+    let mut col_ptr = vec![0usize; n + 1];
+    for &(_, c, _) in entries {
+        col_ptr[c + 1] += 1;
+    }
+    for c in 0..n {
+        col_ptr[c + 1] += col_ptr[c];
+    }
+    let mut next = col_ptr.clone();
+    let mut slots = vec![(0usize, 0usize); entries.len()];
+    for &(r, c, k) in entries {
+        slots[next[c]] = (r, k);
+        next[c] += 1;
+    }
+    for c in 0..n {
+        slots[col_ptr[c]..col_ptr[c + 1]].sort_unstable();
+    }
+    let (row_idx, gather): (Vec<usize>, Vec<usize>) = slots.into_iter().unzip();
+    let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+    (pattern, gather)
+}
