@@ -1,6 +1,6 @@
-//! The symmetric factorisations' shared state: one symbolic analysis (fill-reducing ordering,
-//! elimination tree, supernodes) and the numerical factor storage, plus the supernodal Cholesky
-//! `L Lᵀ` itself.
+//! The symmetric factorisations' shared state: the fill-reducing order with the matrix kept in it
+//! (`reordered.rs`), one symbolic analysis of that matrix (elimination tree, supernodes) and the
+//! numerical factor storage, plus the supernodal Cholesky `L Lᵀ` itself.
 //!
 //! The symbolic analysis is asked to be supernodal. faer's intranode Bunch–Kaufman `L B Lᵀ`
 //! (`ldlt.rs`) pivots only inside supernodes and degrades to unpivoted `L D Lᵀ` on a simplicial
