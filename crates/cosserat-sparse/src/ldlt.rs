@@ -26,6 +26,13 @@ pub(super) fn lblt_params() -> Spec<LbltParams, f64> {
     params
 }
 
+/// A pivot block of `B`: `d`, or `[a c; c b]`.
+#[derive(Debug, Clone, Copy)]
+enum Pivot {
+    One(f64),
+    Two { a: f64, b: f64, c: f64 },
+}
+
 /// The pivot data of an intranode `L B Lᵀ` factorisation: the sub-diagonal of `B` and the pivoting
 /// permutation. `L` and the diagonal of `B` live in [`SymmetricFactor::l_values`].
 #[derive(Debug)]
@@ -97,12 +104,45 @@ impl LbltFactor {
 
     /// Checks the block-diagonal factor `B` of a supernodal factorisation for exact breakdown.
     fn check_pivots(&self, sym: &SymmetricFactor) -> Result<(), LinearSolveError> {
+        let mut failed = None;
+        self.visit_pivots(sym, |start, pivot| {
+            let determinant = match pivot {
+                Pivot::One(d) => d,
+                Pivot::Two { a, b, c } => a * b - c * c,
+            };
+            let singular = determinant == 0.0 || !determinant.is_finite();
+            if singular {
+                failed = Some(start);
+            }
+            !singular
+        });
+        match failed {
+            Some(permuted) => Err(LinearSolveError::Singular {
+                factorisation: Factorisation::Lblt,
+                col: Some(sym.original_column(self.perm_fwd[permuted])),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether the matrix of the last factorisation is positive definite, read from its `B` (a supernodal
+    /// factorisation that passed [`check_pivots`](Self::check_pivots)); `None` after the unpivoted
+    /// `L D Lᵀ` of a simplicial structure, whose pivots are not read here.
+    pub(crate) fn positive_definite(&self, sym: &SymmetricFactor) -> Option<bool> {
+        if matches!(sym.symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_)) {
+            return None;
+        }
+        Some(self.visit_pivots(sym, |_, pivot| match pivot {
+            Pivot::One(d) => d > 0.0,
+            Pivot::Two { a, b, c } => a * b - c * c > 0.0 && a + b > 0.0,
+        }))
+    }
+
+    /// Calls `visit` with each pivot block of `B` of a supernodal factorisation and its first column
+    /// (in the factor's order), until `visit` returns `false`; returns whether it never did.
+    fn visit_pivots(&self, sym: &SymmetricFactor, mut visit: impl FnMut(usize, Pivot) -> bool) -> bool {
         let SymbolicCholeskyRaw::Supernodal(sn) = sym.symbolic.raw() else {
             unreachable!("simplicial structures are factorised by the checked L D Lᵀ");
-        };
-        let singular = |permuted: usize| LinearSolveError::Singular {
-            factorisation: Factorisation::Lblt,
-            col: Some(sym.original_column(self.perm_fwd[permuted])),
         };
         for s in 0..sn.n_supernodes() {
             let start = sn.supernode_begin()[s];
@@ -113,22 +153,19 @@ impl LbltFactor {
             let mut j = 0;
             while j < width {
                 let off = self.subdiag[start + j];
-                if off == 0.0 {
-                    let d = diag(j);
-                    if d == 0.0 || !d.is_finite() {
-                        return Err(singular(start + j));
-                    }
-                    j += 1;
+                let (pivot, size) = if off == 0.0 {
+                    (Pivot::One(diag(j)), 1)
                 } else {
-                    let det = diag(j) * diag(j + 1) - off * off;
-                    if det == 0.0 || !det.is_finite() {
-                        return Err(singular(start + j));
-                    }
-                    j += 2;
+                    let (a, b) = (diag(j), diag(j + 1));
+                    (Pivot::Two { a, b, c: off }, 2)
+                };
+                if !visit(start + j, pivot) {
+                    return false;
                 }
+                j += size;
             }
         }
-        Ok(())
+        true
     }
 
     /// Solves `A x = rhs` in place with the last `L B Lᵀ` factorisation.

@@ -241,6 +241,9 @@ pub struct SparseSolver {
     reuses_orders: bool,
     last_backward_error: Option<f64>,
     last_cg: Option<CgReport>,
+    /// In `Auto`, whether the last factorisation found the matrix indefinite: the next one then starts
+    /// with `L B Lᵀ` (see [`factorise_auto`](Self::factorise_auto)).
+    indefinite_last: bool,
 }
 
 /// Checks the settings' numerical values.
@@ -295,6 +298,7 @@ impl SparseSolver {
             settings.ordering == self.settings.ordering && settings.parallelism == self.settings.parallelism;
         if same_orders && grown.pattern.n() == self.pattern.n() {
             grown.two_domain_tried = self.two_domain_tried;
+            grown.indefinite_last = self.indefinite_last;
             if let Some(split) = &self.two_domain {
                 grown.two_domain = split.try_grown(&grown.pattern)?;
             } else if let Some(symmetric) = &self.symmetric {
@@ -353,6 +357,7 @@ impl SparseSolver {
             reuses_orders: false,
             last_backward_error: None,
             last_cg: None,
+            indefinite_last: false,
         };
         Ok(solver)
     }
@@ -607,18 +612,51 @@ impl SparseSolver {
             LinearSolverKind::Ldlt => self.factorise_lblt()?,
             LinearSolverKind::Lu => self.factorise_lu()?,
             LinearSolverKind::Cg => self.prepare_cg(),
-            LinearSolverKind::Auto => match self.factorise_llt() {
-                Ok(f) => f,
-                Err(LinearSolveError::NotPositiveDefinite { .. }) => match self.factorise_lblt() {
-                    Ok(f) => f,
-                    Err(LinearSolveError::Singular { .. }) => self.factorise_lu()?,
-                    Err(e) => return Err(e),
-                },
-                Err(e) => return Err(e),
-            },
+            LinearSolverKind::Auto => self.factorise_auto()?,
         };
         self.current = Some(used);
         Ok(used)
+    }
+
+    /// `Auto`: Cholesky, `L B Lᵀ` where it breaks down, LU where that is singular.
+    ///
+    /// While the matrices stay indefinite (a twisted strip past its buckling, a shell through a snap)
+    /// every Cholesky attempt breaks down again, after much of its work; so after a matrix that needed
+    /// `L B Lᵀ` the next starts with it. Where that finds the matrix positive definite, the Cholesky
+    /// factorisation follows and is the one used, so that the factor and the solution are always
+    /// those of the order above.
+    fn factorise_auto(&mut self) -> Result<Factorisation, LinearSolveError> {
+        if self.indefinite_last {
+            match self.factorise_lblt() {
+                Ok(f) if self.lblt_positive_definite() == Some(false) => return Ok(f),
+                Ok(_) => self.indefinite_last = false,
+                Err(LinearSolveError::Singular { .. }) => return self.factorise_lu(),
+                Err(e) => return Err(e),
+            }
+        }
+        match self.factorise_llt() {
+            Err(LinearSolveError::NotPositiveDefinite { .. }) => {}
+            other => return other,
+        }
+        match self.factorise_lblt() {
+            Ok(f) => {
+                self.indefinite_last = self.lblt_positive_definite() == Some(false);
+                Ok(f)
+            }
+            Err(LinearSolveError::Singular { .. }) => {
+                self.indefinite_last = true;
+                self.factorise_lu()
+            }
+            Err(e) => Err(e),
+        }
+    }
+
+    /// Whether the last `L B Lᵀ` factorisation found its matrix positive definite, where it tells.
+    fn lblt_positive_definite(&self) -> Option<bool> {
+        match (&self.lblt, &self.symmetric) {
+            (Some(lblt), Some(sym)) => lblt.positive_definite(sym),
+            _ => None,
+        }
     }
 
     fn factorise_llt(&mut self) -> Result<Factorisation, LinearSolveError> {

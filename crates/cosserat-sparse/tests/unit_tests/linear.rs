@@ -142,6 +142,48 @@ fn saddle_point_matrix_is_rejected_by_cholesky_and_solved_by_the_others() {
 }
 
 #[test]
+fn auto_keeps_to_l_b_lt_while_the_matrices_stay_indefinite_and_returns_to_cholesky() {
+    // After an indefinite matrix `Auto` starts with L B Lᵀ; where that finds the matrix positive
+    // definite, Cholesky must still be the factorisation used, as without the shortcut.
+    let mut r = rng(15);
+    let k = laplacian_2d(9, 8, &mut r);
+    let indefinite = saddle_point(&k, 12, 3, 1e-3, &mut r);
+    let entries = indefinite.entries();
+    let mut off_diagonal = vec![0.0; indefinite.n()];
+    for (&(i, j), v) in entries.iter().zip(&indefinite.values) {
+        if i != j {
+            off_diagonal[i] += v.abs();
+            off_diagonal[j] += v.abs();
+        }
+    }
+    // The same pattern, diagonally dominant: positive definite.
+    let definite = indefinite.with_values(
+        entries
+            .iter()
+            .zip(&indefinite.values)
+            .map(|(&(i, j), &v)| if i == j { off_diagonal[i] + 1.0 } else { v })
+            .collect(),
+    );
+    let mut solver = SparseSolver::try_new(indefinite.pattern.as_ref(), LinearSolverSettings::default()).unwrap();
+    let b = random_vector(indefinite.n(), &mut r);
+    let sequence = [
+        (&definite, Factorisation::Llt),
+        (&indefinite, Factorisation::Lblt),
+        (&indefinite, Factorisation::Lblt),
+        (&definite, Factorisation::Llt),
+        (&definite, Factorisation::Llt),
+        (&indefinite, Factorisation::Lblt),
+    ];
+    for (step, (a, expected)) in sequence.into_iter().enumerate() {
+        assert_eq!(solver.factorise(&a.values, None), Ok(expected), "step {step}");
+        let mut x = b.clone();
+        solver.solve_in_place(&mut x).unwrap();
+        let res = relative_residual(a, &x, &b);
+        assert!(res <= 1e-10, "step {step}: relative residual {res:e}");
+    }
+}
+
+#[test]
 fn saddle_point_with_zero_block_is_solved_by_auto() {
     // A zero (2, 2) block makes every unpivoted factorisation break down; Auto must still solve it,
     // with the pivoted L B Lᵀ or, failing that, LU.
