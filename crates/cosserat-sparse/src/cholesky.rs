@@ -93,10 +93,15 @@ impl SymmetricFactor {
             // faer's minimum degree order comes with its analysis.
             _ => symbolic_analysis(pattern.as_ref(), ord)?.perm().map(|p| p.arrays().0.to_vec()),
         };
-        let reordered = order.map(|order| ReorderedMatrix::new(pattern, order));
-        let symbolic = match &reordered {
-            Some(r) => symbolic_analysis(r.upper_pattern().as_ref(), SymmetricOrdering::Identity)?,
-            None => symbolic_analysis(pattern.as_ref(), SymmetricOrdering::Identity)?,
+        let (reordered, symbolic) = match order {
+            Some(order) => {
+                let (matrix, upper) = ReorderedMatrix::new(pattern, order);
+                (
+                    Some(matrix),
+                    symbolic_analysis(upper.as_ref(), SymmetricOrdering::Identity)?,
+                )
+            }
+            None => (None, symbolic_analysis(pattern.as_ref(), SymmetricOrdering::Identity)?),
         };
         let req = StackReq::any_of(&[
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),

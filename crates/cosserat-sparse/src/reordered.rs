@@ -30,42 +30,28 @@ pub(crate) struct ReorderedMatrix {
 }
 
 impl ReorderedMatrix {
-    /// The pattern of `P A Pᵀ` for the factorisation order `order` (`order[new] = old`).
-    pub(crate) fn new(pattern: &UpperPattern, order: Vec<usize>) -> Self {
+    /// The pattern of `P A Pᵀ` for the factorisation order `order` (`order[new] = old`), and its upper
+    /// triangle for the symbolic analysis (see [`lower_and_upper`]).
+    pub(crate) fn new(pattern: &UpperPattern, order: Vec<usize>) -> (Self, SymbolicSparseColMat<usize>) {
         let n = pattern.n();
         let mut new_of = vec![0; n];
         for (new, &old) in order.iter().enumerate() {
             new_of[old] = new;
         }
-        let (lower, source) = csc(n, &lower_entries(pattern, &new_of));
-        Self {
+        let (lower, source, upper) = lower_and_upper(n, lower_entries(pattern, &new_of));
+        let matrix = Self {
             order,
             lower,
             values: mapped_zeros(source.len()),
             source,
             rhs: vec![0.0; n],
-        }
+        };
+        (matrix, upper)
     }
 
     /// The factorisation order (`order[new] = old`).
     pub(crate) fn order(&self) -> &[usize] {
         &self.order
-    }
-
-    /// The upper triangle of `P A Pᵀ`'s pattern, for the symbolic analysis.
-    ///
-    /// faer 0.24's symbolic analysis without a permutation reads its input as the upper triangle
-    /// whatever side it is told, so it gets the transpose of `lower`.
-    pub(crate) fn upper_pattern(&self) -> SymbolicSparseColMat<usize> {
-        let lower = self.lower.as_ref();
-        let transposed: Vec<(usize, usize, usize)> = (0..lower.ncols())
-            .flat_map(|j| {
-                lower.row_idx()[lower.col_ptr()[j]..lower.col_ptr()[j + 1]]
-                    .iter()
-                    .map(move |&i| (j, i, 0))
-            })
-            .collect();
-        csc(lower.ncols(), &transposed).0
     }
 
     /// `P A Pᵀ`'s lower triangle with the values of `A`'s upper triangle `values`.
@@ -102,9 +88,24 @@ pub(crate) fn lower_entries(pattern: &UpperPattern, local: &[usize]) -> Vec<(usi
     out
 }
 
+/// The lower triangle of the `n × n` pattern of `entries` (`(row, column, position)`, `row ≥ column`)
+/// with the values position of each stored entry, and its transpose: faer 0.24's symbolic analysis
+/// without a permutation reads its input as the upper triangle whatever side it is told.
+pub(crate) fn lower_and_upper(
+    n: usize,
+    mut entries: Vec<(usize, usize, usize)>,
+) -> (SymbolicSparseColMat<usize>, Vec<usize>, SymbolicSparseColMat<usize>) {
+    let (lower, gather) = csc(n, &entries);
+    for e in &mut entries {
+        (e.0, e.1) = (e.1, e.0);
+    }
+    let (upper, _) = csc(n, &entries);
+    (lower, gather, upper)
+}
+
 /// The compressed pattern of `n × n` with the given `(row, column, position)` entries (rows sorted in
 /// each column) and the values position of each stored entry.
-pub(crate) fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
+fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
     let mut col_ptr = vec![0usize; n + 1];
     for &(_, c, _) in entries {
         col_ptr[c + 1] += 1;

@@ -43,7 +43,7 @@ use super::ordering::{
     upper_structure, whole_order,
 };
 use super::pattern::UpperPattern;
-use super::reordered::{csc, lower_entries};
+use super::reordered::{lower_and_upper, lower_entries};
 use crate::error::{LinearSolveError, LinearSolveStage, out_of_memory};
 
 const NONE: usize = usize::MAX;
@@ -88,16 +88,8 @@ impl Domain {
         for (l, &g) in global.iter().enumerate() {
             local[g] = l;
         }
-        // The lower triangle, whose columns the fronts assemble. faer 0.24's symbolic analysis
-        // without a permutation reads its input as the upper triangle whatever side it is told, so it
-        // gets the transpose.
-        let mut entries = lower_entries(pattern, &local);
-        let (m_pattern, gather) = csc(n_own + n_sep, &entries);
-        for e in &mut entries {
-            (e.0, e.1) = (e.1, e.0);
-        }
-        let (m_upper, _) = csc(n_own + n_sep, &entries);
-        drop(entries);
+        // The lower triangle, whose columns the fronts assemble, and its transpose for the analysis.
+        let (m_pattern, gather, m_upper) = lower_and_upper(n_own + n_sep, lower_entries(pattern, &local));
         let params = CholeskySymbolicParams {
             supernodal_flop_ratio_threshold: SupernodalThreshold::FORCE_SUPERNODAL,
             ..Default::default()
