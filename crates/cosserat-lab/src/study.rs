@@ -551,6 +551,69 @@ fn cheapest_table(md: &mut String, runs: &[StudyRun], resolution: f64) -> Result
     Ok(())
 }
 
+/// How many times faster the cheapest run of any discretisation is than the cheapest run with the
+/// paper's interpolation, at one target error.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum SpeedUp {
+    /// Both reached the error: the ratio of their times.
+    Measured(f64),
+    /// Only other interpolations reached it: at least this, see [`unreached_bound`].
+    AtLeast(f64),
+    /// Only other interpolations reached it, and no run of the paper's bounds the ratio.
+    OnlyOther,
+    /// No run reached it.
+    Unreached,
+}
+
+impl SpeedUp {
+    fn of(runs: &[StudyRun], goal: f64) -> Self {
+        let paper = cheapest(
+            runs.iter().filter(|r| r.discretisation.interpolation == Interpolation::Paper),
+            goal,
+        );
+        match (paper, cheapest(runs.iter(), goal)) {
+            (Some(p), Some(a)) => Self::Measured(p.outcome.outer_seconds / a.outcome.outer_seconds),
+            (None, Some(a)) => {
+                unreached_bound(runs).map_or(Self::OnlyOther, |b| Self::AtLeast(b / a.outcome.outer_seconds))
+            }
+            _ => Self::Unreached,
+        }
+    }
+
+    /// The summary table's cell.
+    fn cell(self) -> String {
+        match self {
+            Self::Measured(x) => format!("{x:.2}"),
+            Self::AtLeast(x) => format!("> {x:.1}"),
+            Self::OnlyOther => "only the other".into(),
+            Self::Unreached => "–".into(),
+        }
+    }
+
+    /// One line for the saved sections, read back by [`Self::parse`].
+    fn record(self) -> String {
+        match self {
+            Self::Measured(x) => format!("measured {x}"),
+            Self::AtLeast(x) => format!("at_least {x}"),
+            Self::OnlyOther => "only_other".into(),
+            Self::Unreached => "unreached".into(),
+        }
+    }
+
+    fn parse(line: &str) -> Option<Self> {
+        let mut words = line.split_whitespace();
+        let kind = words.next()?;
+        let value = words.next().and_then(|v| v.parse::<f64>().ok());
+        match (kind, value) {
+            ("measured", Some(x)) => Some(Self::Measured(x)),
+            ("at_least", Some(x)) => Some(Self::AtLeast(x)),
+            ("only_other", None) => Some(Self::OnlyOther),
+            ("unreached", None) => Some(Self::Unreached),
+            _ => None,
+        }
+    }
+}
+
 /// The target's row of the summary table: the cheapest run within 1 % and within 1e-3 with the paper's
 /// interpolation and with any discretisation, and the time ratio.
 fn summary_row(target: &Target, runs: &[StudyRun]) -> String {
@@ -576,18 +639,40 @@ fn summary_row(target: &Target, runs: &[StudyRun]) -> String {
             goal,
         );
         let any = cheapest(runs.iter(), goal);
-        let ratio = match (paper, any) {
-            (Some(p), Some(a)) => format!("{:.2}", p.outcome.outer_seconds / a.outcome.outer_seconds),
-            (None, Some(a)) => match unreached_bound(runs) {
-                Some(bound) => format!("> {:.1}", bound / a.outcome.outer_seconds),
-                None => "only the other".into(),
-            },
-            _ => "–".into(),
-        };
+        let ratio = SpeedUp::of(runs, goal).cell();
         let _ = write!(row, "| {} | {} | {ratio} ", setting(paper), setting(any));
     }
     row.push('|');
     row
+}
+
+/// The speed-up a user gains at 1 % over the paper's interpolation, problem by problem: where it is at
+/// least [`EXTENSION_BUDGET`] times, where it is less, and where the ladders do not decide it.
+fn speed_up_paragraph(speed_ups: &[(&str, SpeedUp)]) -> String {
+    let list = |keep: &dyn Fn(SpeedUp) -> bool| -> Vec<String> {
+        speed_ups
+            .iter()
+            .filter(|(_, s)| keep(*s))
+            .map(|(title, s)| format!("{title} ({})", s.cell()))
+            .collect()
+    };
+    let fast = list(&|s| matches!(s, SpeedUp::Measured(x) | SpeedUp::AtLeast(x) if x >= EXTENSION_BUDGET));
+    let slow = list(&|s| matches!(s, SpeedUp::Measured(x) if x < EXTENSION_BUDGET));
+    let open = list(&|s| matches!(s, SpeedUp::AtLeast(x) if x < EXTENSION_BUDGET) || s == SpeedUp::OnlyOther);
+    let join = |v: Vec<String>| if v.is_empty() { "none".to_string() } else { v.join(", ") };
+    let mut text = format!(
+        "\nAt 1 %, the cheapest run of any discretisation is at least {EXTENSION_BUDGET} times faster than the cheapest with the paper's interpolation on: {}. Less on: {}.",
+        join(fast),
+        join(slow)
+    );
+    if !open.is_empty() {
+        text.push_str(&format!(
+            " Not decided by the ladders (the paper's finest runs are too cheap to bound it): {}.",
+            open.join(", ")
+        ));
+    }
+    text.push('\n');
+    text
 }
 
 /// The cell of a target error finer than the reference resolves.
@@ -781,6 +866,10 @@ pub fn run(args: &StudyArgs) -> Result<i32> {
         let md = section(t, &runs, extrapolated, &images)?;
         std::fs::write(sections.join(format!("{}.md", t.name())), md)?;
         std::fs::write(sections.join(format!("{}.summary.md", t.name())), summary_row(t, &runs))?;
+        std::fs::write(
+            sections.join(format!("{}.speedup", t.name())),
+            SpeedUp::of(&runs, 1e-2).record(),
+        )?;
     }
     let mut doc = HEADER.to_string();
     doc.push_str(SUMMARY_HEADER);
@@ -791,6 +880,14 @@ pub fn run(args: &StudyArgs) -> Result<i32> {
         }
     }
     doc.push('\n');
+    let speed_ups: Vec<(&str, SpeedUp)> = all
+        .iter()
+        .filter_map(|t| {
+            let record = std::fs::read_to_string(sections.join(format!("{}.speedup", t.name()))).ok()?;
+            Some((t.title(), SpeedUp::parse(&record)?))
+        })
+        .collect();
+    doc.push_str(&speed_up_paragraph(&speed_ups));
     for t in &all {
         if let Ok(s) = std::fs::read_to_string(sections.join(format!("{}.md", t.name()))) {
             doc.push_str(&s);
@@ -885,6 +982,47 @@ mod tests {
             Discretisation::paper(Pair::Tri3Tri3),
             best
         ));
+    }
+
+    #[test]
+    fn speed_ups_are_measured_bounded_or_open() {
+        let paper = Discretisation::paper(Pair::Tri6Tri3);
+        let default = Discretisation::DEFAULT;
+        // Both within 1 %: the ratio of the cheapest of each.
+        let both = [
+            study_run(paper, 2.0, Some(0.005)),
+            study_run(paper, 1.0, Some(0.02)),
+            study_run(default, 0.5, Some(0.008)),
+        ];
+        assert_eq!(SpeedUp::of(&both, 1e-2), SpeedUp::Measured(4.0));
+        // Only the default: at least the paper's finest run over the default's.
+        let only = [study_run(paper, 3.0, Some(0.02)), study_run(default, 0.5, Some(0.008))];
+        assert_eq!(SpeedUp::of(&only, 1e-2), SpeedUp::AtLeast(6.0));
+        assert_eq!(SpeedUp::of(&only[1..], 1e-2), SpeedUp::OnlyOther);
+        assert_eq!(SpeedUp::of(&only[..1], 1e-2), SpeedUp::Unreached);
+        for s in [
+            SpeedUp::Measured(1.04),
+            SpeedUp::AtLeast(9.9),
+            SpeedUp::OnlyOther,
+            SpeedUp::Unreached,
+        ] {
+            assert_eq!(SpeedUp::parse(&s.record()), Some(s));
+        }
+        assert_eq!(SpeedUp::parse("measured"), None);
+    }
+
+    #[test]
+    fn the_speed_up_paragraph_sorts_the_problems_by_the_budget() {
+        let text = speed_up_paragraph(&[
+            ("A", SpeedUp::Measured(5.28)),
+            ("B", SpeedUp::Measured(1.04)),
+            ("C", SpeedUp::AtLeast(9.9)),
+            ("D", SpeedUp::AtLeast(2.0)),
+            ("E", SpeedUp::Unreached),
+        ]);
+        assert!(text.contains("on: A (5.28), C (> 9.9). Less on: B (1.04)."), "{text}");
+        assert!(text.contains("bound it): D (> 2.0)."), "{text}");
+        assert!(!text.contains("E ("), "{text}");
     }
 
     #[test]
