@@ -78,9 +78,10 @@ pub fn strain_offset(
 /// `Ψ(s) = ½ sᵀ D s` exactly; [`crate::oracle::density_hessian`] differentiates
 /// [`density`](crate::density::density) instead, and the tests compare the two.
 pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
+    let forms = Forms::of(moduli);
     let mut d = StrainMatrix::zeros();
     for t in terms.terms() {
-        if let Some(form) = TermForm::of(t.term, geom, moduli) {
+        if let Some(form) = TermForm::of(t.term, geom, moduli, &forms) {
             form.add_hessian(t.factor, &mut d);
         }
     }
@@ -88,47 +89,155 @@ pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) ->
     (d + d.transpose()) * 0.5
 }
 
-/// A map from the strain vector to `vec` of a 3 × 3 argument.
-type ArgumentMap = SMatrix<f64, 9, 18>;
 /// An isotropic bilinear form on `vec` of 3 × 3 tensors.
 type Form = SMatrix<f64, 9, 9>;
 
+/// A block of an argument map: the matrix of `vec X ↦ vec(L X R)` on `Ê` or on `Γ̂`. The blocks are
+/// kept apart because most terms read only one of the two parts, and the products skip the other.
+// The matrix variant is large, but a block lives only on the stack of one point's set-up.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy)]
+enum Block {
+    Zero,
+    Identity,
+    Matrix(Form),
+}
+
+/// The blocks are Kronecker products of 3 × 3 matrices with the identity, `b` or `c`, so most of their
+/// entries are zero: the products run over the nonzero ones (the same sums as the dense products).
+impl Block {
+    /// `selfᵀ m`, `None` for a zero block.
+    fn tr_mul(&self, m: &Form) -> Option<Form> {
+        match self {
+            Block::Zero => None,
+            Block::Identity => Some(*m),
+            Block::Matrix(a) => {
+                let mut out = Form::zeros();
+                for i in 0..9 {
+                    for k in (0..9).filter(|&k| a[(k, i)] != 0.0) {
+                        let v = a[(k, i)];
+                        for j in 0..9 {
+                            out[(i, j)] += v * m[(k, j)];
+                        }
+                    }
+                }
+                Some(out)
+            }
+        }
+    }
+
+    /// `m self`, `None` for a zero block.
+    fn mul_by(&self, m: &Form) -> Option<Form> {
+        match self {
+            Block::Zero => None,
+            Block::Identity => Some(*m),
+            Block::Matrix(b) => {
+                let mut out = Form::zeros();
+                for j in 0..9 {
+                    for k in (0..9).filter(|&k| b[(k, j)] != 0.0) {
+                        out.column_mut(j).axpy(b[(k, j)], &m.column(k), 1.0);
+                    }
+                }
+                Some(out)
+            }
+        }
+    }
+}
+
+/// A map from the strain vector to `vec` of a 3 × 3 argument: `vec A = e vec Ê + gamma vec Γ̂`.
+#[derive(Clone, Copy)]
+struct ArgumentMap {
+    e: Block,
+    gamma: Block,
+}
+
+impl ArgumentMap {
+    /// `vec Ê`.
+    const E: Self = Self {
+        e: Block::Identity,
+        gamma: Block::Zero,
+    };
+
+    /// `vec(Ê r) + gamma vec Γ̂`: its `Ê` block is the matrix of `Ê ↦ Ê r`.
+    fn new(right: &Matrix3<f64>, gamma: Block) -> Self {
+        Self {
+            e: Block::Matrix(kron(right, &Matrix3::identity())),
+            gamma,
+        }
+    }
+
+    /// `vec(left Γ̂ right)`.
+    fn gamma(right: &Matrix3<f64>, left: &Matrix3<f64>) -> Self {
+        let identity = Matrix3::identity();
+        Self {
+            e: Block::Zero,
+            gamma: if *right == identity && *left == identity {
+                Block::Identity
+            } else {
+                Block::Matrix(kron(right, left))
+            },
+        }
+    }
+
+    /// The blocks with the offset of their part in the strain vector.
+    fn blocks(&self) -> [(usize, &Block); 2] {
+        [(0, &self.e), (9, &self.gamma)]
+    }
+}
+
+/// The isotropic forms of the terms, built once per point.
+struct Forms {
+    membrane: Form,
+    membrane_no_trace: Form,
+    membrane_half_lambda: Form,
+    curvature: Form,
+}
+
+impl Forms {
+    fn of(m: &Moduli) -> Self {
+        let [b1, b2, b3] = m.curvature_coefficients;
+        let l2 = m.mu * m.length_scale * m.length_scale;
+        Self {
+            membrane: isotropic(m.mu, m.mu_c, m.plane_lambda),
+            membrane_no_trace: isotropic(m.mu, m.mu_c, 0.0),
+            membrane_half_lambda: isotropic(m.mu, m.mu_c, 0.5 * m.lambda),
+            curvature: isotropic(l2 * b1, l2 * b2, l2 * b3),
+        }
+    }
+}
+
 /// One strain-quadratic term as `factor · W(L_A s, L_B s)`.
-struct TermForm {
+struct TermForm<'a> {
     factor: f64,
-    form: Form,
+    form: &'a Form,
     a: ArgumentMap,
     b: ArgumentMap,
 }
 
-impl TermForm {
+impl<'a> TermForm<'a> {
     /// The term's factor, form and arguments (`None` for a term that is not strain-quadratic).
-    fn of(term: EnergyTerm, geom: &PointGeometry, m: &Moduli) -> Option<Self> {
+    fn of(term: EnergyTerm, geom: &PointGeometry, m: &Moduli, forms: &'a Forms) -> Option<Self> {
         let h = m.thickness;
         let (h3, h5) = (h * h * h, h * h * h * h * h);
         let k = geom.gaussian;
         let (b, c) = (geom.b, geom.c);
         let i3 = Matrix3::identity();
-        let e = arguments(&i3, &Form::zeros());
-        let gamma = |right: &Matrix3<f64>, left: &Matrix3<f64>| arguments(&Matrix3::zeros(), &kron(right, left));
-        let membrane = isotropic(m.mu, m.mu_c, m.plane_lambda);
-        let curv = {
-            let [b1, b2, b3] = m.curvature_coefficients;
-            let l2 = m.mu * m.length_scale * m.length_scale;
-            isotropic(l2 * b1, l2 * b2, l2 * b3)
-        };
-        let quadratic = |factor: f64, form: Form, a: ArgumentMap| Self { factor, form, a, b: a };
+        let (e, gamma) = (ArgumentMap::E, ArgumentMap::gamma);
+        let (membrane, curv) = (&forms.membrane, &forms.curvature);
+        let quadratic = |factor: f64, form: &'a Form, a: ArgumentMap| Self { factor, form, a, b: a };
         Some(match term {
             EnergyTerm::NonlinearVolume => return None,
             EnergyTerm::Membrane => quadratic(h, membrane, e),
-            EnergyTerm::MembraneNoTrace => quadratic(h, isotropic(m.mu, m.mu_c, 0.0), e),
+            EnergyTerm::MembraneNoTrace => quadratic(h, &forms.membrane_no_trace, e),
             EnergyTerm::Bending => quadratic(h3 / 12.0, membrane, gamma(&i3, &c)),
             EnergyTerm::Curvature => quadratic(h, curv, gamma(&i3, &i3)),
             EnergyTerm::CurvedMembrane1 => quadratic(h - k * h3 / 12.0, membrane, e),
             // vec(E b + c Γ) = (bᵀ ⊗ I) vec E + (I ⊗ c) vec Γ.
-            EnergyTerm::CurvedMembrane2 => {
-                quadratic(h3 / 12.0 - k * h5 / 80.0, membrane, arguments(&b, &kron(&i3, &c)))
-            }
+            EnergyTerm::CurvedMembrane2 => quadratic(
+                h3 / 12.0 - k * h5 / 80.0,
+                membrane,
+                ArgumentMap::new(&b, Block::Matrix(kron(&i3, &c))),
+            ),
             // W_mixt(E, c Γ (b − 2H I)).
             EnergyTerm::CurvedMembrane3 => Self {
                 factor: h3 / 6.0,
@@ -139,8 +248,8 @@ impl TermForm {
             // W_mp(E b² + c Γ b): λ/2 on the trace.
             EnergyTerm::CurvedMembrane4 => quadratic(
                 h5 / 80.0,
-                isotropic(m.mu, m.mu_c, 0.5 * m.lambda),
-                arguments(&(b * b), &kron(&b, &c)),
+                &forms.membrane_half_lambda,
+                ArgumentMap::new(&(b * b), Block::Matrix(kron(&b, &c))),
             ),
             EnergyTerm::CurvedBending1 => quadratic(h - k * h3 / 12.0, curv, gamma(&i3, &i3)),
             EnergyTerm::CurvedBending2 => quadratic(h3 / 12.0 - k * h5 / 80.0, curv, gamma(&b, &i3)),
@@ -148,19 +257,21 @@ impl TermForm {
         })
     }
 
-    /// Adds `weight · factor · (L_Aᵀ M L_B + L_Bᵀ M L_A)` to `d`.
+    /// Adds `weight · factor · (L_Aᵀ M L_B + L_Bᵀ M L_A)` to `d`, block by block of the arguments.
     fn add_hessian(&self, weight: f64, d: &mut StrainMatrix) {
-        let ab = self.a.transpose() * self.form * self.b;
-        *d += (ab + ab.transpose()) * (weight * self.factor);
+        let scale = weight * self.factor;
+        for (col, b) in self.b.blocks() {
+            let Some(mb) = b.mul_by(self.form) else { continue };
+            for (row, a) in self.a.blocks() {
+                let Some(ab) = a.tr_mul(&mb) else { continue };
+                let ab = ab * scale;
+                let mut upper = d.fixed_view_mut::<9, 9>(row, col);
+                upper += ab;
+                let mut lower = d.fixed_view_mut::<9, 9>(col, row);
+                lower += ab.transpose();
+            }
+        }
     }
-}
-
-/// The argument map `s ↦ vec(Ê r) + gamma vec Γ̂`: its `Ê` block is the matrix of `Ê ↦ Ê r`.
-fn arguments(right: &Matrix3<f64>, gamma: &Form) -> ArgumentMap {
-    let mut l = ArgumentMap::zeros();
-    l.fixed_view_mut::<9, 9>(0, 0).copy_from(&kron(right, &Matrix3::identity()));
-    l.fixed_view_mut::<9, 9>(0, 9).copy_from(gamma);
-    l
 }
 
 /// `vec(L X R) = (Rᵀ ⊗ L) vec X`: the matrix of `X ↦ L X R`.

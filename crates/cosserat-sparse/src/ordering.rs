@@ -201,23 +201,7 @@ pub(crate) fn nested_dissection_of_pairs(n: usize, pairs: &[(u32, u32)]) -> Opti
     if !n.is_multiple_of(NODE_BLOCK) {
         return None;
     }
-    let n_nodes = n / NODE_BLOCK;
-    let node = |u: u32| u / NODE_BLOCK as u32;
-    let mut edges: Vec<(u32, u32)> = pairs
-        .iter()
-        .filter(|&&(r, c)| node(r) != node(c))
-        .flat_map(|&(r, c)| [(node(r), node(c)), (node(c), node(r))])
-        .collect();
-    edges.sort_unstable();
-    edges.dedup();
-    let mut ptr = vec![0usize; n_nodes + 1];
-    for &(a, _) in &edges {
-        ptr[a as usize + 1] += 1;
-    }
-    for v in 0..n_nodes {
-        ptr[v + 1] += ptr[v];
-    }
-    let adj: Vec<u32> = edges.iter().map(|&(_, b)| b).collect();
+    let (ptr, adj) = node_graph_of_pairs(n / NODE_BLOCK, pairs);
     let nodes = MetisGraph::new(&ptr, &adj)?.nested_dissection()?;
     Some(
         nodes
@@ -225,6 +209,47 @@ pub(crate) fn nested_dissection_of_pairs(n: usize, pairs: &[(u32, u32)]) -> Opti
             .flat_map(|&v| (0..NODE_BLOCK).map(move |c| v * NODE_BLOCK + c))
             .collect(),
     )
+}
+
+/// The node adjacency (CSR, each list ascending) of the symmetric matrix with off-diagonal `pairs`
+/// on `n_nodes` node blocks of [`NODE_BLOCK`] unknowns. A pair of nodes is coupled by up to
+/// `NODE_BLOCK²` pairs of unknowns: the lists are gathered with their repeats, which a marker per
+/// neighbour drops node by node, so only the short deduplicated lists are sorted.
+fn node_graph_of_pairs(n_nodes: usize, pairs: &[(u32, u32)]) -> (Vec<usize>, Vec<u32>) {
+    let node = |u: u32| (u / NODE_BLOCK as u32) as usize;
+    let coupled = || pairs.iter().map(|&(r, c)| (node(r), node(c))).filter(|(a, b)| a != b);
+    let mut start = vec![0usize; n_nodes + 1];
+    for (a, b) in coupled() {
+        start[a + 1] += 1;
+        start[b + 1] += 1;
+    }
+    for v in 0..n_nodes {
+        start[v + 1] += start[v];
+    }
+    let mut fill = start.clone();
+    let mut repeated = vec![0u32; start[n_nodes]];
+    for (a, b) in coupled() {
+        repeated[fill[a]] = b as u32;
+        fill[a] += 1;
+        repeated[fill[b]] = a as u32;
+        fill[b] += 1;
+    }
+    let mut seen_by = vec![usize::MAX; n_nodes];
+    let mut ptr = Vec::with_capacity(n_nodes + 1);
+    ptr.push(0);
+    let mut adj = Vec::new();
+    for v in 0..n_nodes {
+        let first = adj.len();
+        for &w in &repeated[start[v]..start[v + 1]] {
+            if seen_by[w as usize] != v {
+                seen_by[w as usize] = v;
+                adj.push(w);
+            }
+        }
+        adj[first..].sort_unstable();
+        ptr.push(adj.len());
+    }
+    (ptr, adj)
 }
 
 /// A vertex bisection of the node graph: two parts that no matrix entry couples, and the separator.
@@ -443,6 +468,34 @@ mod tests {
             }
         }
         SymbolicSparseColMat::new_checked(n * block, n * block, col_ptr, None, rows)
+    }
+
+    /// The node graph of scalar pairs equals the one from sorting and deduplicating every node pair:
+    /// each node's neighbours once, ascending, whatever the order and repetition of the pairs.
+    #[test]
+    fn node_graph_of_pairs_lists_each_neighbour_once_in_order() {
+        let g = grid(4, NODE_BLOCK);
+        let mut pairs: Vec<(u32, u32)> = (0..g.ncols())
+            .flat_map(|c| g.row_idx_of_col(c).filter(move |&r| r != c).map(move |r| (r as u32, c as u32)))
+            .collect();
+        pairs.reverse();
+        pairs.extend_from_within(..10);
+        let n_nodes = g.ncols() / NODE_BLOCK;
+        let (ptr, adj) = node_graph_of_pairs(n_nodes, &pairs);
+        let node = |u: u32| u / NODE_BLOCK as u32;
+        let mut edges: Vec<(u32, u32)> = pairs
+            .iter()
+            .filter(|&&(r, c)| node(r) != node(c))
+            .flat_map(|&(r, c)| [(node(r), node(c)), (node(c), node(r))])
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let listed: Vec<(u32, u32)> = (0..n_nodes)
+            .flat_map(|v| adj[ptr[v]..ptr[v + 1]].iter().map(move |&w| (v as u32, w)))
+            .collect();
+        assert_eq!(listed, edges);
+        // An interior node of the 4 × 4 grid has four neighbours.
+        assert_eq!(ptr[6] - ptr[5], 4);
     }
 
     #[test]

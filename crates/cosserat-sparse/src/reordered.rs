@@ -103,24 +103,43 @@ pub(crate) fn lower_and_upper(
     (lower, gather, upper)
 }
 
+/// The start of each of `n` buckets in a list ordered by bucket (`n + 1` offsets), for items in
+/// `buckets`.
+fn offsets(n: usize, buckets: impl Iterator<Item = usize>) -> Vec<usize> {
+    let mut ptr = vec![0usize; n + 1];
+    for b in buckets {
+        ptr[b + 1] += 1;
+    }
+    for b in 0..n {
+        ptr[b + 1] += ptr[b];
+    }
+    ptr
+}
+
+/// The item indices ordered by their bucket in `0..n`, in item order within a bucket.
+fn bucketed(n: usize, buckets: impl Iterator<Item = usize> + Clone) -> Vec<usize> {
+    let mut next = offsets(n, buckets.clone());
+    let mut order = vec![0usize; next[n]];
+    for (i, b) in buckets.enumerate() {
+        order[next[b]] = i;
+        next[b] += 1;
+    }
+    order
+}
+
 /// The compressed pattern of `n × n` with the given `(row, column, position)` entries (rows sorted in
-/// each column) and the values position of each stored entry.
+/// each column) and the values position of each stored entry. The entries are bucketed by row first
+/// and then dealt to their columns in row order, so each column's rows arrive sorted (two counting
+/// passes instead of a sort per column).
 fn csc(n: usize, entries: &[(usize, usize, usize)]) -> (SymbolicSparseColMat<usize>, Vec<usize>) {
-    let mut col_ptr = vec![0usize; n + 1];
-    for &(_, c, _) in entries {
-        col_ptr[c + 1] += 1;
-    }
-    for c in 0..n {
-        col_ptr[c + 1] += col_ptr[c];
-    }
+    let by_row = bucketed(n, entries.iter().map(|&(r, _, _)| r));
+    let col_ptr = offsets(n, entries.iter().map(|&(_, c, _)| c));
     let mut next = col_ptr.clone();
     let mut slots = vec![(0usize, 0usize); entries.len()];
-    for &(r, c, k) in entries {
+    for &i in &by_row {
+        let (r, c, k) = entries[i];
         slots[next[c]] = (r, k);
         next[c] += 1;
-    }
-    for c in 0..n {
-        slots[col_ptr[c]..col_ptr[c + 1]].sort_unstable();
     }
     let (row_idx, gather): (Vec<usize>, Vec<usize>) = slots.into_iter().unzip();
     let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
