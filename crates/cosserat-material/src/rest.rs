@@ -17,7 +17,7 @@ use crate::kernel::PointShape;
 use crate::model::{ModelOptions, ShellModel, TermSet};
 use crate::parameters::Moduli;
 use crate::projection::{StabilizationConstants, StrainInterpolation, StrainProjection};
-use crate::strain_space::{DensityTable, StrainMatrix, local_geometry, strain_hessian};
+use crate::strain_space::{DensityTable, StrainHessians, StrainMatrix, local_geometry, strain_hessian};
 use cosserat_fem::mesh::{CurvatureSettings, MeshElement, Tri3Mesh, rest_geometry};
 use cosserat_fem::{MeshError, QuadratureRule, ShapeFunctions, TriMesh};
 use cosserat_geometry::surface::{Curvature, SurfaceMetric};
@@ -261,12 +261,13 @@ where
     // One dense 18-direction second-order dual pass per curved point (the costliest part of the set-up):
     // independent, so they run in parallel; the order of `matrices` follows `index` whatever the
     // scheduling.
+    let curved_hessians = StrainHessians::new(&curved_terms, moduli);
     let mut matrices: Vec<StrainMatrix> = Vec::with_capacity(1 + curved_points.len());
     matrices.push(flat_d);
     matrices.par_extend(
         curved_points
             .par_iter()
-            .map(|(frame, b)| strain_hessian(&curved_terms, &local_geometry(frame, b), moduli)),
+            .map(|(frame, b)| curved_hessians.at(&local_geometry(frame, b))),
     );
     let mut active_terms = Vec::new();
     if n_curved_points < n_el * n_qp {

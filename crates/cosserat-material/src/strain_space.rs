@@ -78,15 +78,38 @@ pub fn strain_offset(
 /// `Ψ(s) = ½ sᵀ D s` exactly; [`crate::oracle::density_hessian`] differentiates
 /// [`density`](crate::density::density) instead, and the tests compare the two.
 pub fn strain_hessian(terms: &TermSet, geom: &PointGeometry, moduli: &Moduli) -> StrainMatrix {
-    let forms = Forms::of(moduli);
-    let mut d = StrainMatrix::zeros();
-    for t in terms.terms() {
-        if let Some(form) = TermForm::of(t.term, geom, moduli, &forms) {
-            form.add_hessian(t.factor, &mut d);
+    StrainHessians::new(terms, moduli).at(geom)
+}
+
+/// [`strain_hessian`] for the many points of one material and term set: the isotropic forms of the
+/// terms are built once, and [`Self::at`] forms a point's matrix from its rest geometry.
+pub struct StrainHessians<'a> {
+    terms: &'a TermSet,
+    moduli: &'a Moduli,
+    forms: Forms,
+}
+
+impl<'a> StrainHessians<'a> {
+    /// The forms of `terms` with `moduli`.
+    pub fn new(terms: &'a TermSet, moduli: &'a Moduli) -> Self {
+        Self {
+            terms,
+            moduli,
+            forms: Forms::of(moduli),
         }
     }
-    // Symmetric by construction up to round-off; make it exact.
-    (d + d.transpose()) * 0.5
+
+    /// The density Hessian at a point of rest geometry `geom`.
+    pub fn at(&self, geom: &PointGeometry) -> StrainMatrix {
+        let mut d = StrainMatrix::zeros();
+        for t in self.terms.terms() {
+            if let Some(form) = TermForm::of(t.term, geom, self.moduli, &self.forms) {
+                form.add_hessian(t.factor, &mut d);
+            }
+        }
+        // Symmetric by construction up to round-off; make it exact.
+        (d + d.transpose()) * 0.5
+    }
 }
 
 /// An isotropic bilinear form on `vec` of 3 × 3 tensors.
@@ -276,7 +299,16 @@ impl<'a> TermForm<'a> {
 
 /// `vec(L X R) = (Rᵀ ⊗ L) vec X`: the matrix of `X ↦ L X R`.
 fn kron(right: &Matrix3<f64>, left: &Matrix3<f64>) -> Form {
-    Form::from_fn(|r, c| right[(c / 3, r / 3)] * left[(r % 3, c % 3)])
+    let mut out = Form::zeros();
+    for cb in 0..3 {
+        for rb in 0..3 {
+            let r = right[(cb, rb)];
+            if r != 0.0 {
+                out.fixed_view_mut::<3, 3>(3 * rb, 3 * cb).copy_from(&(left * r));
+            }
+        }
+    }
+    out
 }
 
 /// `vec(A)ᵀ M vec(B) = μ sym A : sym B + μ_c skew A : skew B + t tr A tr B`.
