@@ -202,9 +202,9 @@ impl ArgumentMap {
         }
     }
 
-    /// The blocks with the offset of their part in the strain vector.
-    fn blocks(&self) -> [(usize, &Block); 2] {
-        [(0, &self.e), (9, &self.gamma)]
+    /// The blocks, `Ê` first.
+    fn blocks(&self) -> [&Block; 2] {
+        [&self.e, &self.gamma]
     }
 }
 
@@ -280,19 +280,28 @@ impl<'a> TermForm<'a> {
         })
     }
 
-    /// Adds `weight · factor · (L_Aᵀ M L_B + L_Bᵀ M L_A)` to `d`, block by block of the arguments.
+    /// Adds `weight · factor · (L_Aᵀ M L_B + L_Bᵀ M L_A)` to `d`. `L_Aᵀ M L_B` is formed block by block
+    /// of the arguments as `(L_Aᵀ M) L_B`, each product over the nonzero entries of its factor: the
+    /// same sums, in the same order, as the dense products.
     fn add_hessian(&self, weight: f64, d: &mut StrainMatrix) {
-        let scale = weight * self.factor;
-        for (col, b) in self.b.blocks() {
-            let Some(mb) = b.mul_by(self.form) else { continue };
-            for (row, a) in self.a.blocks() {
-                let Some(ab) = a.tr_mul(&mb) else { continue };
-                let ab = ab * scale;
-                let mut upper = d.fixed_view_mut::<9, 9>(row, col);
-                upper += ab;
-                let mut lower = d.fixed_view_mut::<9, 9>(col, row);
-                lower += ab.transpose();
+        // The blocks of `L_Aᵀ M L_B` by part (`Ê`, `Γ̂`), `None` where they vanish.
+        let mut ab: [[Option<Form>; 2]; 2] = Default::default();
+        for (row, a) in self.a.blocks().into_iter().enumerate() {
+            let Some(am) = a.tr_mul(self.form) else { continue };
+            for (col, b) in self.b.blocks().into_iter().enumerate() {
+                ab[row][col] = b.mul_by(&am);
             }
+        }
+        let scale = weight * self.factor;
+        for (row, col) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+            let sum = match (&ab[row][col], &ab[col][row]) {
+                (Some(upper), Some(lower)) => upper + lower.transpose(),
+                (Some(upper), None) => *upper,
+                (None, Some(lower)) => lower.transpose(),
+                (None, None) => continue,
+            };
+            let mut block = d.fixed_view_mut::<9, 9>(9 * row, 9 * col);
+            block += sum * scale;
         }
     }
 }
