@@ -258,9 +258,8 @@ where
             }
         }
     }
-    // One dense 18-direction second-order dual pass per curved point (the costliest part of the set-up):
-    // independent, so they run in parallel; the order of `matrices` follows `index` whatever the
-    // scheduling.
+    // One density Hessian per curved point (a large part of the set-up): independent, so they run in
+    // parallel; the order of `matrices` follows `index` whatever the scheduling.
     let curved_hessians = StrainHessians::new(&curved_terms, moduli);
     let mut matrices: Vec<StrainMatrix> = Vec::with_capacity(1 + curved_points.len());
     matrices.push(flat_d);

@@ -208,7 +208,7 @@ impl ArgumentMap {
     }
 }
 
-/// The isotropic forms of the terms, built once per point.
+/// The isotropic forms of the terms: they depend on the material only.
 struct Forms {
     membrane: Form,
     membrane_no_trace: Form,
