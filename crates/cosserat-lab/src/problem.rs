@@ -208,20 +208,30 @@ fn small_load_stiffness() -> (f64, f64) {
     (e * b * h.powi(3) / 12.0 + 2.0 * b * h * mu * lc * lc, b * h * 2.0 * mu)
 }
 
-/// The tip displacements `−U` and `W` of the Sze 3.1 strip (L = 10, EI = 100, end force 4 λ) against
-/// the inextensible elastica.
+/// The inextensible elastica's tip shortening `−U` of the Sze 3.1 strip (L = 10, EI = 100, end force
+/// 4 λ) at load factor λ.
+fn elastica_shortening(lambda: f64) -> f64 {
+    10.0 * reference::elastica_tip(4.0 * lambda).1
+}
+
+/// The elastica's tip deflection `W` of the Sze 3.1 strip at load factor λ.
+fn elastica_deflection(lambda: f64) -> f64 {
+    10.0 * reference::elastica_tip(4.0 * lambda).0
+}
+
+/// The tip displacements `−U` and `W` of the Sze 3.1 strip against the inextensible elastica.
 fn elastica_components() -> Vec<Component> {
     vec![
         Component {
             label: "−U",
             read: |p, r| Ok(-col(p, r, "tip.ux")?),
-            reference: |l| 10.0 * reference::elastica_tip(4.0 * l).1,
+            reference: elastica_shortening,
             second: None,
         },
         Component {
             label: "W",
             read: |p, r| col(p, r, "tip.uz"),
-            reference: |l| 10.0 * reference::elastica_tip(4.0 * l).0,
+            reference: elastica_deflection,
             second: None,
         },
     ]
@@ -258,13 +268,13 @@ pub fn registry() -> Vec<Problem> {
                     label: "−U",
                     read: |p, r| Ok(-col(p, r, "tip.ux")?),
                     reference: |l| table_value(&reference::SZE_END_SHEAR, l, false).unwrap_or(f64::NAN),
-                    second: Some(("elastica", |l| Some(10.0 * reference::elastica_tip(4.0 * l).1))),
+                    second: Some(("elastica", |l| Some(elastica_shortening(l)))),
                 },
                 Component {
                     label: "W",
                     read: |p, r| col(p, r, "tip.uz"),
                     reference: |l| table_value(&reference::SZE_END_SHEAR, l, true).unwrap_or(f64::NAN),
-                    second: Some(("elastica", |l| Some(10.0 * reference::elastica_tip(4.0 * l).0))),
+                    second: Some(("elastica", |l| Some(elastica_deflection(l)))),
                 },
             ],
             ladder: sze_shear_ladder,

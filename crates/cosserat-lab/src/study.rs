@@ -552,8 +552,8 @@ fn cheapest_table(md: &mut String, runs: &[StudyRun], resolution: f64) -> Result
 }
 
 /// How many times faster the cheapest run of any discretisation is than the cheapest run with the
-/// paper's interpolation, at one target error.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// paper's interpolation, at one target error. Saved beside a target's sections as JSON.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 enum SpeedUp {
     /// Both reached the error: the ratio of their times.
     Measured(f64),
@@ -566,18 +566,20 @@ enum SpeedUp {
 }
 
 impl SpeedUp {
-    fn of(runs: &[StudyRun], goal: f64) -> Self {
-        let paper = cheapest(
-            runs.iter().filter(|r| r.discretisation.interpolation == Interpolation::Paper),
-            goal,
-        );
-        match (paper, cheapest(runs.iter(), goal)) {
+    /// From the cheapest runs within the error with the paper's interpolation and with any.
+    fn between(paper: Option<&StudyRun>, any: Option<&StudyRun>, runs: &[StudyRun]) -> Self {
+        match (paper, any) {
             (Some(p), Some(a)) => Self::Measured(p.outcome.outer_seconds / a.outcome.outer_seconds),
             (None, Some(a)) => {
                 unreached_bound(runs).map_or(Self::OnlyOther, |b| Self::AtLeast(b / a.outcome.outer_seconds))
             }
             _ => Self::Unreached,
         }
+    }
+
+    fn of(runs: &[StudyRun], goal: f64) -> Self {
+        let (paper, any) = cheapest_paper_and_any(runs, goal);
+        Self::between(paper, any, runs)
     }
 
     /// The summary table's cell.
@@ -589,29 +591,15 @@ impl SpeedUp {
             Self::Unreached => "–".into(),
         }
     }
+}
 
-    /// One line for the saved sections, read back by [`Self::parse`].
-    fn record(self) -> String {
-        match self {
-            Self::Measured(x) => format!("measured {x}"),
-            Self::AtLeast(x) => format!("at_least {x}"),
-            Self::OnlyOther => "only_other".into(),
-            Self::Unreached => "unreached".into(),
-        }
-    }
-
-    fn parse(line: &str) -> Option<Self> {
-        let mut words = line.split_whitespace();
-        let kind = words.next()?;
-        let value = words.next().and_then(|v| v.parse::<f64>().ok());
-        match (kind, value) {
-            ("measured", Some(x)) => Some(Self::Measured(x)),
-            ("at_least", Some(x)) => Some(Self::AtLeast(x)),
-            ("only_other", None) => Some(Self::OnlyOther),
-            ("unreached", None) => Some(Self::Unreached),
-            _ => None,
-        }
-    }
+/// The cheapest run within `goal` with the paper's interpolation and with any discretisation.
+fn cheapest_paper_and_any(runs: &[StudyRun], goal: f64) -> (Option<&StudyRun>, Option<&StudyRun>) {
+    let paper = cheapest(
+        runs.iter().filter(|r| r.discretisation.interpolation == Interpolation::Paper),
+        goal,
+    );
+    (paper, cheapest(runs.iter(), goal))
 }
 
 /// The target's row of the summary table: the cheapest run within 1 % and within 1e-3 with the paper's
@@ -634,12 +622,8 @@ fn summary_row(target: &Target, runs: &[StudyRun]) -> String {
             let _ = write!(row, "| {} | – | – ", below_resolution(target.resolution()));
             continue;
         }
-        let paper = cheapest(
-            runs.iter().filter(|r| r.discretisation.interpolation == Interpolation::Paper),
-            goal,
-        );
-        let any = cheapest(runs.iter(), goal);
-        let ratio = SpeedUp::of(runs, goal).cell();
+        let (paper, any) = cheapest_paper_and_any(runs, goal);
+        let ratio = SpeedUp::between(paper, any, runs).cell();
         let _ = write!(row, "| {} | {} | {ratio} ", setting(paper), setting(any));
     }
     row.push('|');
@@ -820,7 +804,7 @@ fn assemble(targets: &[Target], sections: &Path) -> String {
     doc.push('\n');
     let speed_ups: Vec<(&str, SpeedUp)> = targets
         .iter()
-        .filter_map(|t| Some((t.title(), SpeedUp::parse(&read(t, "speedup")?)?)))
+        .filter_map(|t| Some((t.title(), serde_json::from_str(&read(t, "speedup.json")?).ok()?)))
         .collect();
     doc.push_str(&speed_up_paragraph(&speed_ups));
     for section in targets.iter().filter_map(|t| read(t, "md")) {
@@ -888,10 +872,8 @@ pub fn run(args: &StudyArgs) -> Result<i32> {
         let md = section(t, &runs, extrapolated, &images)?;
         std::fs::write(sections.join(format!("{}.md", t.name())), md)?;
         std::fs::write(sections.join(format!("{}.summary.md", t.name())), summary_row(t, &runs))?;
-        std::fs::write(
-            sections.join(format!("{}.speedup", t.name())),
-            SpeedUp::of(&runs, 1e-2).record(),
-        )?;
+        let speed_up = serde_json::to_string(&SpeedUp::of(&runs, 1e-2))?;
+        std::fs::write(sections.join(format!("{}.speedup.json", t.name())), speed_up)?;
     }
     let doc = assemble(&all, &sections);
     let path = if args.quick {
@@ -1007,9 +989,9 @@ mod tests {
             SpeedUp::OnlyOther,
             SpeedUp::Unreached,
         ] {
-            assert_eq!(SpeedUp::parse(&s.record()), Some(s));
+            let saved = serde_json::to_string(&s).unwrap();
+            assert_eq!(serde_json::from_str::<SpeedUp>(&saved).unwrap(), s);
         }
-        assert_eq!(SpeedUp::parse("measured"), None);
     }
 
     #[test]

@@ -129,6 +129,16 @@ enum Block {
 /// The blocks are Kronecker products of 3 × 3 matrices with the identity, `b` or `c`, so most of their
 /// entries are zero: the products run over the nonzero ones (the same sums as the dense products).
 impl Block {
+    /// The block of `X ↦ left X right` (see [`kron`]).
+    fn kron(right: &Matrix3<f64>, left: &Matrix3<f64>) -> Self {
+        let identity = Matrix3::identity();
+        if *right == identity && *left == identity {
+            Block::Identity
+        } else {
+            Block::Matrix(kron(right, left))
+        }
+    }
+
     /// `selfᵀ m`, `None` for a zero block.
     fn tr_mul(&self, m: &Form) -> Option<Form> {
         match self {
@@ -184,21 +194,16 @@ impl ArgumentMap {
     /// `vec(Ê r) + gamma vec Γ̂`: its `Ê` block is the matrix of `Ê ↦ Ê r`.
     fn new(right: &Matrix3<f64>, gamma: Block) -> Self {
         Self {
-            e: Block::Matrix(kron(right, &Matrix3::identity())),
+            e: Block::kron(right, &Matrix3::identity()),
             gamma,
         }
     }
 
     /// `vec(left Γ̂ right)`.
     fn gamma(right: &Matrix3<f64>, left: &Matrix3<f64>) -> Self {
-        let identity = Matrix3::identity();
         Self {
             e: Block::Zero,
-            gamma: if *right == identity && *left == identity {
-                Block::Identity
-            } else {
-                Block::Matrix(kron(right, left))
-            },
+            gamma: Block::kron(right, left),
         }
     }
 
@@ -259,7 +264,7 @@ impl<'a> TermForm<'a> {
             EnergyTerm::CurvedMembrane2 => quadratic(
                 h3 / 12.0 - k * h5 / 80.0,
                 membrane,
-                ArgumentMap::new(&b, Block::Matrix(kron(&i3, &c))),
+                ArgumentMap::new(&b, Block::kron(&i3, &c)),
             ),
             // W_mixt(E, c Γ (b − 2H I)).
             EnergyTerm::CurvedMembrane3 => Self {
@@ -272,7 +277,7 @@ impl<'a> TermForm<'a> {
             EnergyTerm::CurvedMembrane4 => quadratic(
                 h5 / 80.0,
                 &forms.membrane_half_lambda,
-                ArgumentMap::new(&(b * b), Block::Matrix(kron(&b, &c))),
+                ArgumentMap::new(&(b * b), Block::kron(&b, &c)),
             ),
             EnergyTerm::CurvedBending1 => quadratic(h - k * h3 / 12.0, curv, gamma(&i3, &i3)),
             EnergyTerm::CurvedBending2 => quadratic(h3 / 12.0 - k * h5 / 80.0, curv, gamma(&b, &i3)),

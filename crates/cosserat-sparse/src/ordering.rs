@@ -37,10 +37,9 @@ pub(crate) const NODE_BLOCK: usize = 3;
 /// node blocks.
 fn node_graph(pattern: SymbolicSparseColMatRef<'_, usize>, block: usize) -> (Vec<usize>, Vec<u32>) {
     let n_nodes = pattern.ncols() / block;
-    let mut degree = vec![0usize; n_nodes];
     let col_ptr = pattern.col_ptr();
     let row_idx = pattern.row_idx();
-    let mut edges: Vec<(u32, u32)> = Vec::new();
+    let mut edges: Vec<(usize, usize)> = Vec::new();
     for b in 0..n_nodes {
         // The first column of a block carries the block's off-diagonal structure.
         let j = b * block;
@@ -48,24 +47,32 @@ fn node_graph(pattern: SymbolicSparseColMatRef<'_, usize>, block: usize) -> (Vec
         for &i in &row_idx[col_ptr[j]..col_ptr[j + 1]] {
             let a = i / block;
             if a != b && a != last {
-                edges.push((a as u32, b as u32));
-                degree[a] += 1;
-                degree[b] += 1;
+                edges.push((a, b));
                 last = a;
             }
         }
     }
+    adjacency(n_nodes, || edges.iter().copied())
+}
+
+/// The adjacency (CSR) of the undirected graph on `n_nodes` nodes with the given `edges`, each listed
+/// at both its ends in the order of `edges` (repeats kept).
+fn adjacency<I: Iterator<Item = (usize, usize)>>(n_nodes: usize, edges: impl Fn() -> I) -> (Vec<usize>, Vec<u32>) {
     let mut ptr = vec![0usize; n_nodes + 1];
+    for (a, b) in edges() {
+        ptr[a + 1] += 1;
+        ptr[b + 1] += 1;
+    }
     for v in 0..n_nodes {
-        ptr[v + 1] = ptr[v] + degree[v];
+        ptr[v + 1] += ptr[v];
     }
     let mut fill = ptr.clone();
     let mut adj = vec![0u32; ptr[n_nodes]];
-    for (a, b) in edges {
-        adj[fill[a as usize]] = b;
-        fill[a as usize] += 1;
-        adj[fill[b as usize]] = a;
-        fill[b as usize] += 1;
+    for (a, b) in edges() {
+        adj[fill[a]] = b as u32;
+        fill[a] += 1;
+        adj[fill[b]] = a as u32;
+        fill[b] += 1;
     }
     (ptr, adj)
 }
@@ -217,23 +224,9 @@ pub(crate) fn nested_dissection_of_pairs(n: usize, pairs: &[(u32, u32)]) -> Opti
 /// neighbour drops node by node, so only the short deduplicated lists are sorted.
 fn node_graph_of_pairs(n_nodes: usize, pairs: &[(u32, u32)]) -> (Vec<usize>, Vec<u32>) {
     let node = |u: u32| (u / NODE_BLOCK as u32) as usize;
-    let coupled = || pairs.iter().map(|&(r, c)| (node(r), node(c))).filter(|(a, b)| a != b);
-    let mut start = vec![0usize; n_nodes + 1];
-    for (a, b) in coupled() {
-        start[a + 1] += 1;
-        start[b + 1] += 1;
-    }
-    for v in 0..n_nodes {
-        start[v + 1] += start[v];
-    }
-    let mut fill = start.clone();
-    let mut repeated = vec![0u32; start[n_nodes]];
-    for (a, b) in coupled() {
-        repeated[fill[a]] = b as u32;
-        fill[a] += 1;
-        repeated[fill[b]] = a as u32;
-        fill[b] += 1;
-    }
+    let (start, repeated) = adjacency(n_nodes, || {
+        pairs.iter().map(|&(r, c)| (node(r), node(c))).filter(|(a, b)| a != b)
+    });
     let mut seen_by = vec![usize::MAX; n_nodes];
     let mut ptr = Vec::with_capacity(n_nodes + 1);
     ptr.push(0);
