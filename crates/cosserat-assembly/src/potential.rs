@@ -578,6 +578,19 @@ impl IncrementalPotential {
         }
     }
 
+    /// Whether `u` leads to a state in every term's domain ([`PotentialTerm::check_state`]: no element
+    /// turned inside out, for example). The energy's evaluations do not check it: the solver checks
+    /// its iterates and solutions.
+    ///
+    /// # Errors
+    /// The first term's [`AssemblyError::Infeasible`], or a wrong length of `u`.
+    pub fn check_state(&mut self, u: &[f64]) -> Result<(), AssemblyError> {
+        self.check_len(u)?;
+        self.update_rotations(u, false);
+        let eval = self.evaluation(u);
+        self.terms().try_for_each(|t| t.check_state(&eval))
+    }
+
     /// `Π(u)`.
     ///
     /// # Errors

@@ -33,7 +33,7 @@ use cosserat_material::strain_space::{DensityMatrix, EnergyParts, StrainVector, 
 use cosserat_material::tension::{membrane_stretch, membrane_stretch_predicted, membrane_tension};
 use cosserat_material::volume::{volume_density, volume_hessian};
 use cosserat_material::{AxlVariant, Moduli};
-use nalgebra::{Matrix3, SMatrix, Vector3};
+use nalgebra::{Matrix3, Quaternion, SMatrix, Vector3};
 use rayon::prelude::*;
 use std::borrow::Cow;
 
@@ -163,14 +163,53 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
             for g in 0..n_qp {
                 let p = e * n_qp + g;
-                let shape = &self.disc.rest.shapes[p];
-                let f = f_hat(shape, &x);
-                let r = rotation_matrix(&state.q_points[self.disc.first_point + p]);
-                let normal = r * shape.frame.column(2);
-                min = min.min(f[0].cross(&f[1]).dot(&normal));
+                let q = &state.q_points[self.disc.first_point + p];
+                min = min.min(area_ratio(&self.disc.rest.shapes[p], &x, q));
             }
         }
         min
+    }
+
+    /// The smallest signed area ratio of element `e`'s points at the end of the evaluated step.
+    fn element_min_area_ratio(&self, e: usize, eval: &Evaluation<'_>) -> f64 {
+        let x = self.positions(e, eval);
+        let omega = self.omegas(e, eval);
+        let n_qp = self.disc.rest.points_per_element;
+        (0..n_qp)
+            .map(|g| {
+                let p = e * n_qp + g;
+                let shape = &self.disc.rest.shapes[p];
+                let q = &eval.state.q_points[self.disc.first_point + p];
+                area_ratio(shape, &x, &unnormalised_update(q, &point_omega(shape, &omega), eval.dt))
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The first element that the evaluated step turns inside out, with its smallest area ratio.
+    fn first_inverted_element(&self, eval: &Evaluation<'_>) -> Option<(usize, f64)> {
+        let inverted = |e: usize| {
+            let ratio = self.element_min_area_ratio(e, eval);
+            // NaN counts too: a state whose area cannot be measured is no valid state.
+            (ratio.is_nan() || ratio <= 0.0).then_some((e, ratio))
+        };
+        let n = self.disc.disp_elements.len();
+        match eval.parallelism {
+            Parallelism::Sequential => (0..n).find_map(inverted),
+            Parallelism::Rayon => (0..n).into_par_iter().with_min_len(64).find_map_first(inverted),
+        }
+    }
+
+    /// Rejects a step that turns an element inside out: no elastic state of a shell has a director
+    /// on the other side of its surface, while the energy of eqs. 1–7 has no barrier against it, so
+    /// Newton's iterates and even converged steps could pass through such states unnoticed.
+    fn check_orientation(&self, eval: &Evaluation<'_>) -> Result<(), AssemblyError> {
+        match self.first_inverted_element(eval) {
+            None => Ok(()),
+            Some((e, ratio)) => Err(AssemblyError::Infeasible {
+                term: PotentialTerm::name(self),
+                reason: format!("element {e} turned inside out (deformed-to-rest area ratio {ratio:.3})"),
+            }),
+        }
     }
 
     /// The strain-quadratic energy of a state (its end-of-step positions and rotations) split by strain
@@ -748,6 +787,10 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         self.elements.hessian(self, eval, grad, pattern, values)
     }
 
+    fn check_state(&self, eval: &Evaluation<'_>) -> Result<(), AssemblyError> {
+        self.check_orientation(eval)
+    }
+
     fn commit(&mut self, state: &mut SystemState, layout: &DofLayout, u: &[f64], dt: f64) {
         let n_qp = self.disc.rest.points_per_element;
         for (e, r) in self.disc.rot_elements.iter().enumerate() {
@@ -768,4 +811,24 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
     fn active_energy_terms(&self) -> Vec<String> {
         self.disc.rest.active_terms.clone()
     }
+}
+
+/// The signed area ratio `(F̂₁ × F̂₂) · R n₀` of a point at positions `x` with the point's rotation
+/// `q / |q|` (`q` need not be a unit quaternion): the deformed area element over the rest one,
+/// negative where the surface has folded over its director.
+fn area_ratio<const NU: usize, const NR: usize>(
+    shape: &PointShape<NU, NR>,
+    x: &[Vector3<f64>; NU],
+    q: &Quaternion<f64>,
+) -> f64 {
+    let f = f_hat(shape, x);
+    // `q n̂₀ q*` is `|q|² R n₀`: the rotation without the normalisation's square root.
+    let n0 = Quaternion::from_imag(shape.frame.column(2).into_owned());
+    let director = (q * n0 * q.conjugate()).imag();
+    f[0].cross(&f[1]).dot(&director) / q.norm_squared()
+}
+
+/// [`quaternion_update`] before its normalisation: the same rotation, for [`area_ratio`].
+fn unnormalised_update(q: &Quaternion<f64>, omega: &Vector3<f64>, dt: f64) -> Quaternion<f64> {
+    q + Quaternion::from_imag(omega * (0.5 * dt)) * q
 }

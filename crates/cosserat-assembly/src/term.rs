@@ -122,6 +122,16 @@ pub trait PotentialTerm: Send + Sync + AsAny {
         values: &mut [f64],
     ) -> Result<f64, AssemblyError>;
 
+    /// Whether the evaluated state lies in the term's domain
+    /// ([`IncrementalPotential::check_state`](crate::IncrementalPotential::check_state), which the
+    /// solvers call for their iterates and solutions). Default: every state.
+    ///
+    /// # Errors
+    /// [`AssemblyError::Infeasible`] naming what is invalid.
+    fn check_state(&self, _eval: &Evaluation<'_>) -> Result<(), AssemblyError> {
+        Ok(())
+    }
+
     /// Advances the term's own per-step state after an accepted step (e.g. quadrature-point
     /// rotations), with the converged unknowns.
     fn commit(&mut self, _state: &mut SystemState, _layout: &DofLayout, _u: &[f64], _dt: f64) {}

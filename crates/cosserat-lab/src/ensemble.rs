@@ -101,8 +101,21 @@ pub struct EnsembleResult {
     pub max_newton: u64,
     /// Average Newton iterations per step, averaged over the completed variants.
     pub avg_newton: f64,
-    /// The failed variants: index, perturbation and reason.
-    pub failures: Vec<(usize, Perturbation, String)>,
+    /// The failed variants.
+    pub failures: Vec<VariantFailure>,
+}
+
+/// A variant that did not complete.
+#[derive(Debug, Clone)]
+pub struct VariantFailure {
+    /// The variant's index in the ensemble.
+    pub index: usize,
+    /// Its perturbation.
+    pub perturbation: Perturbation,
+    /// Why it stopped.
+    pub reason: String,
+    /// The time of the last complete step, if the run got as far as to write its summary.
+    pub stopped_at: Option<f64>,
 }
 
 impl EnsembleResult {
@@ -156,7 +169,12 @@ pub fn run_ensemble(settings: &Settings, perturbations: &[Perturbation], dir: &P
             e.inverted += usize::from(r.inverted());
             std::fs::remove_dir_all(&vdir).ok();
         } else {
-            e.failures.push((i, *p, failure_reason(&r)));
+            e.failures.push(VariantFailure {
+                index: i,
+                perturbation: *p,
+                reason: failure_reason(&r),
+                stopped_at: r.outcome.summary.as_ref().and_then(|s| s.stopped_at),
+            });
         }
     }
     e.avg_newton = newton_sum / e.completed.max(1) as f64;

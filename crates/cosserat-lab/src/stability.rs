@@ -460,8 +460,8 @@ pub fn remedy(settings: &Settings, result: &CellResult) -> Option<(Settings, Str
     }
     // A dynamic step that could not be completed even after halving dt to its floor: the coiling snap
     // of a strip twisted with more than a turn per element length or with large steps of the driven
-    // rotation. Giving the rotations inertia (ρ_θ = ρh²/12) lets such runs finish, but with inverted
-    // elements (measured: min area ratio −0.75 on 40 × 1, −0.94 on 4 × 1), so it is not a remedy.
+    // rotation, which the mesh cannot follow without folding an element. Rotational inertia changes
+    // the snaps' dynamics, not what the mesh can follow, so it is not offered as a remedy.
     if reason.contains("failed after") {
         let mut fixed = settings.clone();
         let mut why = Vec::new();
@@ -719,17 +719,20 @@ fn findings(records: &[CellRecord], variants: usize) -> String {
             .filter(|r| !r.ensemble.all_completed())
             .map(|r| format!("{} = {} ({})", r.cell.group, r.cell.label, r.ensemble.rate()))
             .collect();
-        let (i, p, why) = &worst.ensemble.failures[0];
+        let f = &worst.ensemble.failures[0];
+        let p = &f.perturbation;
         let _ = write!(
             s,
-            " The worst cell is {} = {} with {}; cells with failed variants: {}. A failed variant of the worst cell (variant {i}: clamp ×(1{:+.1e}), dt ×(1{:+.1e}), {} thread(s)): {why}.",
+            " The worst cell is {} = {} with {}; cells with failed variants: {}. A failed variant of the worst cell (variant {}: clamp ×(1{:+.1e}), dt ×(1{:+.1e}), {} thread(s)): {}.",
             worst.cell.group,
             worst.cell.label,
             worst.ensemble.rate(),
             failing.join(", "),
+            f.index,
             p.clamp,
             p.dt,
-            p.threads
+            p.threads,
+            f.reason
         );
     }
     let inverted: Vec<String> = records
@@ -783,7 +786,7 @@ const ADVICE: &str = "
 ## What to do at the extremes
 
 - **μ_c = 0 together with L_c = 0** leaves the drilling rotation (about the normal) without any stiffness of its own: it is held only through the clamps, and the interior drilling rotation is not determined by the energy. Give any L_c > 0 (1e-3·h changes the bending stiffness by a relative 1.2e-5) or μ_c > 0. The simulator warns about this combination when it builds the scene (on stderr and in `summary.json` under `warnings`), as it does about elements much longer than the thickness (locking, below).
-- **Coiling.** A twisted strip buckles into a coil after a few turns, and the coil snaps as the twist grows. Use at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second). Giving the rotations inertia (`material.angular_inertia_density = ρh²/12`) changes the dynamics of the snaps; check the *min area ratio*: a run with inverted elements must not be trusted.
+- **Coiling.** A twisted strip buckles into a coil after a few turns, and the coil snaps as the twist grows. Use at least two elements across a strip that coils, at most about one turn of twist per element along it, and steps of the driven rotation of a few degrees (dt = 0.01 s at one turn per second). Giving the rotations inertia (`material.angular_inertia_density = ρh²/12`) changes the dynamics of the snaps. The solver keeps every element right side out (docs/time-integration.md, \"Inverted elements\"): a mesh too coarse for the coil stops at the step that would fold an element, with the steps before kept and the reason in `summary.json`, instead of going on with a result not to be trusted.
 - **Indefinite Hessians.** Where the Hessian of a time step is not positive definite, Newton's method shifts it to positive definiteness by default (`solver.indefinite_hessian = \"shift\"`), a trust-region step that gets through the snaps of this matrix (quasi-static runs, the thin-limit table among them, take Newton's own steps by default, docs/time-integration.md). A shifted descent cannot settle on a solution that is a saddle of the step's energy, and a finer strip driven through its twist (the paper's Twisting strip, 40 × 4 quads, whose massless rotations pass such saddles) then has its steps halved again and again, and with the default tolerance stops at the first coil: there `\"factorise\"` (the reference code's treatment, Newton's own steps throughout) or `\"adaptive\"` (Newton's own steps while they pass in full, the shift after) converge where the shift does not. The matrix runs the default.
 - **Tolerances.** Without `solver.tolerance` the residual is judged relative to the step's load scale (external loads, reactions, or the first residual; a quasi-static level takes them at the last equilibrium, not at its predicted start), with a floor from the assembled stiffness and machine precision; a step that stagnates at that floor is accepted with a warning in `summary.json`. Set `solver.tolerance` only to require an absolute residual in force units.
 

@@ -1,14 +1,15 @@
 //! Every cell of the stability matrix (`cargo xtask stability`, docs/stability.md) as an ensemble of
 //! 20 perturbed variants: the clamps' rotation penalty and the time step changed by relative amounts
 //! between 1e-7 and 1e-3, on one and two threads alternately. Every variant must complete with finite
-//! values: a cell that completes only for some roundings passes by luck, not by margin.
+//! values and without an inverted element: a cell that completes only for some roundings passes by
+//! luck, not by margin. The one exception is named by `stopped_folding`.
 //!
 //! The study runs the cells at full size; CI runs them shortened (see [`ci_settings`]) so that the
 //! ensemble fits the test budget. Each shortening keeps the cell's swept setting and its hard
 //! feature: the full turn of the end (a huge rotation through the half turn), the coiling snaps of the
 //! multi-turn cells, the thin limit, the slivers and the extreme time steps.
 
-use cosserat_lab::ensemble::{ENSEMBLE_SIZE, perturbations, run_ensemble};
+use cosserat_lab::ensemble::{ENSEMBLE_SIZE, VariantFailure, perturbations, run_ensemble};
 use cosserat_lab::stability::{Cell, Settings, matrix};
 use std::path::PathBuf;
 
@@ -87,6 +88,18 @@ fn ci_settings(cell: &Cell) -> Settings {
     ci
 }
 
+/// Whether a variant of `which` that stopped did so as the coarse ten-turn corners may: past the
+/// first coiling snap, at the step that would turn an element inside out. Those corners twist a strip
+/// one element wide by 2.5 turns per element, beyond what the mesh can follow through every later snap
+/// without folding an element (docs/stability.md, "Coiling"); the solver keeps every element right
+/// side out, so such a run stops there with its steps before kept, where it used to go on through
+/// inverted elements.
+fn stopped_folding(which: Part, f: &VariantFailure) -> bool {
+    which == Part::CoarseTenTurns
+        && f.stopped_at.is_some_and(|t| t >= TURNS_THROUGH_THE_FIRST_SNAP)
+        && f.reason.contains("turned inside out")
+}
+
 fn run_part(which: Part) {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("stability_ensemble");
     let variants = perturbations(ENSEMBLE_SIZE);
@@ -97,8 +110,22 @@ fn run_part(which: Part) {
         let settings = ci_settings(cell);
         let e = run_ensemble(&settings, &variants, &dir.join(format!("cell_{i:02}"))).expect("output directory");
         eprintln!("{} = {}: {} completed", cell.group, cell.label, e.rate());
-        for (k, p, why) in &e.failures {
-            failures.push(format!("{} = {}, variant {k} ({p:?}): {why}", cell.group, cell.label));
+        if e.inverted > 0 {
+            failures.push(format!(
+                "{} = {}: {} variants completed through inverted elements",
+                cell.group, cell.label, e.inverted
+            ));
+        }
+        for f in &e.failures {
+            let line = format!(
+                "{} = {}, variant {} ({:?}): {}",
+                cell.group, cell.label, f.index, f.perturbation, f.reason
+            );
+            if stopped_folding(which, f) {
+                eprintln!("stopped where an element would fold: {line}");
+            } else {
+                failures.push(line);
+            }
         }
     }
     assert!(n > 0, "{which:?} holds no cell");
@@ -125,7 +152,7 @@ fn quick_corners_complete_in_every_variant() {
 }
 
 #[test]
-fn coarse_ten_turn_corners_get_through_the_snap_in_every_variant() {
+fn coarse_ten_turn_corners_get_through_the_first_snap_in_every_variant() {
     run_part(Part::CoarseTenTurns);
 }
 

@@ -1,6 +1,7 @@
 //! The incremental potential of `cosserat-assembly` seen as a [`NewtonProblem`].
 
 use crate::error::{NewtonError, ProblemError};
+use crate::newton::{NewtonReport, NewtonSolver};
 use crate::problem::NewtonProblem;
 use cosserat_assembly::{AssemblyError, IncrementalPotential};
 use faer::sparse::SymbolicSparseColMatRef;
@@ -15,6 +16,13 @@ const HALF_TURN_PARAMETER: f64 = 1e3;
 pub struct PotentialProblem<'a> {
     potential: &'a mut IncrementalPotential,
     fixed: Option<Vec<bool>>,
+    /// Whether every evaluated state is checked against the terms' domains
+    /// ([`IncrementalPotential::check_state`]), so that the line search backs off from an iterate that
+    /// turns an element inside out.
+    check_iterates: bool,
+    /// The last state that passed the check: Newton assembles its Hessian at the iterate whose trial
+    /// evaluation was checked, which needs no second check.
+    checked: Vec<f64>,
     /// [`Self::characteristic_length`], computed when first needed.
     length: std::cell::OnceCell<f64>,
 }
@@ -25,8 +33,27 @@ impl<'a> PotentialProblem<'a> {
         Self {
             potential,
             fixed,
+            check_iterates: true,
+            checked: Vec::new(),
             length: std::cell::OnceCell::new(),
         }
+    }
+
+    /// The same problem with its iterates left unchecked: only the solution is to be checked
+    /// ([`solve_in_domain`]).
+    fn with_unchecked_iterates(mut self) -> Self {
+        self.check_iterates = false;
+        self
+    }
+
+    /// [`IncrementalPotential::check_state`] of an iterate, when iterates are checked.
+    fn check(&mut self, x: &[f64]) -> Result<(), ProblemError> {
+        if self.check_iterates && self.checked != x {
+            self.potential.check_state(x).map_err(map_error)?;
+            self.checked.clear();
+            self.checked.extend_from_slice(x);
+        }
+        Ok(())
     }
 
     /// The potential.
@@ -77,6 +104,49 @@ pub(crate) fn begin_step(potential: &mut IncrementalPotential, u: &[f64]) -> Res
     })
 }
 
+/// Newton's solve of `potential` (with the eliminated unknowns `fixed`) from `x`, from the prediction
+/// `x` of the unpredicted `start` when given ([`NewtonSolver::solve_from_prediction`]), for a solution
+/// in every term's domain: no element turned inside out. The energy of eqs. 1–7 has no barrier against
+/// inversion, so without the check Newton's iterates, and its solutions, can pass through states with
+/// a director on the wrong side of its surface, which no shell can reach. The iterates are checked,
+/// and the line search backs off from invalid ones, which also spares Newton its detours through such
+/// states. Where that blocks the way to a valid solution (every step from an iterate at the edge of
+/// the domain leaves it: [`NewtonError::InfeasibleStep`]), the solve is repeated from the same start
+/// with the iterates free and the solution alone checked.
+///
+/// # Errors
+/// As [`NewtonSolver::solve`]; a solution outside the domain is [`NewtonError::Problem`] with
+/// [`ProblemError::InvalidState`].
+pub(crate) fn solve_in_domain(
+    solver: &mut NewtonSolver,
+    potential: &mut IncrementalPotential,
+    fixed: Option<Vec<bool>>,
+    x: &mut [f64],
+    start: Option<&[f64]>,
+) -> Result<NewtonReport, NewtonError> {
+    let guess = x.to_vec();
+    let solve = |solver: &mut NewtonSolver, problem: &mut PotentialProblem<'_>, x: &mut [f64]| match start {
+        Some(start) => solver.solve_from_prediction(problem, x, start),
+        None => solver.solve(problem, x),
+    };
+    let checked = solve(solver, &mut PotentialProblem::new(potential, fixed.clone()), x);
+    if !matches!(checked, Err(NewtonError::InfeasibleStep { .. })) {
+        return checked;
+    }
+    x.copy_from_slice(&guess);
+    let report = solve(
+        solver,
+        &mut PotentialProblem::new(potential, fixed).with_unchecked_iterates(),
+        x,
+    )?;
+    potential.check_state(x).map_err(|e| NewtonError::Problem {
+        iteration: report.iterations,
+        source: map_error(e),
+        residuals: report.residuals.clone(),
+    })?;
+    Ok(report)
+}
+
 pub(crate) fn map_error(e: AssemblyError) -> ProblemError {
     match e {
         AssemblyError::NonFinite { index, .. } => ProblemError::NonFiniteEnergy { index },
@@ -96,14 +166,17 @@ impl NewtonProblem for PotentialProblem<'_> {
     }
 
     fn value(&mut self, x: &[f64]) -> Result<f64, ProblemError> {
+        self.check(x)?;
         self.potential.value(x).map_err(map_error)
     }
 
     fn gradient(&mut self, x: &[f64], grad: &mut [f64]) -> Result<f64, ProblemError> {
+        self.check(x)?;
         self.potential.gradient(x, grad).map_err(map_error)
     }
 
     fn hessian(&mut self, x: &[f64], grad: &mut [f64], hess_values: &mut [f64]) -> Result<f64, ProblemError> {
+        self.check(x)?;
         // Newton's method zeroes both buffers before the call.
         self.potential.hessian_add(x, grad, hess_values).map_err(map_error)
     }
@@ -133,6 +206,8 @@ impl NewtonProblem for PotentialProblem<'_> {
     }
 
     fn rebase(&mut self, x: &mut [f64]) -> bool {
+        // The states that the unknowns describe move with the rotations they are measured from.
+        self.checked.clear();
         self.potential.rebase_rotations(x)
     }
 

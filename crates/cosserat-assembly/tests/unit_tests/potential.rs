@@ -396,3 +396,52 @@ fn rebased_rotations_keep_the_configuration_and_restore_the_step_start() {
     };
     assert!(close(&a.q, &b.q) && close(&a.q_points, &b.q_points));
 }
+
+/// `u` that turns the strip rigidly by `angle` about the x axis in one step: the positions' velocities
+/// and, when `directors`, the nodes' angular velocities (the Cayley parameter of that angle).
+fn turned(p: &IncrementalPotential, angle: f64, directors: bool) -> Vec<f64> {
+    let (layout, dt) = (p.parts.layout, p.dt());
+    let psi = Vector3::x() * 2.0 * (angle / 2.0).tan();
+    let r = cosserat_geometry::rotation::rotation_matrix(&cosserat_geometry::rotation::quaternion_update(
+        &nalgebra::Quaternion::identity(),
+        &psi,
+        1.0,
+    ));
+    let mut u = vec![0.0; p.n_dofs()];
+    for (i, x) in p.parts.state.x.iter().enumerate() {
+        let b = 3 * layout.disp_block(i);
+        u[b..b + 3].copy_from_slice(((r * x - x) / dt).as_slice());
+    }
+    if directors {
+        for k in 0..layout.n_rot_nodes {
+            let b = 3 * layout.rot_block(k);
+            u[b..b + 3].copy_from_slice((psi / dt).as_slice());
+        }
+    }
+    u
+}
+
+#[test]
+fn a_state_whose_surface_turns_away_from_its_directors_is_outside_the_domain() {
+    for pair in [ElementPair::Tri3Tri3, ElementPair::Tri6Tri3, ElementPair::Tri6Tri6] {
+        let mut p = strip(pair, 4, 2, ShellModel::Plate, true).potential;
+        // The angle between the turned surface's normal and its unturned directors is 120°: the
+        // signed area ratio is cos 120° = −0.5 at every point.
+        let angle = 2.0 * std::f64::consts::PI / 3.0;
+        assert!(p.check_state(&vec![0.0; p.n_dofs()]).is_ok(), "{pair:?}: rest");
+        assert!(
+            p.check_state(&turned(&p, angle, true)).is_ok(),
+            "{pair:?}: a rigid turn"
+        );
+        let err = p
+            .check_state(&turned(&p, angle, false))
+            .expect_err("the positions turned alone");
+        let text = err.to_string();
+        assert!(
+            text.contains("element 0 turned inside out") && text.contains("-0.500"),
+            "{pair:?}: {text}"
+        );
+        // The energy itself is defined there: only the solvers keep their iterates out.
+        assert!(p.value(&turned(&p, angle, false)).unwrap().is_finite());
+    }
+}

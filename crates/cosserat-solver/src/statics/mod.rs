@@ -14,7 +14,7 @@ pub use predictor::{LevelIncrement, PredictorMemory};
 
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{IndefiniteHessian, NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
-use crate::potential_problem::{PotentialProblem, begin_step};
+use crate::potential_problem::{begin_step, solve_in_domain};
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
 
@@ -373,7 +373,7 @@ impl QuasiStaticStepper {
         apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
     ) -> Result<Result<NewtonReport, NewtonError>, LevelFailure> {
         apply(potential, lambda)?;
-        let predicted = self.predict(lambda);
+        let mut predicted = self.predict(lambda);
         self.prepare(potential)?;
         // The unpredicted start: the last equilibrium, with the new targets of eliminated unknowns.
         let mut start = vec![0.0; self.u.len()];
@@ -384,12 +384,13 @@ impl QuasiStaticStepper {
             }
             mask
         });
-        let mut problem = PotentialProblem::new(potential, fixed);
-        Ok(if predicted {
-            self.solver.solve_from_prediction(&mut problem, &mut self.u, &start)
-        } else {
-            self.solver.solve(&mut problem, &mut self.u)
-        })
+        // A prediction that turns an element inside out cannot be Newton's start.
+        if predicted && potential.check_state(&self.u).is_err() {
+            self.u.copy_from_slice(&start);
+            predicted = false;
+        }
+        let start = predicted.then_some(start.as_slice());
+        Ok(solve_in_domain(&mut self.solver, potential, fixed, &mut self.u, start))
     }
 
     /// The starting point for level `lambda`: the increment extrapolated from the last ones (see the
