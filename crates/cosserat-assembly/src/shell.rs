@@ -154,30 +154,30 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         self.offsets = Some(offsets);
     }
 
-    /// The smallest signed area ratio `(F̂₁ × F̂₂) · R n₀` over all points of a state (see
+    /// The smallest signed area ratio `(F̂₁ × F̂₂) · R n₀` over all quadrature points of a state (see
     /// [`crate::ShellEnergy::min_area_ratio`]).
     pub fn min_area_ratio(&self, state: &SystemState) -> f64 {
-        let n_qp = self.disc.rest.points_per_element;
+        let rest = &self.disc.rest;
         let mut min = f64::INFINITY;
         for (e, d) in self.disc.disp_elements.iter().enumerate() {
             let x: [Vector3<f64>; NU] = std::array::from_fn(|i| state.x[d[i]]);
-            for g in 0..n_qp {
-                let p = e * n_qp + g;
+            for p in (0..rest.quadrature_points_per_element).map(|g| e * rest.points_per_element + g) {
                 let q = &state.q_points[self.disc.first_point + p];
-                min = min.min(area_ratio(&self.disc.rest.shapes[p], &x, q));
+                min = min.min(area_ratio(&rest.shapes[p], &x, q));
             }
         }
         min
     }
 
-    /// The smallest signed area ratio of element `e`'s points at the end of the evaluated step.
+    /// The smallest signed area ratio of element `e`'s quadrature points at the end of the evaluated
+    /// step (its tying points, where strains are only sampled, are left out).
     fn element_min_area_ratio(&self, e: usize, eval: &Evaluation<'_>) -> f64 {
         let x = self.positions(e, eval);
         let omega = self.omegas(e, eval);
-        let n_qp = self.disc.rest.points_per_element;
-        (0..n_qp)
+        let rest = &self.disc.rest;
+        (0..rest.quadrature_points_per_element)
             .map(|g| {
-                let p = e * n_qp + g;
+                let p = e * rest.points_per_element + g;
                 let shape = &self.disc.rest.shapes[p];
                 let q = &eval.state.q_points[self.disc.first_point + p];
                 area_ratio(shape, &x, &unnormalised_update(q, &point_omega(shape, &omega), eval.dt))
@@ -822,9 +822,10 @@ fn area_ratio<const NU: usize, const NR: usize>(
     q: &Quaternion<f64>,
 ) -> f64 {
     let f = f_hat(shape, x);
-    // `q n̂₀ q*` is `|q|² R n₀`: the rotation without the normalisation's square root.
-    let n0 = Quaternion::from_imag(shape.frame.column(2).into_owned());
-    let director = (q * n0 * q.conjugate()).imag();
+    // `q n̂₀ q* = (w² − |v|²) n₀ + 2 (v·n₀) v + 2 w (v × n₀)` is `|q|² R n₀` for `q = (w, v)`: the
+    // rotation without the normalisation's square root.
+    let (w, v, n0) = (q.w, q.imag(), shape.frame.column(2));
+    let director = n0 * (w * w - v.norm_squared()) + v * (2.0 * v.dot(&n0)) + v.cross(&n0) * (2.0 * w);
     f[0].cross(&f[1]).dot(&director) / q.norm_squared()
 }
 

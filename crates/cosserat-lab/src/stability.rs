@@ -741,7 +741,7 @@ fn findings(records: &[CellRecord], variants: usize) -> String {
         .map(|r| format!("{} = {}", r.cell.group, r.cell.label))
         .collect();
     if inverted.is_empty() {
-        let _ = writeln!(s, " No run turned an element inside out.");
+        let _ = writeln!(s, " No run went on through an inverted element.");
     } else {
         let _ = writeln!(
             s,

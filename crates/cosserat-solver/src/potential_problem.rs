@@ -104,15 +104,32 @@ pub(crate) fn begin_step(potential: &mut IncrementalPotential, u: &[f64]) -> Res
     })
 }
 
-/// Newton's solve of `potential` (with the eliminated unknowns `fixed`) from `x`, from the prediction
-/// `x` of the unpredicted `start` when given ([`NewtonSolver::solve_from_prediction`]), for a solution
-/// in every term's domain: no element turned inside out. The energy of eqs. 1–7 has no barrier against
-/// inversion, so without the check Newton's iterates, and its solutions, can pass through states with
-/// a director on the wrong side of its surface, which no shell can reach. The iterates are checked,
-/// and the line search backs off from invalid ones, which also spares Newton its detours through such
-/// states. Where that blocks the way to a valid solution (every step from an iterate at the edge of
-/// the domain leaves it: [`NewtonError::InfeasibleStep`]), the solve is repeated from the same start
-/// with the iterates free and the solution alone checked.
+/// Where a solve of [`solve_in_domain`] starts.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct SolveStart<'a> {
+    /// The step's own start, with the eliminated unknowns at their targets: the last equilibrium of a
+    /// quasi-static level, rest over a time step. The guess is moved back towards it where it leaves
+    /// the domain.
+    pub origin: &'a [f64],
+    /// Whether the guess is a prediction for [`NewtonSolver::solve_from_prediction`] from `origin`.
+    pub predicted: bool,
+}
+
+/// Halvings of a guess outside the domain towards the step's start before the solve starts from the
+/// start itself ([`solve_in_domain`]).
+const GUESS_RETRACTIONS: usize = 4;
+
+/// Newton's solve of `potential` (with the eliminated unknowns `fixed`) from the guess `x`, for a
+/// solution in every term's domain: no element turned inside out. The energy of eqs. 1–7 has no
+/// barrier against inversion, so without the check Newton's iterates, and its solutions, can pass
+/// through states with a director on the wrong side of its surface, which no shell can reach.
+/// - A guess outside the domain (an extrapolation that folds an element) is moved back towards the
+///   step's start: halved while invalid, and the start itself after [`GUESS_RETRACTIONS`] halvings.
+/// - The iterates are checked, and the line search backs off from invalid ones, which also spares
+///   Newton its detours through such states.
+/// - Where that blocks the way to a valid solution (every step from an iterate at the edge of the
+///   domain leaves it: [`NewtonError::InfeasibleStep`]), the solve is repeated from the same guess
+///   with the iterates free and the solution alone checked.
 ///
 /// # Errors
 /// As [`NewtonSolver::solve`]; a solution outside the domain is [`NewtonError::Problem`] with
@@ -122,14 +139,24 @@ pub(crate) fn solve_in_domain(
     potential: &mut IncrementalPotential,
     fixed: Option<Vec<bool>>,
     x: &mut [f64],
-    start: Option<&[f64]>,
+    start: SolveStart<'_>,
 ) -> Result<NewtonReport, NewtonError> {
-    let guess = x.to_vec();
-    let solve = |solver: &mut NewtonSolver, problem: &mut PotentialProblem<'_>, x: &mut [f64]| match start {
-        Some(start) => solver.solve_from_prediction(problem, x, start),
-        None => solver.solve(problem, x),
+    let valid = retract_into_domain(potential, x, start.origin);
+    // A guess moved back all the way is no prediction any more.
+    let predicted = start.predicted && valid;
+    let solve = |solver: &mut NewtonSolver, problem: &mut PotentialProblem<'_>, x: &mut [f64]| {
+        if predicted {
+            solver.solve_from_prediction(problem, x, start.origin)
+        } else {
+            solver.solve(problem, x)
+        }
     };
-    let checked = solve(solver, &mut PotentialProblem::new(potential, fixed.clone()), x);
+    let guess = x.to_vec();
+    let mut problem = PotentialProblem::new(potential, fixed.clone());
+    if valid {
+        problem.checked.clone_from(&guess);
+    }
+    let checked = solve(solver, &mut problem, x);
     if !matches!(checked, Err(NewtonError::InfeasibleStep { .. })) {
         return checked;
     }
@@ -145,6 +172,22 @@ pub(crate) fn solve_in_domain(
         residuals: report.residuals.clone(),
     })?;
     Ok(report)
+}
+
+/// Moves `x` back towards `origin` while it leaves the potential's domain (see [`solve_in_domain`]);
+/// returns whether `x` was checked to lie in it, `false` when it was set to `origin` (the step's
+/// start, which is not checked).
+fn retract_into_domain(potential: &mut IncrementalPotential, x: &mut [f64], origin: &[f64]) -> bool {
+    for _ in 0..=GUESS_RETRACTIONS {
+        if potential.check_state(x).is_ok() {
+            return true;
+        }
+        for (x, o) in x.iter_mut().zip(origin) {
+            *x = o + 0.5 * (*x - o);
+        }
+    }
+    x.copy_from_slice(origin);
+    false
 }
 
 pub(crate) fn map_error(e: AssemblyError) -> ProblemError {
@@ -206,9 +249,12 @@ impl NewtonProblem for PotentialProblem<'_> {
     }
 
     fn rebase(&mut self, x: &mut [f64]) -> bool {
-        // The states that the unknowns describe move with the rotations they are measured from.
-        self.checked.clear();
-        self.potential.rebase_rotations(x)
+        let rebased = self.potential.rebase_rotations(x);
+        if rebased {
+            // The unknowns now describe states from other rotations.
+            self.checked.clear();
+        }
+        rebased
     }
 
     fn follow_iterate(&mut self, x: &[f64]) -> bool {

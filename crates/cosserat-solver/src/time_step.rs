@@ -10,13 +10,9 @@
 use crate::error::{NewtonError, ScriptError};
 use crate::linear::{DomainSplit, LinearSolverKind};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
-use crate::potential_problem::{begin_step, solve_in_domain};
+use crate::potential_problem::{SolveStart, begin_step, solve_in_domain};
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
-
-/// Halvings of an initial guess outside the problem's domain before the step starts from its start
-/// instead ([`TimeStepper::retract_invalid_guess`]).
-const GUESS_RETRACTIONS: usize = 4;
 
 /// Where Newton starts in each step.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -351,39 +347,26 @@ impl TimeStepper {
     /// solution that reached contacts outside the prepared candidates is solved again with the
     /// candidates grown around it (up to three times).
     fn solve_attempt(&mut self, potential: &mut IncrementalPotential) -> Result<NewtonReport, NewtonError> {
+        // Rest over the step, with the prescribed velocities.
+        let mut rest = vec![0.0; self.u.len()];
         let fixed = potential.fixed_dofs().map(|(mask, values)| {
             set_fixed(&mut self.u, &mask, &values);
+            set_fixed(&mut rest, &mask, &values);
             mask
         });
-        self.retract_invalid_guess(potential, fixed.as_deref());
-        let mut result = solve_in_domain(&mut self.solver, potential, fixed.clone(), &mut self.u, None);
+        let start = SolveStart {
+            origin: &rest,
+            predicted: false,
+        };
+        let mut result = solve_in_domain(&mut self.solver, potential, fixed.clone(), &mut self.u, start);
         for _ in 0..3 {
             if result.is_err() || !potential.needs_resolve(&self.u) {
                 break;
             }
             self.refresh_dynamic(potential)?;
-            result = solve_in_domain(&mut self.solver, potential, fixed.clone(), &mut self.u, None);
+            result = solve_in_domain(&mut self.solver, potential, fixed.clone(), &mut self.u, start);
         }
         result
-    }
-
-    /// Moves an initial guess that leaves the problem's domain (an extrapolation that turns an element
-    /// inside out) back towards the step's start: halved while invalid, and the start itself after
-    /// [`GUESS_RETRACTIONS`] halvings. The eliminated unknowns keep their prescribed values. Without
-    /// this, Newton could not evaluate its start and the step would be halved for the guess's sake.
-    fn retract_invalid_guess(&mut self, potential: &mut IncrementalPotential, fixed: Option<&[bool]>) {
-        let free = |i: usize| fixed.is_none_or(|m| !m[i]);
-        for retraction in 0..=GUESS_RETRACTIONS {
-            if potential.check_state(&self.u).is_ok() {
-                return;
-            }
-            let factor = if retraction == GUESS_RETRACTIONS { 0.0 } else { 0.5 };
-            for (i, u) in self.u.iter_mut().enumerate() {
-                if free(i) {
-                    *u *= factor;
-                }
-            }
-        }
     }
 
     /// Commits the converged attempt of length `dt`, advances the time and sets the next time step

@@ -14,7 +14,7 @@ pub use predictor::{LevelIncrement, PredictorMemory};
 
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{IndefiniteHessian, NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
-use crate::potential_problem::{begin_step, solve_in_domain};
+use crate::potential_problem::{SolveStart, begin_step, solve_in_domain};
 use cosserat_assembly::IncrementalPotential;
 use thiserror::Error;
 
@@ -373,7 +373,7 @@ impl QuasiStaticStepper {
         apply: &mut dyn FnMut(&mut IncrementalPotential, f64) -> Result<(), ScriptError>,
     ) -> Result<Result<NewtonReport, NewtonError>, LevelFailure> {
         apply(potential, lambda)?;
-        let mut predicted = self.predict(lambda);
+        let predicted = self.predict(lambda);
         self.prepare(potential)?;
         // The unpredicted start: the last equilibrium, with the new targets of eliminated unknowns.
         let mut start = vec![0.0; self.u.len()];
@@ -384,12 +384,10 @@ impl QuasiStaticStepper {
             }
             mask
         });
-        // A prediction that turns an element inside out cannot be Newton's start.
-        if predicted && potential.check_state(&self.u).is_err() {
-            self.u.copy_from_slice(&start);
-            predicted = false;
-        }
-        let start = predicted.then_some(start.as_slice());
+        let start = SolveStart {
+            origin: &start,
+            predicted,
+        };
         Ok(solve_in_domain(&mut self.solver, potential, fixed, &mut self.u, start))
     }
 
