@@ -5,6 +5,7 @@
 //! growth while it is held (backward Euler only dissipates), and with its twisted end where the
 //! boundary condition puts it.
 
+use cosserat_lab::ensemble::{ENSEMBLE_SIZE, perturbations, run_variant};
 use cosserat_lab::runner::Runner;
 use cosserat_lab::stability::{CellResult, Settings, corners, run_cell};
 
@@ -67,6 +68,26 @@ fn ten_full_turns_on_a_coarse_strip() {
     let s = &cell.settings;
     assert_eq!((s.mesh, s.dt, s.angular_inertia_density), ((10, 2), 0.01, 0.0));
     assert_stable("ten_turns", &run("ten_turns", s), 1.0);
+}
+
+#[test]
+fn ten_full_turns_keep_every_element_right_side_out_in_perturbed_variants() {
+    // The ten-turn row again, with the first perturbed variants of the matrix's ensemble (relative
+    // changes of the clamps' stiffness and the time step, one and two threads): the coil's snaps
+    // must not fold an element in any of them, as the solver keeps every element right side out.
+    let cell = cosserat_lab::stability::matrix()
+        .into_iter()
+        .find(|c| c.group.starts_with("twist") && c.settings.turns == 10.0)
+        .expect("the ten-turn row of the matrix");
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join("stability")
+        .join("ten_turns_variants");
+    for (i, p) in perturbations(ENSEMBLE_SIZE).iter().take(4).enumerate() {
+        let r = run_variant(&cell.settings, p, &dir.join(format!("variant_{i}"))).expect("output directory");
+        assert!(r.outcome.is_ok(), "variant {i}: {}", r.outcome.reason());
+        let area = r.min_area_ratio.expect("area ratio in the summary");
+        assert!(area > 0.0, "variant {i}: inverted element (area ratio {area})");
+    }
 }
 
 #[test]
