@@ -56,16 +56,21 @@ fn no_couple_modulus() {
     assert_stable("mu_c_zero", &run("mu_c_zero", &settings), 1.0);
 }
 
+/// The settings of the matrix's ten-turn row.
+fn ten_turn_row() -> Settings {
+    cosserat_lab::stability::matrix()
+        .into_iter()
+        .find(|c| c.group.starts_with("twist") && c.settings.turns == 10.0)
+        .expect("the ten-turn row of the matrix")
+        .settings
+}
+
 #[test]
 fn ten_full_turns_on_a_coarse_strip() {
     // The matrix's ten-turn row: 10 × 2 quads, one full turn of twist per element length, default
     // settings (no rotational inertia), dt = 0.01 s with step halving. The coarser 4 × 1 corner does
     // not get through the coiling snap (docs/stability.md).
-    let cell = cosserat_lab::stability::matrix()
-        .into_iter()
-        .find(|c| c.group.starts_with("twist") && c.settings.turns == 10.0)
-        .expect("the ten-turn row of the matrix");
-    let s = &cell.settings;
+    let s = &ten_turn_row();
     assert_eq!((s.mesh, s.dt, s.angular_inertia_density), ((10, 2), 0.01, 0.0));
     assert_stable("ten_turns", &run("ten_turns", s), 1.0);
 }
@@ -75,15 +80,12 @@ fn ten_full_turns_keep_every_element_right_side_out_in_perturbed_variants() {
     // The ten-turn row again, with the first perturbed variants of the matrix's ensemble (relative
     // changes of the clamps' stiffness and the time step, one and two threads): the coil's snaps
     // must not fold an element in any of them, as the solver keeps every element right side out.
-    let cell = cosserat_lab::stability::matrix()
-        .into_iter()
-        .find(|c| c.group.starts_with("twist") && c.settings.turns == 10.0)
-        .expect("the ten-turn row of the matrix");
+    let settings = ten_turn_row();
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("stability")
         .join("ten_turns_variants");
     for (i, p) in perturbations(ENSEMBLE_SIZE).iter().take(4).enumerate() {
-        let r = run_variant(&cell.settings, p, &dir.join(format!("variant_{i}"))).expect("output directory");
+        let r = run_variant(&settings, p, &dir.join(format!("variant_{i}"))).expect("output directory");
         assert!(r.outcome.is_ok(), "variant {i}: {}", r.outcome.reason());
         let area = r.min_area_ratio.expect("area ratio in the summary");
         assert!(area > 0.0, "variant {i}: inverted element (area ratio {area})");
