@@ -142,3 +142,16 @@ where
     }
     Ok(())
 }
+
+/// The lowest index `i < n` whose `ratio(i)` is not positive (NaN included), with that ratio: the
+/// first inverted element of a state (an area or volume ratio), the same for any number of threads.
+pub fn first_non_positive(n: usize, par: Parallelism, ratio: impl Fn(usize) -> f64 + Sync) -> Option<(usize, f64)> {
+    let inverted = |i: usize| {
+        let r = ratio(i);
+        (r.is_nan() || r <= 0.0).then_some((i, r))
+    };
+    match par {
+        Parallelism::Sequential => (0..n).find_map(inverted),
+        Parallelism::Rayon => (0..n).into_par_iter().with_min_len(64).find_map_first(inverted),
+    }
+}

@@ -11,7 +11,7 @@ use crate::element_assembly::{
     ElementAssembly, ElementKernel, angular_velocities, displacement_rotation_blocks, end_of_step_positions,
 };
 use crate::error::AssemblyError;
-use crate::parallel::Parallelism;
+use crate::parallel::{Parallelism, first_non_positive};
 use crate::pattern::SparsityPattern;
 use crate::state::SystemState;
 use crate::strain_prediction::StrainPrediction;
@@ -185,25 +185,12 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// The first element that the evaluated step turns inside out, with its smallest area ratio.
-    fn first_inverted_element(&self, eval: &Evaluation<'_>) -> Option<(usize, f64)> {
-        let inverted = |e: usize| {
-            let ratio = self.element_min_area_ratio(e, eval);
-            // NaN counts too: a state whose area cannot be measured is no valid state.
-            (ratio.is_nan() || ratio <= 0.0).then_some((e, ratio))
-        };
-        let n = self.disc.disp_elements.len();
-        match eval.parallelism {
-            Parallelism::Sequential => (0..n).find_map(inverted),
-            Parallelism::Rayon => (0..n).into_par_iter().with_min_len(64).find_map_first(inverted),
-        }
-    }
-
     /// Rejects a step that turns an element inside out: no elastic state of a shell has a director
     /// on the other side of its surface, while the energy of eqs. 1–7 has no barrier against it, so
     /// Newton's iterates and even converged steps could pass through such states unnoticed.
     fn check_orientation(&self, eval: &Evaluation<'_>) -> Result<(), AssemblyError> {
-        match self.first_inverted_element(eval) {
+        let n = self.disc.disp_elements.len();
+        match first_non_positive(n, eval.parallelism, |e| self.element_min_area_ratio(e, eval)) {
             None => Ok(()),
             Some((e, ratio)) => Err(AssemblyError::Infeasible {
                 term: PotentialTerm::name(self),

@@ -13,18 +13,17 @@ use crate::element::{ElementDerivatives, accumulate, accumulate_gradient};
 use crate::kernel::{PointState, point_gradient, point_hessian, point_value};
 use crate::material::MicropolarModuli;
 use crate::tet4::{VolumePoint, deformation_gradient, point_omega};
-use cosserat_assembly::Parallelism;
 use cosserat_assembly::dofs::DofLayout;
 use cosserat_assembly::element_assembly::{
     ElementAssembly, ElementKernel, angular_velocities, displacement_rotation_blocks, end_of_step_positions,
 };
+use cosserat_assembly::parallel::first_non_positive;
 use cosserat_assembly::shell::project_positive_semidefinite;
 use cosserat_assembly::state::SystemState;
 use cosserat_assembly::term::{Evaluation, PotentialTerm};
 use cosserat_assembly::{AssemblyError, SparsityPattern};
 use cosserat_geometry::rotation::{RotationJet, quaternion_update, rotation_matrix};
 use nalgebra::{Matrix3, Vector3};
-use rayon::prelude::*;
 use std::sync::{Arc, RwLock, RwLockReadGuard};
 
 /// The prescribed rest curvature `Γ_rest` of every quadrature point (world axes; row = axial component,
@@ -178,21 +177,6 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> VolumeTe
             min = min.min(Matrix3::from_columns(&f).determinant());
         }
         min
-    }
-
-    /// The first element that the evaluated step turns inside out (`det F ≤ 0`), with its volume
-    /// ratio.
-    fn first_inverted_element(&self, eval: &Evaluation<'_>) -> Option<(usize, f64)> {
-        let inverted = |e: usize| {
-            let f = deformation_gradient(&self.disc.points[e], &self.positions(e, eval));
-            let ratio = Matrix3::from_columns(&f).determinant();
-            (ratio.is_nan() || ratio <= 0.0).then_some((e, ratio))
-        };
-        let n = self.n_elements();
-        match eval.parallelism {
-            Parallelism::Sequential => (0..n).find_map(inverted),
-            Parallelism::Rayon => (0..n).into_par_iter().with_min_len(256).find_map_first(inverted),
-        }
     }
 
     /// The term's elements with the rest curvature read for one evaluation.
@@ -350,7 +334,11 @@ impl<const N: usize, const NL: usize, const NE: usize, const NB: usize> Potentia
     /// No elastic state of a solid turns an element inside out, while the micropolar energy has no
     /// barrier against it: the solvers keep their iterates and solutions out of such states.
     fn check_state(&self, eval: &Evaluation<'_>) -> Result<(), AssemblyError> {
-        match self.first_inverted_element(eval) {
+        let volume_ratio = |e: usize| {
+            let f = deformation_gradient(&self.disc.points[e], &self.positions(e, eval));
+            Matrix3::from_columns(&f).determinant()
+        };
+        match first_non_positive(self.n_elements(), eval.parallelism, volume_ratio) {
             None => Ok(()),
             Some((e, ratio)) => Err(AssemblyError::Infeasible {
                 term: self.name(),
