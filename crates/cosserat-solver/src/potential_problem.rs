@@ -23,6 +23,8 @@ pub struct PotentialProblem<'a> {
     /// The last state that passed the check: Newton assembles its Hessian at the iterate whose trial
     /// evaluation was checked, which needs no second check.
     checked: Vec<f64>,
+    /// Whether the check turned an iterate back.
+    rejected: bool,
     /// [`Self::characteristic_length`], computed when first needed.
     length: std::cell::OnceCell<f64>,
 }
@@ -35,6 +37,7 @@ impl<'a> PotentialProblem<'a> {
             fixed,
             check_iterates: true,
             checked: Vec::new(),
+            rejected: false,
             length: std::cell::OnceCell::new(),
         }
     }
@@ -49,7 +52,10 @@ impl<'a> PotentialProblem<'a> {
     /// [`IncrementalPotential::check_state`] of an iterate, when iterates are checked.
     fn check(&mut self, x: &[f64]) -> Result<(), ProblemError> {
         if self.check_iterates && self.checked != x {
-            self.potential.check_state(x).map_err(map_error)?;
+            if let Err(e) = self.potential.check_state(x) {
+                self.rejected = true;
+                return Err(map_error(e));
+            }
             self.checked.clear();
             self.checked.extend_from_slice(x);
         }
@@ -127,9 +133,9 @@ const GUESS_RETRACTIONS: usize = 4;
 ///   step's start: halved while invalid, and the start itself after [`GUESS_RETRACTIONS`] halvings.
 /// - The iterates are checked, and the line search backs off from invalid ones, which also spares
 ///   Newton its detours through such states.
-/// - Where that blocks the way to a valid solution (every step from an iterate at the edge of the
-///   domain leaves it: [`NewtonError::InfeasibleStep`]), the solve is repeated from the same guess
-///   with the iterates free and the solution alone checked.
+/// - Where that blocks the way to a valid solution (the check turned iterates back and every step
+///   from an iterate at the edge of the domain leaves it: [`NewtonError::InfeasibleStep`]), the
+///   solve is repeated from the same guess with the iterates free and the solution alone checked.
 ///
 /// # Errors
 /// As [`NewtonSolver::solve`]; a solution outside the domain is [`NewtonError::Problem`] with
@@ -157,7 +163,9 @@ pub(crate) fn solve_in_domain(
         problem.checked.clone_from(&guess);
     }
     let checked = solve(solver, &mut problem, x);
-    if !matches!(checked, Err(NewtonError::InfeasibleStep { .. })) {
+    // Only a way blocked by the check itself is retried (contact's collision bounds end a step as
+    // infeasible too, and the same again without the check would end the same).
+    if !(problem.rejected && matches!(checked, Err(NewtonError::InfeasibleStep { .. }))) {
         return checked;
     }
     x.copy_from_slice(&guess);
