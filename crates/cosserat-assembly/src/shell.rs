@@ -225,8 +225,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 Some(maps) => assumed_kernel::element_strains_and_hourglass(
                     &points,
                     node_r,
-                    &maps,
-                    &self.disc.rest.tying_twins,
+                    &self.disc.rest.element_tying(e, &maps),
                     self.disc.axl,
                 ),
                 None => {
@@ -616,7 +615,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
                 .collect();
             let volume = self.disc.volume.as_ref();
             let coupling = match (maps.as_deref(), projection) {
-                (Some(maps), _) => Coupling::Tying(maps, self.disc.rest.tying_twins),
+                (Some(maps), _) => Coupling::Tying(self.disc.rest.element_tying(e, maps)),
                 (None, Some(projection)) => Coupling::Projection(projection),
                 (None, None) => unreachable!("checked above"),
             };
@@ -655,7 +654,7 @@ impl<const NU: usize, const NR: usize, const NL: usize, const NE: usize, const N
         local: &mut LocalDerivatives<NL>,
     ) {
         if let Some(maps) = self.tying_maps(e, eval.state) {
-            let coupling = Coupling::Tying(&maps, self.disc.rest.tying_twins);
+            let coupling = Coupling::Tying(self.disc.rest.element_tying(e, &maps));
             self.coupled_derivatives(e, eval, coupling, with_hessian, out, local);
             return;
         }

@@ -38,7 +38,7 @@
 //! [`StrainInterpolation::Regge`]: crate::StrainInterpolation::Regge
 
 use crate::projection::StrainProjection;
-use nalgebra::{DMatrix, Matrix2, SMatrix};
+use nalgebra::{DMatrix, Matrix2, SMatrix, SVector};
 
 /// Number of tying points per element: two Gauss points per edge, the centroid, and the three points
 /// of the interior degree-2 rule.
@@ -51,15 +51,147 @@ pub const TIED: usize = 6;
 /// Length of the tied strains of an element, `N_TYING × TIED`.
 pub const N_TIED: usize = N_TYING * TIED;
 
-/// The assumed entries 0–5 of one quadrature point's `Ê`: `tied z + own s`, with `z` the element's
-/// tied strains (tying points in order, `Ê` entries 0–5 each) and `s` the point's own entries 0–5 (for
-/// the parts that keep their point values).
+/// Number of tied values of an element: the functionals of its tied strains that the assumed fields
+/// are tied to (membrane 9, transverse shear 8, drilling 3; see [`TiedValues`]) and the means of `Ê`
+/// entries 0–5 over the interior tying points that the stabilised parts read (6).
+pub const N_VALUES: usize = 26;
+/// The first membrane, shear, drilling and interior-mean value.
+const MEMBRANE_VALUES: usize = 0;
+const SHEAR_VALUES: usize = 9;
+const DRILLING_VALUES: usize = 17;
+const MEAN_VALUES: usize = 20;
+
+/// The weight of one tied value on one tied strain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TiedWeight {
+    /// The value, below [`N_VALUES`].
+    pub value: u8,
+    /// The tied strain, below [`N_TIED`]: `Ê` entry `strain % TIED` of tying point `strain / TIED`.
+    pub strain: u8,
+    /// The weight.
+    pub weight: f64,
+}
+
+/// The tied values of an element, `y = F z` for its tied strains `z`: the edge-tangential strains and
+/// the interior components or moments the assumed fields are tied to, and the interior means of the
+/// stabilised parts. Every quadrature point's assumed strains are a combination of them
+/// ([`TyingMap::values`]), and each reads a few entries of one or three tying points, so a map through
+/// them costs a fraction of a map on all tied strains; only the values some map reads are kept.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct TiedValues {
+    /// Sorted by value.
+    weights: Vec<TiedWeight>,
+}
+
+impl TiedValues {
+    /// The values of `weights` (any order; several weights of a value on one strain add up).
+    pub fn from_weights(mut weights: Vec<TiedWeight>) -> Self {
+        weights.sort_by_key(|w| (w.value, w.strain));
+        Self { weights }
+    }
+
+    /// The nonzero weights.
+    pub fn weights(&self) -> &[TiedWeight] {
+        &self.weights
+    }
+
+    /// The values of the tied strains `z`.
+    pub fn of(&self, z: &SVector<f64, N_TIED>) -> SVector<f64, N_VALUES> {
+        let mut y = SVector::zeros();
+        for w in &self.weights {
+            y[usize::from(w.value)] += w.weight * z[usize::from(w.strain)];
+        }
+        y
+    }
+
+    /// `out += Fᵀ y`: a derivative with respect to the values as one with respect to the tied strains.
+    pub fn add_transposed(&self, y: &SVector<f64, N_VALUES>, out: &mut SVector<f64, N_TIED>) {
+        for w in &self.weights {
+            out[usize::from(w.strain)] += w.weight * y[usize::from(w.value)];
+        }
+    }
+
+    /// Some value reads tying point `t`.
+    pub fn reads(&self, t: usize) -> bool {
+        self.weights.iter().any(|w| usize::from(w.strain) / TIED == t)
+    }
+
+    /// `F` as a dense matrix.
+    pub fn matrix(&self) -> SMatrix<f64, N_VALUES, N_TIED> {
+        let mut f = SMatrix::zeros();
+        for w in &self.weights {
+            f[(usize::from(w.value), usize::from(w.strain))] += w.weight;
+        }
+        f
+    }
+
+    /// Appends the nonzero entries of `rows` as the values from `first` on.
+    fn push_rows(&mut self, first: usize, rows: &DMatrix<f64>) {
+        for r in 0..rows.nrows() {
+            for (strain, &weight) in rows.row(r).iter().enumerate() {
+                if weight != 0.0 {
+                    self.push(first + r, strain, weight);
+                }
+            }
+        }
+    }
+
+    fn push(&mut self, value: usize, strain: usize, weight: f64) {
+        let (value, strain) = (value as u8, strain as u8);
+        debug_assert!(self.weights.last().is_none_or(|w| w.value <= value), "sorted by value");
+        self.weights.push(TiedWeight { value, strain, weight });
+    }
+
+    /// Drops the values that no map reads.
+    fn retain_read_by(&mut self, maps: &[TyingMap]) {
+        let read: [bool; N_VALUES] =
+            std::array::from_fn(|v| maps.iter().any(|m| m.values.column(v).iter().any(|&x| x != 0.0)));
+        self.weights.retain(|w| read[usize::from(w.value)]);
+    }
+
+    /// Adds the means over the interior tying points of the `Ê` entries the stabilised shear and
+    /// drilling read, unless present.
+    fn add_interior_means(&mut self) {
+        for k in [entry(1, 0), entry(2, 0), entry(0, 1), entry(2, 1)] {
+            let value = MEAN_VALUES + k;
+            if self.weights.iter().any(|w| usize::from(w.value) == value) {
+                continue;
+            }
+            for t in FIRST_INTERIOR..N_TYING {
+                self.push(value, TIED * t + k, 1.0 / (N_TYING - FIRST_INTERIOR) as f64);
+            }
+        }
+        self.weights.sort_by_key(|w| (w.value, w.strain));
+    }
+}
+
+/// The assumed entries 0–5 of one quadrature point's `Ê`: `values y + own s`, with `y` the element's
+/// [`TiedValues`] and `s` the point's own entries 0–5 (for the parts that keep their point values).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TyingMap {
-    /// From the tied strains.
-    pub tied: SMatrix<f64, TIED, N_TIED>,
+    /// From the element's tied values.
+    pub values: SMatrix<f64, TIED, N_VALUES>,
     /// From the point's own strains: the projector onto the parts that are not assumed.
     pub own: SMatrix<f64, TIED, TIED>,
+}
+
+impl TyingMap {
+    /// The map from the element's tied strains, `values F`.
+    pub fn tied(&self, values: &TiedValues) -> SMatrix<f64, TIED, N_TIED> {
+        self.values * values.matrix()
+    }
+}
+
+/// The assumed strains of one element: its tied values, its quadrature points' maps and the tying
+/// points that lie on quadrature points.
+#[derive(Debug, Clone, Copy)]
+pub struct ElementTying<'a> {
+    /// The tied values.
+    pub values: &'a TiedValues,
+    /// The map of each quadrature point.
+    pub maps: &'a [TyingMap],
+    /// The tying points read at quadrature points.
+    pub twins: TyingTwins,
 }
 
 /// The tying points that lie on a quadrature point of the element's rule (the interior degree-2 rule's
@@ -246,14 +378,12 @@ struct Tying {
 }
 
 impl Tying {
-    /// The coefficients of the assumed field as a map of the tied strains.
+    /// The coefficients of the assumed field as a map of the tied values.
     fn coefficients(&self) -> DMatrix<f64> {
-        let inv = self
-            .of_basis
+        self.of_basis
             .clone()
             .try_inverse()
-            .expect("the tying functionals are unisolvent on the reference triangle");
-        inv * &self.from_strains
+            .expect("the tying functionals are unisolvent on the reference triangle")
     }
 }
 
@@ -356,33 +486,32 @@ fn drilling_edges(tying: &[PointBasis; N_TYING]) -> DMatrix<f64> {
     out
 }
 
-/// The tying maps of an element's quadrature points, from the bases of its tying points and of its
-/// quadrature points.
+/// The tied values of an element and the tying maps of its quadrature points, from the bases of its
+/// tying points and of its quadrature points.
 pub fn tying_maps(
     tying: &[PointBasis; N_TYING],
     quadrature: &[PointBasis],
     parts: AssumedParts,
     interior: MembraneTying,
-) -> Vec<TyingMap> {
+) -> (TiedValues, Vec<TyingMap>) {
     let own = parts.kept();
     let assumed = SMatrix::<f64, TIED, TIED>::identity() - own;
-    let membrane = membrane_tying(tying, interior).coefficients();
-    let shear = shear_tying(tying).coefficients();
-    let drilling = drilling_edges(tying);
-    quadrature
+    let membrane_tying = membrane_tying(tying, interior);
+    let shear_tying = shear_tying(tying);
+    let (membrane, shear) = (membrane_tying.coefficients(), shear_tying.coefficients());
+    let maps = quadrature
         .iter()
         .map(|q| {
             let p = q.gt.try_inverse().unwrap_or_else(Matrix2::zeros);
-            let mut out = SMatrix::<f64, TIED, N_TIED>::zeros();
+            let mut out = SMatrix::<f64, TIED, N_VALUES>::zeros();
             // Membrane: Ê_ab = Σ_ij P_ia P_jb C̃_ij.
             for m in 0..9 {
                 let c = membrane_basis(m, q.xi);
                 let e = p.transpose() * c * p;
                 for a in 0..2 {
                     for b in 0..2 {
-                        let mut row = out.row_mut(entry(a, b));
-                        for (o, x) in row.iter_mut().zip(membrane.row(m).iter()) {
-                            *o += e[(a, b)] * x;
+                        for v in 0..9 {
+                            out[(entry(a, b), MEMBRANE_VALUES + v)] += e[(a, b)] * membrane[(m, v)];
                         }
                     }
                 }
@@ -392,28 +521,31 @@ pub fn tying_maps(
             let sign = q.gt.determinant().signum();
             for k in 0..3 {
                 let f = sign * (1.0 - 2.0 * lambda[(k + 2) % 3]);
-                for col in 0..N_TIED {
-                    out[(entry(0, 1), col)] += f * drilling[(k, col)];
-                    out[(entry(1, 0), col)] -= f * drilling[(k, col)];
-                }
+                out[(entry(0, 1), DRILLING_VALUES + k)] += f;
+                out[(entry(1, 0), DRILLING_VALUES + k)] -= f;
             }
             // Shear: Ê_2γ = Σ_i P_iγ c̃_i.
             for m in 0..8 {
                 let c = shear_basis(m, q.xi);
                 for g in 0..2 {
                     let f = p[(0, g)] * c[0] + p[(1, g)] * c[1];
-                    let mut row = out.row_mut(entry(2, g));
-                    for (o, x) in row.iter_mut().zip(shear.row(m).iter()) {
-                        *o += f * x;
+                    for v in 0..8 {
+                        out[(entry(2, g), SHEAR_VALUES + v)] += f * shear[(m, v)];
                     }
                 }
             }
             TyingMap {
-                tied: assumed * out,
+                values: assumed * out,
                 own,
             }
         })
-        .collect()
+        .collect::<Vec<_>>();
+    let mut values = TiedValues::default();
+    values.push_rows(MEMBRANE_VALUES, &membrane_tying.from_strains);
+    values.push_rows(SHEAR_VALUES, &shear_tying.from_strains);
+    values.push_rows(DRILLING_VALUES, &drilling_edges(tying));
+    values.retain_read_by(&maps);
+    (values, maps)
 }
 
 /// Replaces the transverse-shear and drilling parts of an element's maps by their stabilised element
@@ -422,7 +554,13 @@ pub fn tying_maps(
 /// ([`StrainInterpolation::ReggeStabilized`](crate::StrainInterpolation::ReggeStabilized)). The maps
 /// must keep both parts at their point values (as [`AssumedParts::MEMBRANE`] does); a constant strain
 /// is reproduced, so the patch tests hold.
-pub fn stabilize_shear_and_drilling(maps: &mut [TyingMap], alpha_shear: f64, alpha_drilling: f64) {
+pub fn stabilize_shear_and_drilling(
+    values: &mut TiedValues,
+    maps: &mut [TyingMap],
+    alpha_shear: f64,
+    alpha_drilling: f64,
+) {
+    values.add_interior_means();
     remove_shear_and_drilling(maps, 1.0 - alpha_shear, 1.0 - alpha_drilling);
 }
 
@@ -432,16 +570,14 @@ pub fn restabilize_shear_and_drilling(maps: &mut [TyingMap], from: &StrainProjec
     remove_shear_and_drilling(maps, from.shear - to.shear, from.drilling - to.drilling);
 }
 
-/// Moves the fractions `shear` and `drilling` of the point values of those parts to the element mean.
+/// Moves the fractions `shear` and `drilling` of the point values of those parts to the element mean
+/// (the interior-mean values, which [`stabilize_shear_and_drilling`] adds).
 fn remove_shear_and_drilling(maps: &mut [TyingMap], shear: f64, drilling: f64) {
     let removed = shear_projector() * shear + drilling_projector() * drilling;
-    let n_interior = (N_TYING - FIRST_INTERIOR) as f64;
     for m in maps.iter_mut() {
         m.own -= removed;
-        for t in FIRST_INTERIOR..N_TYING {
-            let mut block = m.tied.fixed_columns_mut::<TIED>(TIED * t);
-            block += removed / n_interior;
-        }
+        let mut block = m.values.fixed_columns_mut::<TIED>(MEAN_VALUES);
+        block += removed;
     }
 }
 
@@ -464,10 +600,11 @@ mod tests {
         let gt = Matrix2::new(1.1, 0.2, 0.1, 0.8);
         let tp = tying_points();
         let tying: [PointBasis; N_TYING] = std::array::from_fn(|t| basis(tp[t], gt));
-        let maps = tying_maps(&tying, &[basis([0.3, 0.3], gt)], none, MembraneTying::Centroid);
+        let (values, maps) = tying_maps(&tying, &[basis([0.3, 0.3], gt)], none, MembraneTying::Centroid);
         assert_eq!(maps[0].own, SMatrix::<f64, TIED, TIED>::identity());
-        assert!(maps[0].tied.amax() < 1e-15);
-        let all = tying_maps(
+        assert!(maps[0].tied(&values).amax() < 1e-15);
+        assert!(values.weights().is_empty(), "no value is read");
+        let (_, all) = tying_maps(
             &tying,
             &[basis([0.3, 0.3], gt)],
             AssumedParts::ALL,
@@ -513,9 +650,9 @@ mod tests {
         let quad = [basis([0.2, 0.3], gt), basis([0.7, 0.1], gt), basis([0.1, 0.8], gt)];
         let tied = nalgebra::SVector::<f64, N_TIED>::from_fn(|i, _| strains(tp[i / TIED])[i % TIED]);
         for interior in [MembraneTying::Centroid, MembraneTying::Moments] {
-            let maps = tying_maps(&tying, &quad, AssumedParts::ALL, interior);
+            let (values, maps) = tying_maps(&tying, &quad, AssumedParts::ALL, interior);
             for (q, m) in quad.iter().zip(&maps) {
-                let got = m.tied * tied;
+                let got = m.tied(&values) * tied;
                 let want = strains(q.xi);
                 for i in 0..TIED {
                     assert!(
@@ -568,8 +705,8 @@ mod tests {
         };
         // The assumed covariant field at a point: C̃ = Gtᵀ Ê Gt.
         let assumed = |xi: [f64; 2]| {
-            let m = &tying_maps(&tying, &[basis(xi, gt)], parts, MembraneTying::Moments)[0];
-            let v = m.tied * tied;
+            let (values, maps) = tying_maps(&tying, &[basis(xi, gt)], parts, MembraneTying::Moments);
+            let v = maps[0].tied(&values) * tied;
             let e = Matrix2::new(v[entry(0, 0)], v[entry(0, 1)], v[entry(1, 0)], v[entry(1, 1)]);
             gt.transpose() * e * gt
         };
@@ -616,10 +753,10 @@ mod tests {
         let quad: Vec<PointBasis> = (FIRST_INTERIOR..N_TYING).map(|t| tying[t]).collect();
         let strain = |t: usize, k: usize| ((7 * t + 3 * k) % 11) as f64 / 11.0 - 0.4 + 0.05 * (t * k) as f64;
         let tied = nalgebra::SVector::<f64, N_TIED>::from_fn(|i, _| strain(i / TIED, i % TIED));
-        let regge = tying_maps(&tying, &quad, AssumedParts::MEMBRANE, MembraneTying::Moments);
-        let mut maps = regge.clone();
+        let (regge_values, regge) = tying_maps(&tying, &quad, AssumedParts::MEMBRANE, MembraneTying::Moments);
+        let (mut values, mut maps) = (regge_values.clone(), regge.clone());
         let (alpha_shear, alpha_drilling) = (0.3, 0.6);
-        stabilize_shear_and_drilling(&mut maps, alpha_shear, alpha_drilling);
+        stabilize_shear_and_drilling(&mut values, &mut maps, alpha_shear, alpha_drilling);
         let skew = |v: &[f64]| 0.5 * (v[entry(0, 1)] - v[entry(1, 0)]);
         let sym = |v: &[f64]| 0.5 * (v[entry(0, 1)] + v[entry(1, 0)]);
         let own = |q: usize| -> Vec<f64> { (0..TIED).map(|k| strain(FIRST_INTERIOR + q, k)).collect() };
@@ -627,8 +764,8 @@ mod tests {
         for q in 0..3 {
             let s = own(q);
             let sv = nalgebra::SVector::<f64, TIED>::from_column_slice(&s);
-            let got = maps[q].tied * tied + maps[q].own * sv;
-            let before = regge[q].tied * tied + regge[q].own * sv;
+            let got = maps[q].tied(&values) * tied + maps[q].own * sv;
+            let before = regge[q].tied(&regge_values) * tied + regge[q].own * sv;
             for r in [entry(2, 0), entry(2, 1)] {
                 let m = mean(&|v: &[f64]| v[r]);
                 let want = m + alpha_shear * (s[r] - m);

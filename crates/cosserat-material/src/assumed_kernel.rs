@@ -1,7 +1,9 @@
 //! The assumed strains' part of the coupled element kernel ([`crate::coupled`]): the stresses and the
-//! first-order Hessian of an element whose quadrature points' strains are `s̃_p = (M_p z + K_p s_p, Γ̂_p)`, with `z` the tied
-//! strains (`Ê` entries 0–5 of every tying point), `M_p` and `K_p` the point's [`TyingMap`] (`K_p`
-//! keeps the point's own values of the parts that are not assumed).
+//! first-order Hessian of an element whose quadrature points' strains are
+//! `s̃_p = (A_p F z + K_p s_p, Γ̂_p)`, with `z` the tied strains (`Ê` entries 0–5 of every tying point),
+//! `F` the element's [`TiedValues`](crate::assumed::TiedValues), `A_p` and `K_p` the point's
+//! [`TyingMap`] (`K_p` keeps the point's own values of the parts that are not assumed), and
+//! `M_p = A_p F` the point's map on the tied strains.
 //!
 //! **Derivation.** The energy is `Σ_p w_p ½ s̃_p · D_p s̃_p` over the quadrature points. Its derivative
 //! with respect to the raw strains `s_q` of every point of the element (quadrature and tying points) is
@@ -9,13 +11,15 @@
 //! point, its slice of `Σ_p M_pᵀ (w_p D_p s̃_p)`. So the gradient and the second-order terms of each point's strain map
 //! are the point kernel with `σ̂_q` (integration weight one). The first-order part is
 //! `Σ_p w_p G̃_pᵀ D_p G̃_p`, where `G̃_p` takes its `Ê` columns from the tying points' Jacobians through
-//! `M_p` plus its own through `K_p`, and its `Γ̂` columns from its own.
+//! `M_p` plus its own through `K_p`, and its `Γ̂` columns from its own. The tying points' Jacobians are
+//! combined into the Jacobians of the tied values once per element (`F` reads one or a few entries
+//! of each tying point), and each point's columns from those through `A_p`.
 //!
 //! The element's points are its quadrature points followed by its [`N_TYING`] tying points, whose
 //! weights are zero. A tying point that lies on a quadrature point ([`TyingTwins`]) takes that point's
 //! strains, so its stress is added to the quadrature point's and its Jacobian is the quadrature point's.
 
-use crate::assumed::{N_TIED, N_TYING, TIED, TyingMap, TyingTwins};
+use crate::assumed::{ElementTying, N_TIED, N_TYING, N_VALUES, TIED, TyingMap, TyingTwins};
 use crate::drilling_hourglass::DrillingHourglass;
 use crate::kernel::PointShape;
 use crate::kernel::strain_vector;
@@ -30,16 +34,16 @@ fn tied(strains: &[StrainVector], twins: &TyingTwins) -> SVector<f64, N_TIED> {
     SVector::from_fn(|i, _| strains[twins.source(i / TIED, first)][i % TIED])
 }
 
-/// The assumed strains of the quadrature points from the raw strains of all points and the tied
-/// strains `z` among them.
-fn assumed(strains: &[StrainVector], z: &SVector<f64, N_TIED>, maps: &[TyingMap]) -> Vec<StrainVector> {
+/// The assumed strains of the quadrature points from the raw strains of all points and the tied values
+/// `y` of the element.
+fn assumed(strains: &[StrainVector], y: &SVector<f64, N_VALUES>, maps: &[TyingMap]) -> Vec<StrainVector> {
     strains
         .iter()
         .zip(maps)
         .map(|(s, m)| {
-            // In place: the tied map is a 6 × 60 matrix, which a product by value would copy.
+            // In place: the map is a 6 × 26 matrix, which a product by value would copy.
             let mut assumed = SVector::<f64, TIED>::zeros();
-            assumed.gemv(1.0, &m.tied, z, 0.0);
+            assumed.gemv(1.0, &m.values, y, 0.0);
             assumed.gemv(1.0, &m.own, &s.fixed_rows::<TIED>(0), 1.0);
             let mut out = *s;
             out.fixed_rows_mut::<TIED>(0).copy_from(&assumed);
@@ -54,10 +58,10 @@ fn assumed(strains: &[StrainVector], z: &SVector<f64, N_TIED>, maps: &[TyingMap]
 pub fn element_strains_and_hourglass<const NU: usize, const NR: usize>(
     points: &[ValuePoint<'_, NU, NR>],
     node_r: [&Matrix3<f64>; NR],
-    maps: &[TyingMap],
-    twins: &TyingTwins,
+    tying: &ElementTying<'_>,
     variant: AxlVariant,
 ) -> (Vec<StrainVector>, f64) {
+    let (maps, twins) = (tying.maps, &tying.twins);
     let first = points.len() - N_TYING;
     let strains: Vec<StrainVector> = points
         .iter()
@@ -73,7 +77,7 @@ pub fn element_strains_and_hourglass<const NU: usize, const NR: usize>(
     let z = tied(&strains, twins);
     let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
     let hourglass = DrillingHourglass::of(NR == 6, quadrature, maps, twins).map_or(0.0, |h| h.energy(&z));
-    (assumed(&strains, &z, maps), hourglass)
+    (assumed(&strains, &tying.values.of(&z), maps), hourglass)
 }
 
 /// The drilling hourglass term of an element with `maps` at its quadrature points, if it has one.
@@ -91,22 +95,24 @@ fn hourglass_of<const NU: usize, const NR: usize>(
 pub(crate) fn stresses<const NU: usize, const NR: usize>(
     points: &[ElementPoint<'_, NU, NR>],
     strains: &[StrainVector],
-    maps: &[TyingMap],
-    twins: &TyingTwins,
+    tying: &ElementTying<'_>,
 ) -> (f64, Vec<StrainVector>) {
+    let (maps, twins) = (tying.maps, &tying.twins);
     let z = tied(strains, twins);
-    let smoothed = assumed(strains, &z, maps);
+    let smoothed = assumed(strains, &tying.values.of(&z), maps);
     let mut value = 0.0;
     let mut sigma = vec![StrainVector::zeros(); points.len()];
-    let mut tied_stress = SVector::<f64, N_TIED>::zeros();
+    let mut value_stress = SVector::<f64, N_VALUES>::zeros();
     for ((p, s), (m, out)) in points.iter().zip(&smoothed).zip(maps.iter().zip(sigma.iter_mut())) {
         let ws = p.density.mul_vector(s) * p.shape.weight;
         value += 0.5 * s.dot(&ws);
-        tied_stress += m.tied.tr_mul(&ws.fixed_rows::<TIED>(0));
+        value_stress.gemv_tr(1.0, &m.values, &ws.fixed_rows::<TIED>(0), 1.0);
         *out = ws;
         out.fixed_rows_mut::<TIED>(0)
             .copy_from(&m.own.tr_mul(&ws.fixed_rows::<TIED>(0)));
     }
+    let mut tied_stress = SVector::<f64, N_TIED>::zeros();
+    tying.values.add_transposed(&value_stress, &mut tied_stress);
     if let Some(hourglass) = hourglass_of(points, maps, twins) {
         value += hourglass.add_stress(&z, &mut tied_stress);
     }
@@ -173,27 +179,31 @@ impl<const NE: usize> TiedJacobians<NE> {
 pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE: usize>(
     points: &[ElementPoint<'_, NU, NR>],
     jacobians: &TiedJacobians<NE>,
-    maps: &[TyingMap],
-    twins: &TyingTwins,
+    tying: &ElementTying<'_>,
     h: &mut SMatrix<f64, NE, NE>,
 ) {
+    let (maps, twins) = (tying.maps, &tying.twins);
     let first = points.len() - N_TYING;
     let membrane = &jacobians.membrane;
+    // The Jacobians of the tied values, `J_z Fᵀ`.
+    let mut values = SMatrix::<f64, NE, N_VALUES>::zeros();
+    for w in tying.values.weights() {
+        let strain = usize::from(w.strain);
+        let jt = membrane[twins.source(strain / TIED, first)]
+            .as_ref()
+            .expect("a tying point a value reads is evaluated");
+        values
+            .column_mut(usize::from(w.value))
+            .axpy(w.weight, &jt.column(strain % TIED), 1.0);
+    }
     let mut tied = vec![SMatrix::<f64, NE, TIED>::zeros(); maps.len()];
     for (q, (m, tied)) in maps.iter().zip(tied.iter_mut()).enumerate() {
         let own = membrane[q].as_ref().expect("a quadrature point is evaluated");
-        // `Ê` columns of G̃_p: Σ_t J_t M_pt^T over the tying points t, plus the point's own through
-        // `K_p`. A tying point that the map does not use (the centroid under moment ties) costs nothing.
-        // The maps' blocks are sparse (a membrane tie reads only the tangential entries, a shear or
-        // drilling mean only its own, `K_p` keeps a part or none), so they are applied entry by entry.
-        add_tied_columns(tied, own, &m.own);
-        for t in 0..N_TYING {
-            let block = m.tied.fixed_columns::<TIED>(TIED * t);
-            match &membrane[twins.source(t, first)] {
-                Some(jt) => add_tied_columns(tied, jt, &block),
-                None => debug_assert!(block.iter().all(|&x| x == 0.0), "a tying point read is evaluated"),
-            }
-        }
+        // `Ê` columns of G̃_p: the values' Jacobians through `A_p`, plus the point's own through `K_p`.
+        // Both maps are sparse (a membrane entry reads the membrane values only, a shear or drilling
+        // entry its own part's, `K_p` keeps a part or none), so they are applied entry by entry.
+        add_mapped_columns(tied, own, &m.own);
+        add_mapped_columns(tied, &values, &m.values);
     }
     let tied_points: Vec<FirstOrderPoint<'_, NE>> = points
         .iter()
@@ -217,16 +227,14 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
     }
 }
 
-/// `out += J Mᵀ` for the `Ê` columns `J` of a point's Jacobian in the element's unknowns, over the
-/// nonzero entries of the 6 × 6 map `M`.
-fn add_tied_columns<const NE: usize, S>(
+/// `out += J Mᵀ` for Jacobian columns `J` in the element's unknowns (a point's `Ê` columns, or the
+/// tied values'), over the nonzero entries of the map `M` to the `Ê` entries 0–5.
+fn add_mapped_columns<const NE: usize, const C: usize>(
     out: &mut SMatrix<f64, NE, TIED>,
-    jacobian: &SMatrix<f64, NE, TIED>,
-    map: &nalgebra::Matrix<f64, nalgebra::Const<TIED>, nalgebra::Const<TIED>, S>,
-) where
-    S: nalgebra::storage::Storage<f64, nalgebra::Const<TIED>, nalgebra::Const<TIED>>,
-{
-    for j in 0..TIED {
+    jacobian: &SMatrix<f64, NE, C>,
+    map: &SMatrix<f64, TIED, C>,
+) {
+    for j in 0..C {
         for i in 0..TIED {
             let v = map[(i, j)];
             if v != 0.0 {

@@ -6,7 +6,7 @@
 //! (Gauss-Newton) part `Σ_p w_p G̃_pᵀ D_p G̃_p` differ between the treatments, and they live in their
 //! modules.
 
-use crate::assumed::{N_TYING, TIED, TyingMap, TyingTwins};
+use crate::assumed::{ElementTying, N_TYING};
 use crate::assumed_kernel::TiedJacobians;
 use crate::element::{
     ElementDerivatives, accumulate_gradient, accumulate_upper, accumulate_upper_without_stretch_block, assign_upper,
@@ -31,8 +31,8 @@ use nalgebra::{Matrix3, SMatrix, SVector};
 enum FirstOrder<'a, const NE: usize> {
     /// The projection's point-local products and element-level sums.
     Projected(ProjectedFirstOrder<'a, NE>),
-    /// The tying maps and the points' Jacobians in the element's unknowns, combined at the end.
-    Tied(&'a [TyingMap], TiedJacobians<NE>),
+    /// The element's assumed strains and the points' Jacobians in its unknowns, combined at the end.
+    Tied(ElementTying<'a>, TiedJacobians<NE>),
 }
 
 /// The Jacobian of a point's strains and `QᵀRᵀ`. A tying point's curvature strains are read by no map,
@@ -95,10 +95,10 @@ fn map_point<const NU: usize, const NR: usize, const NL: usize, const NE: usize>
 pub enum Coupling<'a> {
     /// The stabilised projection: `s̃_p = s_p − B (s_p − s̄)` over the element's quadrature points.
     Projection(&'a StrainProjection),
-    /// The assumed strains: the quadrature points' tying maps; the element's points are its
-    /// quadrature points followed by its tying points (weight zero), of which the twins take their
-    /// quadrature points' strains.
-    Tying(&'a [TyingMap], TyingTwins),
+    /// The assumed strains: the element's tied values and its quadrature points' tying maps; the
+    /// element's points are its quadrature points followed by its tying points (weight zero), of which
+    /// the twins take their quadrature points' strains.
+    Tying(ElementTying<'a>),
 }
 
 impl Coupling<'_> {
@@ -112,9 +112,7 @@ impl Coupling<'_> {
     ) -> f64 {
         let (strains, hourglass) = match self {
             Self::Projection(p) => (projected::element_strains(points, node_r, Some(p), variant), 0.0),
-            Self::Tying(maps, twins) => {
-                assumed_kernel::element_strains_and_hourglass(points, node_r, maps, &twins, variant)
-            }
+            Self::Tying(tying) => assumed_kernel::element_strains_and_hourglass(points, node_r, &tying, variant),
         };
         let points_energy: f64 = points
             .iter()
@@ -242,8 +240,8 @@ impl Coupling<'_> {
         out.value += value;
         match first_order {
             FirstOrder::Projected(projected) => projected.finish(&mut out.hessian),
-            FirstOrder::Tied(maps, jacobians) => {
-                assumed_kernel::add_assumed_first_order(points, &jacobians, maps, &self.twins(), &mut out.hessian);
+            FirstOrder::Tied(tying, jacobians) => {
+                assumed_kernel::add_assumed_first_order(points, &jacobians, &tying, &mut out.hessian);
             }
         }
         node_weights
@@ -267,7 +265,7 @@ impl Coupling<'_> {
             Self::Projection(projection) => {
                 FirstOrder::Projected(ProjectedFirstOrder::<NE>::new(projection, shared, dt))
             }
-            Self::Tying(maps, _) => FirstOrder::Tied(maps, TiedJacobians::with_capacity(points.len(), maps.len())),
+            Self::Tying(tying) => FirstOrder::Tied(tying, TiedJacobians::with_capacity(points.len(), tying.maps.len())),
         }
     }
 
@@ -292,12 +290,7 @@ impl Coupling<'_> {
     fn unused_tying_points(self) -> [bool; N_TYING] {
         match self {
             Self::Projection(_) => [false; N_TYING],
-            Self::Tying(maps, twins) => std::array::from_fn(|t| {
-                twins.is_twin(t)
-                    || maps
-                        .iter()
-                        .all(|m| m.tied.fixed_columns::<TIED>(TIED * t).iter().all(|&x| x == 0.0))
-            }),
+            Self::Tying(tying) => std::array::from_fn(|t| tying.twins.is_twin(t) || !tying.values.reads(t)),
         }
     }
 
@@ -310,14 +303,6 @@ impl Coupling<'_> {
     /// Point `n` of the element is a tying point (none under the projection).
     fn is_tying_point(self, n: usize, first_tying: usize) -> bool {
         matches!(self, Self::Tying(..)) && n >= first_tying
-    }
-
-    /// The tying points read at quadrature points (none under the projection).
-    fn twins(self) -> TyingTwins {
-        match self {
-            Self::Tying(_, twins) => twins,
-            Self::Projection(_) => TyingTwins::NONE,
-        }
     }
 
     /// The derivatives `σ̂_q` of the element's strain-quadratic energy with respect to the raw strains of
@@ -341,7 +326,7 @@ impl Coupling<'_> {
     ) -> (f64, Vec<StrainVector>) {
         match self {
             Self::Projection(projection) => projected::stresses(points, strains, projection),
-            Self::Tying(maps, twins) => assumed_kernel::stresses(points, &strains, maps, &twins),
+            Self::Tying(tying) => assumed_kernel::stresses(points, &strains, &tying),
         }
     }
 

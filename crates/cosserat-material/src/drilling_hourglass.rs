@@ -177,7 +177,7 @@ mod tests {
     fn term() -> DrillingHourglass {
         let density = DensityMatrix::new(StrainMatrix::identity() * 3.0);
         let maps = [TyingMap {
-            tied: SMatrix::zeros(),
+            values: SMatrix::zeros(),
             own: SMatrix::identity() * 0.3,
         }];
         let interior = [
@@ -263,7 +263,7 @@ mod tests {
         let density = DensityMatrix::new(StrainMatrix::identity());
         let maps = |alpha: f64| {
             [TyingMap {
-                tied: SMatrix::zeros(),
+                values: SMatrix::zeros(),
                 own: SMatrix::identity() * alpha,
             }]
         };

@@ -9,8 +9,8 @@
 //! Points whose `b` vanishes share one density matrix with the plate terms; curved points get their own.
 
 use crate::assumed::{
-    AssumedParts, MembraneTying, N_TYING, PointBasis, TyingMap, TyingTwins, restabilize_shear_and_drilling,
-    stabilize_shear_and_drilling, tying_maps, tying_points,
+    AssumedParts, ElementTying, MembraneTying, N_TYING, PointBasis, TiedValues, TyingMap, TyingTwins,
+    restabilize_shear_and_drilling, stabilize_shear_and_drilling, tying_maps, tying_points,
 };
 use crate::error::RestStateError;
 use crate::kernel::PointShape;
@@ -89,6 +89,8 @@ pub struct ShellRest<const NU: usize, const NR: usize> {
     /// The tying maps of each quadrature point under [`StrainInterpolation::Assumed`] (element-major,
     /// [`Self::quadrature_points_per_element`] per element; empty otherwise).
     pub tying_maps: Vec<TyingMap>,
+    /// The tied values of each element under [`StrainInterpolation::Assumed`] (empty otherwise).
+    pub tied_values: Vec<TiedValues>,
     /// The tying points that lie on quadrature points (the same for every element).
     pub tying_twins: TyingTwins,
     /// The shear and drilling factors stabilised into each element's tying maps under
@@ -102,6 +104,16 @@ impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
     pub fn element_tying_maps(&self, e: usize) -> Option<&[TyingMap]> {
         let n = self.quadrature_points_per_element;
         self.tying_maps.get(e * n..(e + 1) * n)
+    }
+
+    /// The assumed strains of element `e` with `maps` at its quadrature points (its rest maps or those
+    /// in tension, [`Self::element_tying_maps_in_tension`]).
+    pub fn element_tying<'a>(&'a self, e: usize, maps: &'a [TyingMap]) -> ElementTying<'a> {
+        ElementTying {
+            values: &self.tied_values[e],
+            maps,
+            twins: self.tying_twins,
+        }
     }
 
     /// The tying maps of element `e` under the membrane stress `tension` (of its mean stretch,
@@ -185,6 +197,7 @@ where
     let n_points = n_qp + tying.len();
     let mut tying_map_list = Vec::new();
     let mut tying_stabilization = Vec::new();
+    let mut tied_values = Vec::new();
     // The curvature is needed only by the shell model.
     let geometry = match options.model.model {
         ShellModel::Shell => Some(rest_geometry(disp, corner, rule, &options.curvature)?),
@@ -235,14 +248,15 @@ where
         }
         if let Some((parts, interior)) = tying_scheme {
             let tied: [PointBasis; N_TYING] = std::array::from_fn(|t| bases[n_qp + t]);
-            let mut maps = tying_maps(&tied, &bases[..n_qp], parts, interior);
+            let (mut values, mut maps) = tying_maps(&tied, &bases[..n_qp], parts, interior);
             if options.interpolation == StrainInterpolation::ReggeStabilized {
                 let constants = StabilizationConstants::regge_stabilized(NR, n_qp);
                 let alpha = StrainProjection::new(&constants, moduli.thickness, longest_edge(&nodes));
-                stabilize_shear_and_drilling(&mut maps, alpha.shear, alpha.drilling);
+                stabilize_shear_and_drilling(&mut values, &mut maps, alpha.shear, alpha.drilling);
                 tying_stabilization.push(alpha);
             }
             tying_map_list.extend(maps);
+            tied_values.push(values);
         }
         element_areas.push(area);
         for g in 0..n_points {
@@ -293,6 +307,7 @@ where
         element_areas,
         projections,
         tying_maps: tying_map_list,
+        tied_values,
         tying_stabilization,
         tying_twins: if tying.is_empty() {
             TyingTwins::NONE

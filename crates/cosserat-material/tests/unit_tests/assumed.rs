@@ -6,7 +6,9 @@ use super::common;
 use super::coupled_element::{CoupledElement, check};
 use cosserat_fem::quadrature::QuadratureRule;
 use cosserat_geometry::Real;
-use cosserat_material::assumed::{N_TIED, N_TYING, TyingMap, TyingTwins};
+use cosserat_material::assumed::{
+    ElementTying, N_TIED, N_TYING, N_VALUES, TiedValues, TiedWeight, TyingMap, TyingTwins,
+};
 use cosserat_material::coupled::Coupling;
 use nalgebra::SMatrix;
 use rand::Rng;
@@ -15,9 +17,14 @@ use rand_chacha::ChaCha8Rng;
 /// Quadrature points; the tying points follow them.
 const N_QUADRATURE: usize = 3;
 
-/// The element energy with each quadrature point's strains replaced by its map of the tying points'
-/// and its own strains.
-fn oracle<T: Real, const NU: usize, const NR: usize>(el: &CoupledElement<NU, NR>, maps: &[TyingMap], u: &[T]) -> T {
+/// The element energy with each quadrature point's strains replaced by its map of the tied values (of
+/// the tying points' strains) and its own strains.
+fn oracle<T: Real, const NU: usize, const NR: usize>(
+    el: &CoupledElement<NU, NR>,
+    values: &TiedValues,
+    maps: &[TyingMap],
+    u: &[T],
+) -> T {
     let (strains, geoms) = el.oracle_strains(u);
     // The tied strains: entries 0–5 (column-major) of each tying point's Ê.
     let z: Vec<T> = (0..N_TIED)
@@ -27,14 +34,18 @@ fn oracle<T: Real, const NU: usize, const NR: usize>(el: &CoupledElement<NU, NR>
             e[(k % 3, k / 3)]
         })
         .collect();
+    let mut y = [T::zero(); N_VALUES];
+    for w in values.weights() {
+        y[usize::from(w.value)] += z[usize::from(w.strain)] * T::from(w.weight);
+    }
     let mut energy = T::zero();
     for (p, m) in maps.iter().enumerate() {
         let (own, g) = strains[p];
         let mut e = own;
         for k in 0..6 {
             let mut v = T::zero();
-            for (j, zj) in z.iter().enumerate() {
-                v += *zj * T::from(m.tied[(k, j)]);
+            for (j, yj) in y.iter().enumerate() {
+                v += *yj * T::from(m.values[(k, j)]);
             }
             for j in 0..6 {
                 v += own[(j % 3, j / 3)] * T::from(m.own[(k, j)]);
@@ -46,33 +57,54 @@ fn oracle<T: Real, const NU: usize, const NR: usize>(el: &CoupledElement<NU, NR>
     energy
 }
 
-/// Gives the tying points of `el` no weight of their own and draws random tying maps: the chain rule
-/// must hold for any linear map.
+/// The tying point that no random value reads: it must not be needed.
+const UNREAD: usize = 6;
+
+/// Gives the tying points of `el` no weight of their own and draws random tied values (three tied
+/// strains each, of any tying point but [`UNREAD`]) and tying maps: the chain rule must hold for any
+/// linear maps.
 fn weightless_tying_points_and_random_maps<const NU: usize, const NR: usize>(
     el: &mut CoupledElement<NU, NR>,
     rng: &mut ChaCha8Rng,
-) -> Vec<TyingMap> {
+) -> (TiedValues, Vec<TyingMap>) {
     for s in &mut el.shapes[N_QUADRATURE..] {
         s.weight = 0.0;
     }
-    (0..N_QUADRATURE)
+    let mut weights = Vec::new();
+    for value in 0..N_VALUES {
+        for _ in 0..3 {
+            let strain = loop {
+                let strain = rng.random_range(0..N_TIED);
+                if strain / 6 != UNREAD {
+                    break strain;
+                }
+            };
+            weights.push(TiedWeight {
+                value: value as u8,
+                strain: strain as u8,
+                weight: rng.random_range(-1.0..1.0),
+            });
+        }
+    }
+    let maps = (0..N_QUADRATURE)
         .map(|_| TyingMap {
-            tied: SMatrix::from_fn(|_, _| rng.random_range(-0.3..0.3)),
+            values: SMatrix::from_fn(|_, _| rng.random_range(-0.3..0.3)),
             own: SMatrix::from_fn(|_, _| rng.random_range(-0.5..0.5)),
         })
-        .collect()
+        .collect();
+    (TiedValues::from_weights(weights), maps)
 }
 
 fn check_assumed<const NU: usize, const NR: usize, const NL: usize, const NE: usize>(seed: u64, curved: bool) {
     let mut rng = common::rng(seed);
     let mut el = CoupledElement::<NU, NR>::random(&mut rng, N_QUADRATURE + N_TYING, curved);
-    let maps = weightless_tying_points_and_random_maps(&mut el, &mut rng);
-    check::<NU, NR, NL, NE>(
-        &el,
-        Coupling::Tying(&maps, TyingTwins::NONE),
-        |u| oracle(&el, &maps, u),
-        seed,
-    );
+    let (values, maps) = weightless_tying_points_and_random_maps(&mut el, &mut rng);
+    let tying = ElementTying {
+        values: &values,
+        maps: &maps,
+        twins: TyingTwins::NONE,
+    };
+    check::<NU, NR, NL, NE>(&el, Coupling::Tying(tying), |u| oracle(&el, &values, &maps, u), seed);
 }
 
 /// Tying points on quadrature points (the twins of the paper's Tri6/Tri3 rule) are read at their
@@ -98,8 +130,13 @@ fn check_twins<const NU: usize, const NR: usize, const NL: usize, const NE: usiz
         n_twins, 3,
         "the interior tying points are the interior degree-2 rule's points"
     );
-    let maps = weightless_tying_points_and_random_maps(&mut el, &mut rng);
-    check::<NU, NR, NL, NE>(&el, Coupling::Tying(&maps, twins), |u| oracle(&el, &maps, u), seed);
+    let (values, maps) = weightless_tying_points_and_random_maps(&mut el, &mut rng);
+    let tying = ElementTying {
+        values: &values,
+        maps: &maps,
+        twins,
+    };
+    check::<NU, NR, NL, NE>(&el, Coupling::Tying(tying), |u| oracle(&el, &values, &maps, u), seed);
 }
 
 #[test]
