@@ -81,13 +81,20 @@ pub struct TiedWeight {
 pub struct TiedValues {
     /// Sorted by value.
     weights: Vec<TiedWeight>,
+    /// Bit `t` set: some value reads tying point `t`.
+    read_points: u16,
 }
 
 impl TiedValues {
     /// The values of `weights` (any order; several weights of a value on one strain add up).
     pub fn from_weights(mut weights: Vec<TiedWeight>) -> Self {
         weights.sort_by_key(|w| (w.value, w.strain));
-        Self { weights }
+        let mut values = Self {
+            weights,
+            read_points: 0,
+        };
+        values.update_read_points();
+        values
     }
 
     /// The nonzero weights.
@@ -113,7 +120,14 @@ impl TiedValues {
 
     /// Some value reads tying point `t`.
     pub fn reads(&self, t: usize) -> bool {
-        self.weights.iter().any(|w| usize::from(w.strain) / TIED == t)
+        self.read_points & (1 << t) != 0
+    }
+
+    fn update_read_points(&mut self) {
+        self.read_points = self
+            .weights
+            .iter()
+            .fold(0, |bits, w| bits | 1 << (usize::from(w.strain) / TIED));
     }
 
     /// `F` as a dense matrix.
@@ -138,8 +152,8 @@ impl TiedValues {
 
     fn push(&mut self, value: usize, strain: usize, weight: f64) {
         let (value, strain) = (value as u8, strain as u8);
-        debug_assert!(self.weights.last().is_none_or(|w| w.value <= value), "sorted by value");
         self.weights.push(TiedWeight { value, strain, weight });
+        self.read_points |= 1 << (usize::from(strain) / TIED);
     }
 
     /// Drops the values that no map reads.
@@ -147,10 +161,11 @@ impl TiedValues {
         let read: [bool; N_VALUES] =
             std::array::from_fn(|v| maps.iter().any(|m| m.values.column(v).iter().any(|&x| x != 0.0)));
         self.weights.retain(|w| read[usize::from(w.value)]);
+        self.update_read_points();
     }
 
     /// Adds the means over the interior tying points of the `Ê` entries the stabilised shear and
-    /// drilling read, unless present.
+    /// drilling read, unless present; pushed after the others, so sorted again.
     fn add_interior_means(&mut self) {
         for k in [entry(1, 0), entry(2, 0), entry(0, 1), entry(2, 1)] {
             let value = MEAN_VALUES + k;
