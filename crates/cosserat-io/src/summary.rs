@@ -104,6 +104,17 @@ pub struct ConvergenceRecord {
     pub stagnated_steps: usize,
     /// Newton iterations whose Hessian was not positive definite and was shifted.
     pub shifted_iterations: usize,
+    /// Newton iterates that would have turned an element inside out, which the line search shortened
+    /// (time steps and load levels; docs/time-integration.md, "Inverted elements").
+    #[serde(default)]
+    pub rejected_iterates: usize,
+    /// Halvings of initial guesses (extrapolations, predictions) that would have turned an element
+    /// inside out.
+    #[serde(default)]
+    pub retracted_guesses: usize,
+    /// Solves repeated with their iterates free where the check on them blocked the way to a solution.
+    #[serde(default)]
+    pub free_retries: usize,
 }
 
 /// The mechanical model of a run.

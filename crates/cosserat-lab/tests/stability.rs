@@ -84,12 +84,22 @@ fn ten_full_turns_keep_every_element_right_side_out_in_perturbed_variants() {
     let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
         .join("stability")
         .join("ten_turns_variants");
+    let (mut rejected, mut retracted) = (0, 0);
     for (i, p) in perturbations(ENSEMBLE_SIZE).iter().take(4).enumerate() {
-        let r = run_variant(&settings, p, &dir.join(format!("variant_{i}"))).expect("output directory");
+        let variant = dir.join(format!("variant_{i}"));
+        let r = run_variant(&settings, p, &variant).expect("output directory");
         assert!(r.outcome.is_ok(), "variant {i}: {}", r.outcome.reason());
         let area = r.min_area_ratio.expect("area ratio in the summary");
         assert!(area > 0.0, "variant {i}: inverted element (area ratio {area})");
+        let summary = cosserat::io::read_summary(&variant.join("summary.json")).expect("summary");
+        let convergence = summary.convergence.expect("convergence record");
+        rejected += convergence.rejected_iterates;
+        retracted += convergence.retracted_guesses;
     }
+    // The coil's snaps are where an extrapolated guess or a full Newton step would fold an element
+    // (without the check, variants 1 and 3 end inverted): the summary reports the check's work.
+    assert!(rejected > 0, "no iterate turned back");
+    assert!(retracted > 0, "no guess halved");
 }
 
 #[test]

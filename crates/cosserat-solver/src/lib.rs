@@ -96,8 +96,8 @@ pub use linear::{
     LinearSolverSettings, SparseSolver,
 };
 pub use newton::{
-    CarriedState, Convergence, Criterion, FactorisationCounts, IndefiniteHessian, NewtonReport, NewtonSettings,
-    NewtonSolver, SolveCost, Tolerance,
+    CarriedState, Convergence, Criterion, DomainCost, FactorisationCounts, IndefiniteHessian, NewtonReport,
+    NewtonSettings, NewtonSolver, SolveCost, Tolerance,
 };
 pub use problem::NewtonProblem;
 pub use statics::{

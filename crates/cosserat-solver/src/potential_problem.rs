@@ -23,8 +23,8 @@ pub struct PotentialProblem<'a> {
     /// The last state that passed the check: Newton assembles its Hessian at the iterate whose trial
     /// evaluation was checked, which needs no second check.
     checked: Vec<f64>,
-    /// Whether the check turned an iterate back.
-    rejected: bool,
+    /// Iterates the check turned back.
+    rejected: usize,
     /// [`Self::characteristic_length`], computed when first needed.
     length: std::cell::OnceCell<f64>,
 }
@@ -37,7 +37,7 @@ impl<'a> PotentialProblem<'a> {
             fixed,
             check_iterates: true,
             checked: Vec::new(),
-            rejected: false,
+            rejected: 0,
             length: std::cell::OnceCell::new(),
         }
     }
@@ -53,7 +53,7 @@ impl<'a> PotentialProblem<'a> {
     fn check(&mut self, x: &[f64]) -> Result<(), ProblemError> {
         if self.check_iterates && self.checked != x {
             if let Err(e) = self.potential.check_state(x) {
-                self.rejected = true;
+                self.rejected += 1;
                 return Err(map_error(e));
             }
             self.checked.clear();
@@ -147,7 +147,8 @@ pub(crate) fn solve_in_domain(
     x: &mut [f64],
     start: SolveStart<'_>,
 ) -> Result<NewtonReport, NewtonError> {
-    let valid = retract_into_domain(potential, x, start.origin);
+    let (valid, halvings) = retract_into_domain(potential, x, start.origin);
+    solver.spend_on_domain(|d| d.retracted_guesses += halvings);
     // A guess moved back all the way is no prediction any more.
     let predicted = start.predicted && valid;
     let solve = |solver: &mut NewtonSolver, problem: &mut PotentialProblem<'_>, x: &mut [f64]| {
@@ -163,11 +164,13 @@ pub(crate) fn solve_in_domain(
         problem.checked.clone_from(&guess);
     }
     let checked = solve(solver, &mut problem, x);
+    solver.spend_on_domain(|d| d.rejected_iterates += problem.rejected);
     // Only a way blocked by the check itself is retried (contact's collision bounds end a step as
     // infeasible too, and the same again without the check would end the same).
-    if !(problem.rejected && matches!(checked, Err(NewtonError::InfeasibleStep { .. }))) {
+    if !(problem.rejected > 0 && matches!(checked, Err(NewtonError::InfeasibleStep { .. }))) {
         return checked;
     }
+    solver.spend_on_domain(|d| d.free_retries += 1);
     x.copy_from_slice(&guess);
     let report = solve(
         solver,
@@ -183,19 +186,19 @@ pub(crate) fn solve_in_domain(
 }
 
 /// Moves `x` back towards `origin` while it leaves the potential's domain (see [`solve_in_domain`]);
-/// returns whether `x` was checked to lie in it, `false` when it was set to `origin` (the step's
-/// start, which is not checked).
-fn retract_into_domain(potential: &mut IncrementalPotential, x: &mut [f64], origin: &[f64]) -> bool {
-    for _ in 0..=GUESS_RETRACTIONS {
+/// returns whether `x` was checked to lie in it (`false` when it was set to `origin`, the step's
+/// start, which is not checked) and how often it was halved.
+fn retract_into_domain(potential: &mut IncrementalPotential, x: &mut [f64], origin: &[f64]) -> (bool, usize) {
+    for halvings in 0..=GUESS_RETRACTIONS {
         if potential.check_state(x).is_ok() {
-            return true;
+            return (true, halvings);
         }
         for (x, o) in x.iter_mut().zip(origin) {
             *x = o + 0.5 * (*x - o);
         }
     }
     x.copy_from_slice(origin);
-    false
+    (false, GUESS_RETRACTIONS + 1)
 }
 
 pub(crate) fn map_error(e: AssemblyError) -> ProblemError {

@@ -97,7 +97,7 @@ impl RunStats {
         self.step_seconds += seconds;
         self.factorisations += cost.factorisations.factorised();
         self.cg_iterations += cost.cg_iterations;
-        self.convergence.record_newton(newton, cost.shifted_iterations);
+        self.convergence.record_newton(newton, cost);
     }
 
     /// Adds an equilibrium of an arc-length path (a step of the path counts as a step; its iterations

@@ -75,6 +75,9 @@ fn sample_summary() -> RunSummary {
             max_relative_residual: 5e-7,
             stagnated_steps: 0,
             shifted_iterations: 3,
+            rejected_iterates: 4,
+            retracted_guesses: 1,
+            free_retries: 0,
         }),
     }
 }

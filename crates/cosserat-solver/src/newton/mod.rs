@@ -47,7 +47,7 @@ pub use convergence::{Convergence, Criterion, Tolerance};
 use evaluation::problem_error;
 pub(crate) use evaluation::{round_off_scale, weighted_max_abs};
 use relaxed::{Relaxed, undo_relaxed};
-pub use report::{FactorisationCounts, NewtonReport, SolveCost};
+pub use report::{DomainCost, FactorisationCounts, NewtonReport, SolveCost};
 pub use settings::{IndefiniteHessian, NewtonSettings};
 
 /// What one solve leaves for the next ([`NewtonSolver::carried`]).
@@ -278,6 +278,11 @@ impl NewtonSolver {
     /// cost.
     pub fn spent(&self) -> SolveCost {
         self.spent
+    }
+
+    /// Adds the domain check's work in a solve to [`Self::spent`].
+    pub(crate) fn spend_on_domain(&mut self, f: impl FnOnce(&mut DomainCost)) {
+        f(&mut self.spent.domain);
     }
 
     /// This solver continuing the sum `spent` of the one it replaces.

@@ -165,6 +165,31 @@ pub struct SolveCost {
     pub linear_solve_seconds: f64,
     /// The part of `linear_solve_seconds` spent in numerical factorisations.
     pub factorisation_seconds: f64,
+    /// What keeping the solutions in the potential's domain cost (time steps and load levels).
+    pub domain: DomainCost,
+}
+
+/// What keeping a solution in the potential's domain (no element turned inside out) cost: the work of
+/// the domain check, counted over solves (see `solve_in_domain`).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct DomainCost {
+    /// Iterates the check turned back, which the line search shortened.
+    pub rejected_iterates: usize,
+    /// Halvings of initial guesses that would have turned an element inside out.
+    pub retracted_guesses: usize,
+    /// Solves repeated with the iterates free after the check blocked the way.
+    pub free_retries: usize,
+}
+
+impl DomainCost {
+    /// The counts since `earlier`, a sum these continue.
+    fn since(&self, earlier: &Self) -> Self {
+        Self {
+            rejected_iterates: self.rejected_iterates - earlier.rejected_iterates,
+            retracted_guesses: self.retracted_guesses - earlier.retracted_guesses,
+            free_retries: self.free_retries - earlier.free_retries,
+        }
+    }
 }
 
 impl SolveCost {
@@ -192,6 +217,7 @@ impl SolveCost {
             evaluation_seconds: self.evaluation_seconds - earlier.evaluation_seconds,
             linear_solve_seconds: self.linear_solve_seconds - earlier.linear_solve_seconds,
             factorisation_seconds: self.factorisation_seconds - earlier.factorisation_seconds,
+            domain: self.domain.since(&earlier.domain),
         }
     }
 }
