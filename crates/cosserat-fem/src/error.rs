@@ -47,6 +47,16 @@ pub enum MeshError {
         /// The number of elements sharing it.
         n_faces: usize,
     },
+    /// Two elements with the same three corners: a doubled triangle. Its edges have two faces each,
+    /// so the edge count alone does not catch it, yet the two faces bound no surface between them and
+    /// would double the triangle's mass and stiffness.
+    #[error("elements {first} and {second} have the same three corners (a doubled triangle)")]
+    DuplicateElement {
+        /// Index of the earlier element.
+        first: usize,
+        /// Index of the later element that repeats its corners.
+        second: usize,
+    },
     /// A field was evaluated at a point outside the reference triangle.
     #[error("element {elem_idx}: point ({}, {}) lies outside the reference triangle", xi[0], xi[1])]
     OutsideReferenceTriangle {

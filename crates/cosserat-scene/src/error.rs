@@ -339,6 +339,20 @@ pub enum ObjError {
         /// The number of faces at the edge.
         n_faces: usize,
     },
+    /// A face with the same three vertices as an earlier one (in any order): a doubled triangle.
+    #[error("`{}` line {line}: face {face} has the same three vertices as face {first} (line {first_line}); a doubled triangle is not a surface", path.display())]
+    DuplicateFace {
+        /// The path.
+        path: PathBuf,
+        /// The line of the later face.
+        line: usize,
+        /// The later face number.
+        face: usize,
+        /// The line of the earlier face.
+        first_line: usize,
+        /// The earlier face number.
+        first: usize,
+    },
     /// Any other mesh defect found by validation.
     #[error("`{}`: {source}", path.display())]
     Mesh {

@@ -597,8 +597,8 @@ fn groups(
         .collect())
 }
 
-/// Degenerate triangles and edges shared by more than two triangles, each reported where `location`
-/// says the triangle is in the file.
+/// Degenerate triangles, edges shared by more than two triangles and doubled triangles, each reported
+/// where `location` says the triangle is in the file.
 pub(crate) fn check_triangles(
     mesh: &Tri3Mesh,
     location: &dyn Fn(usize) -> Location,
@@ -636,6 +636,13 @@ pub(crate) fn check_triangles(
                 ),
             )
         }
+        MeshError::DuplicateElement { first, second } => at(
+            second,
+            format!(
+                "the triangle has the same three corners as the one at {}; a doubled triangle is not a surface",
+                location(first)
+            ),
+        ),
         source => MeshFileError::Mesh {
             path: path.to_path_buf(),
             source,

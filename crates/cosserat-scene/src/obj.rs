@@ -14,8 +14,8 @@
 //! coordinates into several. Each of these changes the mesh a scene refers to (vertex lists in
 //! regions, seams that would become open boundaries), so this reader keeps the file's vertices and
 //! reports problems instead, each with its line:
-//! non-triangle faces, degenerate triangles, unreferenced vertices and edges shared by more than two
-//! faces ([`cosserat_fem::TriMesh::validate`] does the geometric checks).
+//! non-triangle faces, degenerate triangles, unreferenced vertices, edges shared by more than two
+//! faces and faces repeated with the same three vertices ([`cosserat_fem::TriMesh::validate`] does the geometric checks).
 //!
 //! Two things a file may do on purpose are reported as [`ObjMesh::warnings`] rather than refused:
 //! vertices at the same position (an exporter's split along seams: the surface falls apart into
@@ -58,8 +58,8 @@ pub fn read_obj(path: &Path) -> Result<ObjMesh, ObjError> {
 ///
 /// # Errors
 /// [`ObjError::Parse`] for malformed statements or indices, [`ObjError::NonTriangle`],
-/// [`ObjError::Empty`], [`ObjError::DegenerateFace`], [`ObjError::UnreferencedVertex`] and
-/// [`ObjError::NonManifoldEdge`], each with the line concerned.
+/// [`ObjError::Empty`], [`ObjError::DegenerateFace`], [`ObjError::UnreferencedVertex`],
+/// [`ObjError::NonManifoldEdge`] and [`ObjError::DuplicateFace`], each with the line concerned.
 pub fn parse_obj(text: &str, path: &Path) -> Result<ObjMesh, ObjError> {
     let parse_error = |line: usize, reason: String| ObjError::Parse {
         path: path.to_path_buf(),
@@ -254,7 +254,7 @@ fn parse_face<'a>(
 }
 
 impl ObjMesh {
-    /// Degenerate faces, unreferenced vertices and non-manifold edges, in that order.
+    /// Degenerate faces, unreferenced vertices, non-manifold edges and doubled faces, in that order.
     fn check(&self, path: &Path) -> Result<(), ObjError> {
         let path_buf = || path.to_path_buf();
         self.mesh.check_degenerate().map_err(|e| match e {
@@ -292,6 +292,13 @@ impl ObjMesh {
                     n_faces,
                 }
             }
+            MeshError::DuplicateElement { first, second } => ObjError::DuplicateFace {
+                path: path_buf(),
+                line: self.face_lines[second],
+                face: second,
+                first_line: self.face_lines[first],
+                first,
+            },
             source => ObjError::Mesh {
                 path: path_buf(),
                 source,

@@ -1,4 +1,5 @@
-//! Mesh validation: finite coordinates, non-degenerate elements, no unreferenced nodes, manifold edges.
+//! Mesh validation: finite coordinates, non-degenerate elements, no unreferenced nodes, manifold edges
+//! and no doubled elements.
 //!
 //! A simulation must never start from a mesh that would produce a singular metric (and hence NaN) at
 //! some quadrature point, so every element is checked at its nodes and at the quadrature points of
@@ -11,6 +12,7 @@ use crate::error::MeshError;
 use crate::quadrature::QuadratureRule;
 use cosserat_geometry::surface::SurfaceMetric;
 use nalgebra::Vector3;
+use std::collections::HashMap;
 
 impl<const N: usize> TriMesh<N> {
     /// Checks that every node coordinate is finite.
@@ -43,14 +45,32 @@ impl<const N: usize> TriMesh<N> {
         }
     }
 
-    /// Checks that no edge (between corner nodes) is shared by more than two elements.
+    /// Checks that no edge (between corner nodes) is shared by more than two elements, and that no two
+    /// elements have the same corners: a doubled triangle passes the edge count (each of its edges has
+    /// two faces) but is no surface.
     ///
     /// # Errors
-    /// [`MeshError::NonManifoldEdge`] for the first such edge, and
+    /// [`MeshError::NonManifoldEdge`] for the first such edge, [`MeshError::DuplicateElement`] for the
+    /// first element that repeats the corners of an earlier one, and
     /// [`MeshError::NodeIndexOutOfRange`] if an element refers to a missing node.
     pub fn check_manifold_edges(&self) -> Result<(), MeshError> {
         self.check_indices()?;
-        Topology::new(self).check_manifold_edges()
+        Topology::new(self).check_manifold_edges()?;
+        self.check_duplicate_elements()
+    }
+
+    /// The first element whose corner set (in any order or orientation) an earlier element has.
+    fn check_duplicate_elements(&self) -> Result<(), MeshError> {
+        let mut seen: HashMap<[usize; 3], usize> = HashMap::with_capacity(self.n_elements());
+        for second in 0..self.n_elements() {
+            let mut corners = self.element_corners(second);
+            corners.sort_unstable();
+            if let Some(&first) = seen.get(&corners) {
+                return Err(MeshError::DuplicateElement { first, second });
+            }
+            seen.insert(corners, second);
+        }
+        Ok(())
     }
 }
 

@@ -82,6 +82,31 @@ fn a_non_manifold_edge_is_rejected_with_the_line_of_the_third_face() {
 }
 
 #[test]
+fn a_doubled_triangle_is_rejected_with_both_lines() {
+    // The second face repeats the first (reversed): each edge has two faces, yet there is no surface.
+    let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nf 1 2 3\nf 3 2 1\n";
+    let err = parse_obj(text, Path::new("doubled.obj")).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ObjError::DuplicateFace {
+                line: 5,
+                face: 1,
+                first_line: 4,
+                first: 0,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(
+        err.to_string()
+            .starts_with("`doubled.obj` line 5: face 1 has the same three vertices as face 0 (line 4)"),
+        "{err}"
+    );
+}
+
+#[test]
 fn an_unreferenced_vertex_is_rejected_with_its_line() {
     let err = read_obj(&data("unreferenced_vertex.obj")).unwrap_err();
     assert!(

@@ -89,6 +89,10 @@ fn bad_ply_files_name_the_line_or_face() {
     let (at, reason) = parse_error(text.replace("3 0 2 3", "3 0 2 9").as_bytes());
     assert_eq!(at, Location::Line(18));
     assert!(reason.contains("vertex 9"), "{reason}");
+    // The second face repeating the first, reversed: a doubled triangle.
+    let (at, reason) = parse_error(text.replace("3 0 2 3", "3 2 1 0").as_bytes());
+    assert_eq!(at, Location::Line(18));
+    assert!(reason.contains("same three corners as the one at line 17"), "{reason}");
     let (at, reason) = parse_error(text.replace("1 1 0 255", "1 x 0 255").as_bytes());
     assert_eq!((at, reason.as_str()), (Location::Line(15), "`x` is not a number"));
     let b = binary(false);

@@ -115,6 +115,27 @@ fn non_manifold_edges_are_reported() {
 }
 
 #[test]
+fn doubled_elements_are_reported() {
+    // A separate triangle beside the strip, then the same triangle again, once in the same order and
+    // once reversed: each of its edges has two faces, so only the corner sets tell.
+    let extra = [
+        Vector3::new(5.0, 0.0, 0.0),
+        Vector3::new(6.0, 0.0, 0.0),
+        Vector3::new(5.0, 1.0, 0.0),
+    ];
+    for doubled in [[6, 7, 8], [8, 7, 6]] {
+        let mut mesh = strip_with(0, [0, 2, 3], &extra);
+        mesh.elements.push([6, 7, 8]);
+        mesh.validate().unwrap();
+        mesh.elements.push(doubled);
+        let expected = MeshError::DuplicateElement { first: 4, second: 5 };
+        assert_eq!(mesh.validate(), Err(expected.clone()));
+        assert_eq!(mesh.check_manifold_edges(), Err(expected.clone()));
+        assert_eq!(mesh.to_tri6().validate(), Err(expected));
+    }
+}
+
+#[test]
 fn non_finite_coordinates_are_reported() {
     let mut mesh = strip_with(0, [0, 2, 3], &[]);
     mesh.nodes[4].y = f64::NAN;
