@@ -234,6 +234,19 @@ pub enum ExprError {
         /// Where (time and/or position, or "a constant part").
         at: String,
     },
+    /// A part of a region predicate is infinite or NaN at a node, although the comparison around it
+    /// gives 0 or 1.
+    #[error(
+        "`{expression}`: a part of it is {value} at {at} (a division by zero, or a function outside its domain), so whether the node is selected is not defined"
+    )]
+    NonFiniteOperand {
+        /// The expression.
+        expression: String,
+        /// The first infinite or NaN value met.
+        value: f64,
+        /// The position.
+        at: String,
+    },
     /// A region predicate evaluates to something other than 0 or 1.
     #[error("`{expression}` evaluates to {value} at {at}; a predicate must be true (1) or false (0), e.g. `x <= 0.1`")]
     NotBoolean {

@@ -322,6 +322,12 @@ impl Expr {
         self.program.eval(vars, &[], &self.functions)
     }
 
+    /// The value as [`Expr::eval`], or `Err` with the first value along the way that is infinite or
+    /// NaN (see [`Predicate::test`] for why the result alone does not tell).
+    pub fn eval_finite(&self, vars: &[f64]) -> Result<f64, f64> {
+        self.program.eval_finite(vars, &[], &self.functions)
+    }
+
     /// The source text.
     pub fn text(&self) -> &str {
         &self.text
@@ -348,10 +354,23 @@ pub struct Predicate {
 impl Predicate {
     /// Whether the point satisfies the predicate.
     ///
+    /// Every value along the way must be finite: a comparison turns an infinite or NaN operand into a
+    /// plain 0 or 1, so `x / 0 > 1` would otherwise select the nodes at positive `x` without a word.
+    ///
     /// # Errors
-    /// [`ExprError::NotBoolean`] if the value is neither 0 nor 1 (e.g. `"x + 0.05"`, a NaN).
+    /// [`ExprError::NonFiniteOperand`] if a value along the way is infinite or NaN (a division by
+    /// zero, `sqrt` or `ln` of a negative number), [`ExprError::NotBoolean`] if the value is neither 0
+    /// nor 1 (e.g. `"x + 0.05"`).
     pub fn test(&self, p: &Vector3<f64>) -> Result<bool, ExprError> {
-        let v = self.expr.eval(&[p.x, p.y, p.z]);
+        let at = || format!("({}, {}, {})", p.x, p.y, p.z);
+        let v = self
+            .expr
+            .eval_finite(&[p.x, p.y, p.z])
+            .map_err(|value| ExprError::NonFiniteOperand {
+                expression: self.expr.text.clone(),
+                value,
+                at: at(),
+            })?;
         if v == 1.0 {
             Ok(true)
         } else if v == 0.0 {
@@ -360,7 +379,7 @@ impl Predicate {
             Err(ExprError::NotBoolean {
                 expression: self.expr.text.clone(),
                 value: v,
-                at: format!("({}, {}, {})", p.x, p.y, p.z),
+                at: at(),
             })
         }
     }

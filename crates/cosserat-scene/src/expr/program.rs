@@ -40,14 +40,35 @@ impl Program {
     /// The value for scene variables `vars` and function arguments `params`; `functions` are the
     /// programs of the user functions that `Call` operations name.
     pub(super) fn eval(&self, vars: &[f64], params: &[f64], functions: &[Program]) -> f64 {
-        if self.depth <= INLINE_STACK {
-            self.run(&mut [0.0; INLINE_STACK], vars, params, functions)
-        } else {
-            self.run(&mut vec![0.0; self.depth], vars, params, functions)
+        match self.eval_with::<false>(vars, params, functions) {
+            Ok(v) | Err(v) => v,
         }
     }
 
-    fn run(&self, stack: &mut [f64], vars: &[f64], params: &[f64], functions: &[Program]) -> f64 {
+    /// The value as [`Program::eval`], or `Err` with the first value along the way (an operand,
+    /// a function's result, the result itself) that is infinite or NaN. A comparison or a logical
+    /// operator turns such an operand into a plain 0 or 1, so only the values along the way show that
+    /// `x / 0 > 1` or `sqrt(x) < 1` at negative `x` has no meaningful answer.
+    pub(super) fn eval_finite(&self, vars: &[f64], params: &[f64], functions: &[Program]) -> Result<f64, f64> {
+        self.eval_with::<true>(vars, params, functions)
+    }
+
+    fn eval_with<const CHECK: bool>(&self, vars: &[f64], params: &[f64], functions: &[Program]) -> Result<f64, f64> {
+        if self.depth <= INLINE_STACK {
+            self.run::<CHECK>(&mut [0.0; INLINE_STACK], vars, params, functions)
+        } else {
+            self.run::<CHECK>(&mut vec![0.0; self.depth], vars, params, functions)
+        }
+    }
+
+    /// Runs the operations; with `CHECK`, stops at the first value that is not finite.
+    fn run<const CHECK: bool>(
+        &self,
+        stack: &mut [f64],
+        vars: &[f64],
+        params: &[f64],
+        functions: &[Program],
+    ) -> Result<f64, f64> {
         let mut top = 0;
         for op in &self.ops {
             match *op {
@@ -73,12 +94,15 @@ impl Program {
                     top -= n_args;
                     args[..n_args].copy_from_slice(&stack[top..top + n_args]);
                     // Bodies use their parameters only, never the scene variables.
-                    stack[top] = functions[index].eval(&[], &args[..n_args], functions);
+                    stack[top] = functions[index].eval_with::<CHECK>(&[], &args[..n_args], functions)?;
                     top += 1;
                 }
             }
+            if CHECK && !stack[top - 1].is_finite() {
+                return Err(stack[top - 1]);
+            }
         }
-        stack[0]
+        Ok(stack[0])
     }
 }
 

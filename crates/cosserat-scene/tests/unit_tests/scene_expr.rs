@@ -172,6 +172,27 @@ fn predicates_must_be_boolean() {
 }
 
 #[test]
+fn predicates_refuse_infinite_or_nan_parts() {
+    // The comparisons give 0 or 1 everywhere, but their operands are not numbers at some nodes: the
+    // first would silently select the nodes at positive x, the second none at negative x.
+    let mut ctx = ExprContext::new();
+    ctx.define("inv", &["u".into()], "1 / u").unwrap();
+    for (text, at) in [
+        ("x / 0 > 1", Vector3::new(0.5, 0.0, 0.0)),
+        ("sqrt(x) < 1 || y > 0", Vector3::new(-0.5, 0.0, 0.0)),
+        ("inv(x) > 0", Vector3::new(0.0, 1.0, 0.0)),
+    ] {
+        let p = ctx.predicate(text).unwrap();
+        let err = p.test(&at).unwrap_err();
+        assert!(matches!(err, ExprError::NonFiniteOperand { .. }), "{text}: {err:?}");
+        assert!(err.to_string().contains("division by zero"), "{err}");
+    }
+    // Finite operands everywhere: unchanged.
+    let p = ctx.predicate("x / 2 > 0.1 && sqrt(abs(y)) < 1").unwrap();
+    assert!(p.test(&Vector3::new(0.5, -0.25, 0.0)).unwrap());
+}
+
+#[test]
 fn pathological_nesting_is_an_error_not_a_stack_overflow() {
     let deep = format!("{}t{}", "(".repeat(10_000), ")".repeat(10_000));
     let err = ExprContext::new().compile(&deep, &["t"]).unwrap_err();
