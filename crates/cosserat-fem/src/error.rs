@@ -18,7 +18,7 @@ pub enum MeshError {
     },
     /// An element has (numerically) zero area: coincident or collinear nodes, or a curved element
     /// whose area element vanishes or changes sign somewhere.
-    #[error("element {elem_idx} is degenerate (area {area:e}): its nodes are coincident or collinear")]
+    #[error("element {elem_idx} is degenerate (area {area:e}): {}", degenerate_cause(*area, "nodes"))]
     DegenerateElement {
         /// Index of the element.
         elem_idx: usize,
@@ -89,4 +89,19 @@ pub enum MeshError {
         /// The operation.
         operation: &'static str,
     },
+}
+
+/// Why an element of this area (or worst area element) is degenerate, naming its points `nodes`
+/// ("nodes", "vertices", "corners"): coincident or collinear points, unless the area is not finite,
+/// which only coordinates too large to multiply give (their products overflow), and saying
+/// "collinear" there would send the reader looking for a defect the mesh does not have.
+pub fn degenerate_cause(area: f64, nodes: &str) -> String {
+    if area.is_finite() {
+        format!("its {nodes} are coincident or collinear")
+    } else {
+        format!(
+            "its area overflows to {area}: its {nodes} lie too far apart or too far from the origin (coordinates beyond \
+             about 1e150 cannot be multiplied in double precision); use smaller units or a transform scale"
+        )
+    }
 }

@@ -317,7 +317,7 @@ pub enum ObjError {
         path: PathBuf,
     },
     /// A degenerate face.
-    #[error("`{}` line {line}: face {face} is degenerate (area {area:e}): its vertices are coincident or collinear", path.display())]
+    #[error("`{}` line {line}: face {face} is degenerate (area {area:e}): {}", path.display(), cosserat_fem::error::degenerate_cause(*area, "vertices"))]
     DegenerateFace {
         /// The path.
         path: PathBuf,

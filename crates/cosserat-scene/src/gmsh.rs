@@ -612,7 +612,10 @@ pub(crate) fn check_triangles(
     mesh.check_degenerate().map_err(|e| match e {
         MeshError::DegenerateElement { elem_idx, area } => at(
             elem_idx,
-            format!("the triangle is degenerate (area {area:e}): its corners are coincident or collinear"),
+            format!(
+                "the triangle is degenerate (area {area:e}): {}",
+                cosserat_fem::error::degenerate_cause(area, "corners")
+            ),
         ),
         source => MeshFileError::Mesh {
             path: path.to_path_buf(),

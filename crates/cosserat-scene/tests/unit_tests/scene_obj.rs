@@ -64,6 +64,21 @@ fn a_degenerate_triangle_is_rejected_with_its_line() {
 }
 
 #[test]
+fn a_triangle_too_large_for_its_area_is_not_called_collinear() {
+    let text = "v 1e300 0 0\nv 0 1e300 0\nv -1e300 -1e300 0\nf 1 2 3\n";
+    let err = parse_obj(text, Path::new("huge.obj")).unwrap_err();
+    assert!(
+        matches!(err, ObjError::DegenerateFace { line: 4, face: 0, .. }),
+        "{err:?}"
+    );
+    let message = err.to_string();
+    assert!(
+        message.contains("overflows") && !message.contains("collinear"),
+        "{message}"
+    );
+}
+
+#[test]
 fn a_non_manifold_edge_is_rejected_with_the_line_of_the_third_face() {
     let err = read_obj(&data("nonmanifold_edge.obj")).unwrap_err();
     assert!(

@@ -53,6 +53,27 @@ fn coincident_nodes_are_degenerate() {
 }
 
 #[test]
+fn an_element_whose_area_overflows_is_not_called_collinear() {
+    // A proper triangle, but its edge vectors' cross product exceeds the largest double.
+    let nodes = vec![
+        Vector3::new(1e300, 0.0, 0.0),
+        Vector3::new(0.0, 1e300, 0.0),
+        Vector3::new(-1e300, -1e300, 0.0),
+    ];
+    let mesh = Tri3Mesh::try_new(nodes, vec![[0, 1, 2]]).unwrap();
+    let err = mesh.check_degenerate().unwrap_err();
+    assert!(
+        matches!(err, MeshError::DegenerateElement { elem_idx: 0, area } if area.is_infinite()),
+        "{err:?}"
+    );
+    let message = err.to_string();
+    assert!(
+        message.contains("overflows") && !message.contains("collinear"),
+        "{message}"
+    );
+}
+
+#[test]
 fn a_tiny_but_proper_element_is_not_degenerate() {
     let nodes = vec![
         Vector3::zeros(),
