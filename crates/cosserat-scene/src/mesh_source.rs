@@ -742,7 +742,16 @@ fn icosphere_cap(radius: f64, frequency: usize, min_z: f64) -> Result<GeneratedM
         mesh: sphere,
         surface: Surface::Sphere { radius },
     };
+    // The faces around the pole reach down to below `radius`; a `min_z` above all of them keeps
+    // nothing, which `retain_faces` can only report as an empty result, not as this parameter.
     cap.retain_faces(|_, x| x.iter().all(|p| p.z >= min_z))
+        .map_err(|_| MeshError::InvalidParameter {
+            generator: NAME,
+            parameter: "min_z",
+            value: min_z,
+            reason: "keeps no triangle: every triangle has a corner below it (it must lie below the radius, by at \
+                     least the height of the triangles around the pole at this frequency)",
+        })
 }
 
 /// The class-I geodesic sphere of the given frequency, a vertex at the north pole and a neighbour of

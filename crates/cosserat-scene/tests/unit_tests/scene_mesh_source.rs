@@ -1,6 +1,7 @@
 //! The mesh pipeline: generators, OBJ input, refinement, projections, transforms, initial positions.
 
 use cosserat_assembly::ElementPair;
+use cosserat_fem::MeshError;
 use cosserat_fem::mesh::Topology;
 use cosserat_scene::error::MeshSourceError;
 use cosserat_scene::mesh_source::{
@@ -44,6 +45,24 @@ fn icosphere_cap_reproduces_the_buckling_circles_input_mesh() {
     assert!(tri6.nodes.iter().all(|p| (p.norm() - 1.0).abs() < 1e-14));
     assert!(corners.nodes.iter().all(|p| p.z >= 0.25));
     assert!(corners.nodes.iter().any(|p| (p - Vector3::z()).norm() < 1e-14));
+}
+
+#[test]
+fn an_icosphere_cap_above_every_triangle_names_min_z() {
+    let cap = Generator::IcosphereCap {
+        radius: 1.0,
+        frequency: 4,
+        min_z: 2.0,
+    };
+    let err = build_mesh(&recipe(MeshSource::Generator(cap), ElementPair::Tri6Tri3)).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            MeshSourceError::Generator(MeshError::InvalidParameter { parameter: "min_z", .. })
+        ),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("keeps no triangle"), "{err}");
 }
 
 #[test]
