@@ -22,7 +22,7 @@
 //!
 //! The result is validated (no degenerate or folded element) before it is returned.
 
-use crate::error::MeshSourceError;
+use crate::error::{MeshSourceError, ObjError};
 use crate::gmsh::{MeshGroup, read_gmsh};
 use crate::obj::read_obj;
 use crate::ply::read_ply;
@@ -479,7 +479,7 @@ fn source_mesh(
         MeshSource::Obj(path) => {
             let mut obj = read_obj(path).map_err(MeshSourceError::Obj)?;
             if let Some(tolerance) = recipe.weld {
-                obj = obj.welded(tolerance, path).map_err(MeshSourceError::Obj)?.0;
+                obj = obj.welded(tolerance, path).map_err(|e| weld_error(tolerance, e))?.0;
             }
             warnings = obj.warnings(path);
             let mut corners: Tri3Mesh = obj.mesh;
@@ -697,6 +697,16 @@ fn apply_transform(mesh: &mut ShellMesh, transform: &Transform) -> Result<(), Me
     };
     let map = |x: &Vector3<f64>| (transform.rotation * x - center) * scale + transform.translation;
     map_nodes(mesh, |x, _| Ok(map(x)))
+}
+
+/// A failure of welding, which the file passed without it: the weld distance is the field to
+/// change (a distance larger than a face collapses it), so the error names `weld`, with the file's
+/// own message.
+fn weld_error(tolerance: f64, error: ObjError) -> MeshSourceError {
+    MeshSourceError::Invalid {
+        step: "weld",
+        reason: format!("merging the vertices closer than {tolerance:e} m breaks the mesh: {error}"),
+    }
 }
 
 /// The axis-aligned bounding box of a non-empty point set.

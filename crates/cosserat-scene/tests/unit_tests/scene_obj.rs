@@ -227,4 +227,12 @@ fn a_scene_welds_when_asked_and_warns_when_not() {
     assert_eq!(spec.shells[0].mesh.corners.n_nodes(), 6);
     let err = cosserat_scene::spec::SceneSpec::from_str(&scene("weld = -1.0"), "w.toml", &dir, &[]).unwrap_err();
     assert_eq!(err.to_string(), "w.toml:7: mesh.weld: must be positive (got -1)");
+    // A distance longer than the faces collapses them: the weld is at fault, not the file.
+    let err = cosserat_scene::spec::SceneSpec::from_str(&scene("weld = 10.0"), "w.toml", &dir, &[]).unwrap_err();
+    assert_eq!(err.field(), Some("mesh.weld"), "{err}");
+    assert!(
+        err.to_string()
+            .starts_with("w.toml:7: mesh.weld: merging the vertices closer than 1e1 m breaks the mesh: `"),
+        "{err}"
+    );
 }
