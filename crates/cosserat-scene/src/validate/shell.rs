@@ -604,7 +604,51 @@ impl Ctx<'_> {
             }
             other => self.invalid(p, other.to_string()),
         })?;
+        self.stiffness_scales(p, &params)?;
         Ok(params)
+    }
+
+    /// Checks that the stiffnesses and the mass the energy is made of are finite and, where the
+    /// model needs them, not zero. Each parameter may be in range while a product overflows or
+    /// underflows (`h = 1e100` gives `h³ = 1e300`, times `E` infinite; `h = 1e-200` gives `h³ = 0`):
+    /// the run would then stop in its first step with a non-finite energy or a singular matrix and
+    /// no word of which value is at fault.
+    fn stiffness_scales(&self, p: &str, params: &MaterialParameters) -> Result<(), SceneError> {
+        let (e, h, rho) = (params.youngs_modulus, params.thickness, params.density);
+        let scales = [
+            ("thickness", "the membrane stiffness E·h", e * h, true),
+            (
+                "thickness",
+                "the plate bending stiffness E·h³/(12(1 − ν²))",
+                params.plate_bending_stiffness(),
+                true,
+            ),
+            (
+                "length_scale",
+                "the curvature stiffness h·μ·L_c²·(b₁ + b₂)",
+                params.curvature_stiffness(),
+                false,
+            ),
+            ("density", "the mass per area ρ·h", rho * h, true),
+        ];
+        for (key, what, value, needs_positive) in scales {
+            let problem = if !value.is_finite() {
+                "overflows"
+            } else if needs_positive && value == 0.0 {
+                "underflows to zero"
+            } else {
+                continue;
+            };
+            return Err(self.invalid(
+                &format!("{p}.{key}"),
+                format!(
+                    "{what} {problem} in double precision (E = {e:e} Pa, h = {h:e} m, L_c = {:e} m, ρ = {rho:e} \
+                     kg/m³); choose units in which these values are nearer to 1",
+                    params.length_scale
+                ),
+            ));
+        }
+        Ok(())
     }
 
     /// The model's options (plate or shell, curved terms, volume term, axl) and the rest-state

@@ -197,6 +197,43 @@ fn poisson_ratios_at_either_bound_are_rejected_for_that_bound() {
 }
 
 #[test]
+fn material_values_whose_products_overflow_or_underflow_are_rejected() {
+    // Each value alone is finite and positive; the stiffness or mass made of it is not.
+    let cases = [
+        (
+            "thickness = 1e-3",
+            "thickness = 1e303",
+            "material.thickness",
+            "the membrane stiffness E·h overflows",
+        ),
+        (
+            "thickness = 1e-3",
+            "thickness = 1e-200",
+            "material.thickness",
+            "the plate bending stiffness E·h³/(12(1 − ν²)) underflows to zero",
+        ),
+        (
+            "length_scale = 1e-6",
+            "length_scale = 1e200",
+            "material.length_scale",
+            "the curvature stiffness h·μ·L_c²·(b₁ + b₂) overflows",
+        ),
+        (
+            "density = 1000.0",
+            "density = 1e-322",
+            "material.density",
+            "the mass per area ρ·h underflows to zero",
+        ),
+    ];
+    for (from, to, field, reason) in cases {
+        let text = scene(&[(from, to)]);
+        let err = SceneSpec::from_str(&text, "scene.toml", &data_dir(), &[]).unwrap_err();
+        assert_eq!(err.field(), Some(field), "{to}: {err}");
+        assert!(err.to_string().contains(reason), "{to}: {err}");
+    }
+}
+
+#[test]
 fn expressions_are_checked_where_they_are_written() {
     assert_eq!(
         message(&[("scale = \"ramp(t, 0, 1)\"", "scale = \"ramp(t, 0, 1\"")], &[]),
