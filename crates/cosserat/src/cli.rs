@@ -123,10 +123,29 @@ where
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", error_chain(&e));
             1
         }
     }
+}
+
+/// The messages of an error and its causes, joined by `: ` as `{:#}` does, leaving out a cause whose
+/// message the text before already holds: the output layer's errors quote their cause in their own
+/// message and return it as `source()` too, which `{:#}` printed twice
+/// (`cannot create the directory `x`: File exists (os error 17): File exists (os error 17)`).
+pub fn error_chain(error: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in error.chain() {
+        let message = cause.to_string();
+        if text.contains(&message) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&message);
+    }
+    text
 }
 
 /// Executes a parsed command; returns the exit code (1 if the run ended with an error status).

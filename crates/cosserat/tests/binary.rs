@@ -315,3 +315,22 @@ fn a_finished_run_names_its_discretisation() {
         "{default}"
     );
 }
+
+#[test]
+fn an_output_folder_that_is_a_file_is_named_with_its_cause_once() {
+    let d = folder("out_is_a_file");
+    let quick = "[time]\nmode = \"quasi_static\"\nn_levels = 1\n";
+    std::fs::write(d.join("scene.toml"), format!("{STRIP}{quick}")).unwrap();
+    std::fs::write(d.join("taken"), "").unwrap();
+    let output = start(&d, &["run", "scene.toml", "--out", "taken", "--quiet"])
+        .wait_with_output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("cannot create the directory `taken`"), "{stderr}");
+    assert_eq!(
+        stderr.matches("os error").count(),
+        1,
+        "the cause is printed once: {stderr}"
+    );
+}
