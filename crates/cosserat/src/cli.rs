@@ -186,7 +186,9 @@ pub fn run_scene(args: &RunArgs) -> anyhow::Result<i32> {
     let name = spec.name.clone();
     let mut sim = match Simulation::with_memory_limit(spec, limit) {
         Ok(sim) => sim,
-        Err(e) => return setup_failed(&dir, &name, &e.to_string()),
+        // The scene passed validation, so the message comes from building the simulation (contact
+        // bodies that start in contact, a system too large for the memory) and names no file.
+        Err(e) => return setup_failed(&dir, &name, &format!("{}: {e}", args.scene.display())),
     };
     sim.set_scene_origin(SceneOrigin {
         path: std::path::absolute(&args.scene).unwrap_or_else(|_| args.scene.clone()),

@@ -334,3 +334,27 @@ fn an_output_folder_that_is_a_file_is_named_with_its_cause_once() {
         "the cause is printed once: {stderr}"
     );
 }
+
+#[test]
+fn a_scene_that_cannot_be_set_up_names_its_file() {
+    let d = folder("setup_failure");
+    // Valid, but the strip's own triangles start closer than a contact thickness of 1 m.
+    let contact = "[time]\nmode = \"quasi_static\"\nn_levels = 1\n\
+                   [contact]\nstiffness = 1.0\nbarrier_width = 1e-3\nthickness = 1.0\n";
+    std::fs::write(d.join("scene.toml"), format!("{STRIP}{contact}")).unwrap();
+    let output = start(&d, &["run", "scene.toml", "--out", "out", "--quiet"])
+        .wait_with_output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(
+        stderr.starts_with("error: scene.toml: contact: the initial state has a pair of contact primitives"),
+        "{stderr}"
+    );
+    let summary = read_summary(&d.join("out/summary.json")).unwrap();
+    assert!(
+        summary.reason.as_deref().is_some_and(|r| r.starts_with("scene.toml: contact:")),
+        "{:?}",
+        summary.reason
+    );
+}
