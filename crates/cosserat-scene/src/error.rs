@@ -140,6 +140,24 @@ pub enum SceneError {
     },
 }
 
+/// A number as messages show it: plain where that stays short, scientific notation elsewhere, so
+/// that a value of `1e300` or `1e-300` is not written out in hundreds of digits (Rust's `Display` of
+/// `f64` never switches to an exponent). Both forms are the shortest text that reads back as the
+/// same value, as with `Display`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Num(pub f64);
+
+impl fmt::Display for Num {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let x = self.0;
+        if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
+            write!(f, "{x}")
+        } else {
+            write!(f, "{x:e}")
+        }
+    }
+}
+
 /// `"field: "`, or nothing for the top level.
 fn field_prefix(field: &str) -> String {
     if field.is_empty() {
@@ -225,7 +243,7 @@ pub enum ExprError {
         reason: String,
     },
     /// The expression evaluates to an infinite or NaN value.
-    #[error("`{expression}` evaluates to {value} at {at}")]
+    #[error("`{expression}` evaluates to {} at {at}", Num(*value))]
     NonFinite {
         /// The expression.
         expression: String,
@@ -237,7 +255,7 @@ pub enum ExprError {
     /// A part of a region predicate is infinite or NaN at a node, although the comparison around it
     /// gives 0 or 1.
     #[error(
-        "`{expression}`: a part of it is {value} at {at} (a division by zero, or a function outside its domain), so whether the node is selected is not defined"
+        "`{expression}`: a part of it is {} at {at} (a division by zero, or a function outside its domain), so whether the node is selected is not defined", Num(*value)
     )]
     NonFiniteOperand {
         /// The expression.
@@ -248,7 +266,7 @@ pub enum ExprError {
         at: String,
     },
     /// A region predicate evaluates to something other than 0 or 1.
-    #[error("`{expression}` evaluates to {value} at {at}; a predicate must be true (1) or false (0), e.g. `x <= 0.1`")]
+    #[error("`{expression}` evaluates to {} at {at}; a predicate must be true (1) or false (0), e.g. `x <= 0.1`", Num(*value))]
     NotBoolean {
         /// The expression.
         expression: String,
@@ -459,7 +477,7 @@ pub enum RegionError {
         n_loops: usize,
     },
     /// A point farther from the mesh than its bounding box (grown by 1 % of its diagonal).
-    #[error("the point ({}, {}, {}) lies outside the bounding box of shell `{shell}` ([{}, {}] × [{}, {}] × [{}, {}], grown by 1 % of its diagonal)", point[0], point[1], point[2], min[0], max[0], min[1], max[1], min[2], max[2])]
+    #[error("the point ({}, {}, {}) lies outside the bounding box of shell `{shell}` ([{}, {}] × [{}, {}] × [{}, {}], grown by 1 % of its diagonal)", Num(point[0]), Num(point[1]), Num(point[2]), Num(min[0]), Num(max[0]), Num(min[1]), Num(max[1]), Num(min[2]), Num(max[2]))]
     PointOutsideMesh {
         /// The point.
         point: [f64; 3],

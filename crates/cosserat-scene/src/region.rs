@@ -21,7 +21,7 @@
 //!   its diagonal, so a mistyped point is reported instead of snapping to a far node;
 //! - [`Region::All`]: every node.
 
-use crate::error::RegionError;
+use crate::error::{Num, RegionError};
 use crate::expr::Predicate;
 use crate::gmsh::MeshGroup;
 use crate::mesh_source::{bounding_box, tri6_edge_nodes};
@@ -323,7 +323,7 @@ pub struct Selected {
 impl Region {
     /// A short description for messages, e.g. `box centre (0, 0, 0) size (1, 1, 1)`.
     pub fn describe(&self) -> String {
-        let v = |p: &Vector3<f64>| format!("({}, {}, {})", p.x, p.y, p.z);
+        let v = |p: &Vector3<f64>| format!("({}, {}, {})", Num(p.x), Num(p.y), Num(p.z));
         match self {
             Region::Box { center, size } => format!("box centre {} size {}", v(center), v(size)),
             Region::Predicate(p) => format!("predicate `{}`", p.text()),

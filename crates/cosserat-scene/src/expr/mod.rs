@@ -39,7 +39,7 @@ mod ops;
 mod parse;
 mod program;
 
-use crate::error::ExprError;
+use crate::error::{ExprError, Num};
 use crate::spec::{FieldFunction, TimeFunction};
 use nalgebra::Vector3;
 use ops::Node;
@@ -362,7 +362,7 @@ impl Predicate {
     /// zero, `sqrt` or `ln` of a negative number), [`ExprError::NotBoolean`] if the value is neither 0
     /// nor 1 (e.g. `"x + 0.05"`).
     pub fn test(&self, p: &Vector3<f64>) -> Result<bool, ExprError> {
-        let at = || format!("({}, {}, {})", p.x, p.y, p.z);
+        let at = || format!("({}, {}, {})", Num(p.x), Num(p.y), Num(p.z));
         let v = self
             .expr
             .eval_finite(&[p.x, p.y, p.z])

@@ -4,7 +4,7 @@
 
 use super::Ctx;
 use super::shell::ValidShell;
-use crate::error::SceneError;
+use crate::error::{Num, SceneError};
 use crate::schema::{ContactSection, ObstacleSection};
 use crate::spec::{ContactBody, ContactSpec, ContactSurfaceSpec, FrictionSpec, ObstacleSpec, SurfaceMesh};
 
@@ -26,7 +26,7 @@ impl Ctx<'_> {
         if !(min_gap_fraction > 0.0 && min_gap_fraction < 1.0) {
             return Err(self.invalid(
                 "contact.min_gap_fraction",
-                format!("must lie in (0, 1) (got {min_gap_fraction})"),
+                format!("must lie in (0, 1) (got {})", Num(min_gap_fraction)),
             ));
         }
         let surfaces = self.contact_surfaces(c, shells, default_thickness)?;

@@ -21,7 +21,7 @@ mod shell;
 mod source;
 mod time;
 
-use crate::error::{ExprError, Location, SceneError};
+use crate::error::{ExprError, Location, Num, SceneError};
 use crate::expr::ExprContext;
 use crate::mesh_source::ElementBudget;
 use crate::overrides::{self, Override};
@@ -286,7 +286,7 @@ impl Ctx<'_> {
         if value.is_finite() && value > 0.0 {
             Ok(value)
         } else {
-            Err(self.invalid(field, format!("must be positive (got {value})")))
+            Err(self.invalid(field, format!("must be positive (got {})", Num(value))))
         }
     }
 
@@ -294,7 +294,7 @@ impl Ctx<'_> {
         if value.is_finite() && value >= 0.0 {
             Ok(value)
         } else {
-            Err(self.invalid(field, format!("must be finite and non-negative (got {value})")))
+            Err(self.invalid(field, format!("must be finite and non-negative (got {})", Num(value))))
         }
     }
 
@@ -327,7 +327,7 @@ impl Ctx<'_> {
             if !step.degrees.is_finite() {
                 return Err(self.invalid(
                     &format!("{field}.{k}.degrees"),
-                    format!("must be finite (got {})", step.degrees),
+                    format!("must be finite (got {})", Num(step.degrees)),
                 ));
             }
             r = Rotation3::from_axis_angle(&axis, step.degrees.to_radians()).into_inner() * r;
@@ -340,7 +340,7 @@ impl Ctx<'_> {
         let f = match value {
             ExprValue::Number(v) => {
                 if !v.is_finite() {
-                    return Err(self.invalid(field, format!("must be finite (got {v})")));
+                    return Err(self.invalid(field, format!("must be finite (got {})", Num(*v))));
                 }
                 return Ok(TimeFunction::constant(*v));
             }
@@ -354,7 +354,7 @@ impl Ctx<'_> {
                     ExprError::NonFinite {
                         expression: f.description().to_string(),
                         value: v,
-                        at: format!("t = {t}"),
+                        at: format!("t = {}", Num(t)),
                     },
                 ));
             }
@@ -373,7 +373,7 @@ impl Ctx<'_> {
         let f = match value {
             ExprValue::Number(v) => {
                 if !v.is_finite() {
-                    return Err(self.invalid(field, format!("must be finite (got {v})")));
+                    return Err(self.invalid(field, format!("must be finite (got {})", Num(*v))));
                 }
                 let v = *v;
                 return Ok(FieldFunction::new(format!("{v}"), false, move |_, _| v));
@@ -400,7 +400,7 @@ impl Ctx<'_> {
                         ExprError::NonFinite {
                             expression: f.description().to_string(),
                             value: v,
-                            at: format!("t = {t}, (x, y, z) = ({}, {}, {})", p.x, p.y, p.z),
+                            at: format!("t = {}, (x, y, z) = ({}, {}, {})", Num(t), Num(p.x), Num(p.y), Num(p.z)),
                         },
                     ));
                 }

@@ -2,7 +2,7 @@
 //! section (generator parameters, OBJ path, shaping steps) and each material.
 
 use super::Ctx;
-use crate::error::{MeshSourceError, SceneError};
+use crate::error::{MeshSourceError, Num, SceneError};
 use crate::mesh_source::{
     Generator, MeshRecipe, MeshSource, RigidMotion, Scaling, SphereProjection, Transform, build_mesh_within,
 };
@@ -544,7 +544,10 @@ impl Ctx<'_> {
                     Some(d) => {
                         return Err(self.invalid(
                             &format!("{m}.polar_hole_degrees"),
-                            format!("must lie in [0, 90): the polar angle of the hole's rim in degrees (got {d})"),
+                            format!(
+                                "must lie in [0, 90): the polar angle of the hole's rim in degrees (got {})",
+                                Num(d)
+                            ),
                         ));
                     }
                     None => None,
@@ -600,7 +603,7 @@ impl Ctx<'_> {
                     Some((key, index)) => (key, format!(" (entry {})", index.trim_end_matches(']'))),
                     None => (name, String::new()),
                 };
-                self.invalid(&format!("{p}.{key}"), format!("{reason}{detail} (got {value})"))
+                self.invalid(&format!("{p}.{key}"), format!("{reason}{detail} (got {})", Num(value)))
             }
             other => self.invalid(p, other.to_string()),
         })?;
@@ -642,9 +645,12 @@ impl Ctx<'_> {
             return Err(self.invalid(
                 &format!("{p}.{key}"),
                 format!(
-                    "{what} {problem} in double precision (E = {e:e} Pa, h = {h:e} m, L_c = {:e} m, ρ = {rho:e} \
-                     kg/m³); choose units in which these values are nearer to 1",
-                    params.length_scale
+                    "{what} {problem} in double precision (E = {} Pa, h = {} m, L_c = {} m, ρ = {} kg/m³); \
+                     choose units in which these values are nearer to 1",
+                    Num(e),
+                    Num(h),
+                    Num(params.length_scale),
+                    Num(rho)
                 ),
             ));
         }

@@ -1,7 +1,7 @@
 //! Checks of `\[time\]`, `\[solver\]` and `\[output\]`.
 
 use super::Ctx;
-use crate::error::SceneError;
+use crate::error::{Num, SceneError};
 use crate::schema::{
     DomainSplitName, FrameFormatName, IndefiniteHessianName, InitialGuessName, LinearSolverName, OutputSection,
     SolverSection, TimeMode, TimeSection,
@@ -52,7 +52,10 @@ impl Ctx<'_> {
         let dt = self.positive("time.dt", dt)?;
         let end = time.end.ok_or_else(|| self.invalid("time.end", "required in dynamic mode"))?;
         if !(end.is_finite() && end >= 0.0) {
-            return Err(self.invalid("time.end", format!("must be finite and non-negative (got {end})")));
+            return Err(self.invalid(
+                "time.end",
+                format!("must be finite and non-negative (got {})", Num(end)),
+            ));
         }
         if end / dt > MAX_STEPS {
             return Err(self.invalid(
@@ -86,9 +89,12 @@ impl Ctx<'_> {
             return Err(self.invalid(
                 field,
                 format!(
-                    "an output interval of {output_interval:e} s is below the resolution of the run's times \
-                     (up to {latest} s); frames are written at most once per step, so an interval of \
-                     time.dt = {dt} s already writes every step"
+                    "an output interval of {} s is below the resolution of the run's times \
+                     (up to {} s); frames are written at most once per step, so an interval of \
+                     time.dt = {} s already writes every step",
+                    Num(output_interval),
+                    Num(latest),
+                    Num(dt)
                 ),
             ));
         }
@@ -159,13 +165,13 @@ impl Ctx<'_> {
         )?;
         let end = time.end.unwrap_or(1.0);
         if !(end.is_finite() && end > 0.0) {
-            return Err(self.invalid("time.end", format!("must be a positive load factor (got {end})")));
+            return Err(self.invalid("time.end", format!("must be a positive load factor (got {})", Num(end))));
         }
         let initial_increment = time.initial_increment.unwrap_or(DEFAULT_INITIAL_INCREMENT);
         if !(initial_increment.is_finite() && initial_increment > 0.0 && initial_increment <= end) {
             return Err(self.invalid(
                 "time.initial_increment",
-                format!("must lie in (0, end = {end}] (got {initial_increment})"),
+                format!("must lie in (0, end = {}] (got {})", Num(end), Num(initial_increment)),
             ));
         }
         let max_steps = time.max_steps.unwrap_or(DEFAULT_MAX_PATH_STEPS);
@@ -220,7 +226,10 @@ impl Ctx<'_> {
             (Some(t), None) => Tolerance::Absolute(self.positive("solver.tolerance", t)?),
             (None, Some(r)) if r.is_finite() && r > 0.0 && r < 1.0 => Tolerance::Relative(r),
             (None, Some(r)) => {
-                return Err(self.invalid("solver.relative_tolerance", format!("must lie in (0, 1) (got {r})")));
+                return Err(self.invalid(
+                    "solver.relative_tolerance",
+                    format!("must lie in (0, 1) (got {})", Num(r)),
+                ));
             }
             (None, None) => d.tolerance,
         };
@@ -230,7 +239,8 @@ impl Ctx<'_> {
                     "solver.reuse_factorisation",
                     format!(
                         "must lie in [0, 1): the residual reduction per iteration below which the \
-                         factorisation is kept, 0 for none (got {r})"
+                         factorisation is kept, 0 for none (got {})",
+                        Num(r)
                     ),
                 ));
             }

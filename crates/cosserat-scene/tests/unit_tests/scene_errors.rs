@@ -234,6 +234,25 @@ fn material_values_whose_products_overflow_or_underflow_are_rejected() {
 }
 
 #[test]
+fn huge_and_tiny_numbers_are_shown_with_an_exponent() {
+    // Rust's `Display` of 1e300 has 301 digits; messages show the exponent instead.
+    assert_eq!(
+        message(&[("end = 1.0", "end = -1e300")], &[]),
+        "scene.toml:5: time.end: must be finite and non-negative (got -1e300)"
+    );
+    assert_eq!(
+        message(&[], &["probe.0.point=[1e300, 0, 1e-300]"]),
+        "override `probe.0.point=[1e300, 0, 1e-300]`: probe.0.point: the point (1e300, 0, 1e-300) lies outside the \
+         bounding box of shell `shell` ([-0.05, 0.05] × [-0.005, 0.005] × [0, 0], grown by 1 % of its diagonal)"
+    );
+    let text = message(&[("dt = 0.01\nend = 1.0", "dt = 1e300\nend = 1e300")], &[]);
+    assert!(
+        text.ends_with("(up to 2e300 s); frames are written at most once per step, so an interval of time.dt = 1e300 s already writes every step"),
+        "{text}"
+    );
+}
+
+#[test]
 fn expressions_are_checked_where_they_are_written() {
     assert_eq!(
         message(&[("scale = \"ramp(t, 0, 1)\"", "scale = \"ramp(t, 0, 1\"")], &[]),
