@@ -450,7 +450,7 @@ fn source_mesh(
     let limit = || format!("more than the limit of {} ({})", budget.max, budget.source);
     let too_large = |n: usize| MeshSourceError::Invalid {
         step: "refine",
-        reason: format!("the mesh would have {n} elements, {}", limit()),
+        reason: format!("the mesh would have {} elements, {}", count(n), limit()),
     };
     let mut warnings = Vec::new();
     let mut groups = Vec::new();
@@ -460,7 +460,7 @@ fn source_mesh(
             if generated > budget.max {
                 return Err(MeshSourceError::Invalid {
                     step: generator.resolution_key(),
-                    reason: format!("the generator would make {generated} triangles, {}", limit()),
+                    reason: format!("the generator would make {} triangles, {}", count(generated), limit()),
                 });
             }
             let n = refined_count(generated);
@@ -697,6 +697,16 @@ fn apply_transform(mesh: &mut ShellMesh, transform: &Transform) -> Result<(), Me
     };
     let map = |x: &Vector3<f64>| (transform.rotation * x - center) * scale + transform.translation;
     map_nodes(mesh, |x, _| Ok(map(x)))
+}
+
+/// An element count as messages show it: the counts saturate (an icosphere of level 40 has 20·4⁴⁰
+/// triangles), and the saturated value is no count, so it reads as a bound.
+fn count(n: usize) -> String {
+    if n == usize::MAX {
+        format!("at least {n}")
+    } else {
+        n.to_string()
+    }
 }
 
 /// A failure of welding, which the file passed without it: the weld distance is the field to

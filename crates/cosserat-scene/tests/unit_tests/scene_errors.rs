@@ -501,6 +501,16 @@ fn sizes_that_exhaust_memory_are_refused_against_the_field_that_sets_them() {
         "scene.toml:10: mesh.level: the generator would make 335544320 triangles, more than the limit of \
          10000000 (the largest mesh the simulator builds)"
     );
+    // 20·4⁴⁰ triangles: more than a count can hold, so the message gives the bound.
+    let sphere = [(MESH, "generator = \"icosphere\"\nradius = 1.0\nlevel = 40\n\n\n")];
+    assert_eq!(
+        message(&sphere, &[]),
+        format!(
+            "scene.toml:10: mesh.level: the generator would make at least {} triangles, more than the limit of \
+             10000000 (the largest mesh the simulator builds)",
+            usize::MAX
+        )
+    );
     assert_eq!(
         message(&[], &["mesh.refine=8", "mesh.nx=100"]),
         "override `mesh.refine=8`: mesh.refine: the mesh would have 26214400 elements, more than the limit of \
