@@ -273,7 +273,8 @@ fn execute(
     for warning in &summary.warnings[sim.advice().len()..] {
         eprintln!("warning: {warning}");
     }
-    let stopped_at = summary.stopped_at.unwrap_or(0.0);
+    // With an exponent where plain notation would run to hundreds of digits (a run stopped at 1e-300).
+    let stopped_at = cosserat_scene::error::Num(summary.stopped_at.unwrap_or(0.0));
     match summary.status {
         RunStatus::Ok => {
             if !quiet {

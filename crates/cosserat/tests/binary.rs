@@ -276,8 +276,21 @@ fn a_run_that_fails_at_a_known_step_keeps_the_steps_before() {
         9,
         "the initial residual and eight iterations"
     );
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.contains("run failed at t = 0.05"), "{stderr}");
     let frames = read_pvd(&d.join("out/frames/run.pvd")).unwrap();
     assert_eq!(frames.iter().map(|f| f.time).collect::<Vec<_>>(), [0.0, 0.02, 0.04]);
+    // The same at a millionth of the time scale: the time is written with an exponent.
+    let tiny = dynamic
+        .replace("dt = 0.01\nend = 0.1", "dt = 1e-8\nend = 1e-7")
+        .replace("50.0", "5e7");
+    let scene = scene.replace("1e10*(t > 0.045)", "1e25*(t > 4.5e-8)");
+    std::fs::write(d.join("scene.toml"), format!("{scene}{tiny}")).unwrap();
+    let output = start(&d, &["run", "scene.toml", "--out", "out_tiny", "--quiet"])
+        .wait_with_output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(stderr.starts_with("run failed at t = 5e-8: "), "{stderr}");
     for f in &frames {
         read_vtu(&d.join("out/frames").join(&f.file)).unwrap();
     }
