@@ -3,7 +3,7 @@
 
 use super::Ctx;
 use super::shell::ValidShell;
-use crate::error::{RegionError, SceneError};
+use crate::error::{Num, RegionError, SceneError};
 use crate::region::{Region, Selected};
 use crate::schema::{
     AngularVelocitySection, AxisName, BoundarySection, DistributionName, ExprValue, LoadSection, MotionSection,
@@ -484,6 +484,36 @@ impl Ctx<'_> {
         }
     }
 
+    /// Checks a growth field at the points and times where [`Ctx::field_function`] checked it for
+    /// finite values: the rest metric `e^{2s} a₀` enters the energy squared and inverted, so `e^{±4s}`
+    /// must be finite and non-zero, i.e. `|s|` below `ln(f64::MAX)/4`. A larger growth passed as a
+    /// finite number and stopped the run in its first step with a non-finite energy.
+    fn growth_in_range(&self, field: &str, growth: &FieldFunction, points: &[Vector3<f64>]) -> Result<(), SceneError> {
+        let max = f64::MAX.ln() / 4.0;
+        for t in self.field_times(growth) {
+            for p in points {
+                let s = growth.eval(p, t);
+                if s.abs() > max {
+                    return Err(self.invalid(
+                        field,
+                        format!(
+                            "`{}` is {} at t = {}, (x, y, z) = ({}, {}, {}): the rest metric e^(2s)·a₀ enters the \
+                             energy squared and inverted, so |s| must stay below ln(f64::MAX)/4 = {:.1}",
+                            growth.description(),
+                            Num(s),
+                            Num(t),
+                            Num(p.x),
+                            Num(p.y),
+                            Num(p.z),
+                            max
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     pub(super) fn rest_fields(
         &self,
         list: &[RestFieldSection],
@@ -522,7 +552,12 @@ impl Ctx<'_> {
             };
             let growth = match &r.growth {
                 None => None,
-                Some(g) => Some(self.field_function(&format!("{f}.growth"), g, points)?),
+                Some(g) => {
+                    let field = format!("{f}.growth");
+                    let growth = self.field_function(&field, g, points)?;
+                    self.growth_in_range(&field, &growth, points)?;
+                    Some(growth)
+                }
             };
             if curvature.is_empty() && growth.is_none() {
                 return Err(self.invalid(&f, "needs `curvature` entries or a `growth` field"));

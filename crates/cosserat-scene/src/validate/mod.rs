@@ -380,18 +380,7 @@ impl Ctx<'_> {
             }
             ExprValue::Text(text) => self.exprs.field_function(text).map_err(|e| self.expr_error(field, e))?,
         };
-        let stride = self.sample_times.len().div_ceil(32).max(1);
-        let times: Vec<f64> = if f.is_time_dependent() {
-            self.sample_times
-                .iter()
-                .step_by(stride)
-                .chain(self.sample_times.last())
-                .copied()
-                .collect()
-        } else {
-            vec![0.0]
-        };
-        for &t in &times {
+        for t in self.field_times(&f) {
             for p in points {
                 let v = f.eval(p, t);
                 if !v.is_finite() {
@@ -407,5 +396,20 @@ impl Ctx<'_> {
             }
         }
         Ok(f)
+    }
+
+    /// The times at which a field is checked: a subset of the sample times if it depends on time,
+    /// else 0.
+    fn field_times(&self, f: &FieldFunction) -> Vec<f64> {
+        if !f.is_time_dependent() {
+            return vec![0.0];
+        }
+        let stride = self.sample_times.len().div_ceil(32).max(1);
+        self.sample_times
+            .iter()
+            .step_by(stride)
+            .chain(self.sample_times.last())
+            .copied()
+            .collect()
     }
 }

@@ -234,6 +234,26 @@ fn material_values_whose_products_overflow_or_underflow_are_rejected() {
 }
 
 #[test]
+fn a_growth_beyond_what_the_energy_can_hold_is_rejected() {
+    const END: &str = "point = [0.05, 0.0, 0.0]\n";
+    let growth = |s: &str| format!("{END}\n[[rest_field]]\ngrowth = \"{s}\"\n");
+    // Finite everywhere, but e^(2s) with s = 1000 is not: the run stopped at once with a non-finite energy.
+    let text = message(&[(END, &growth("1000"))], &[]);
+    assert!(
+        text.starts_with(
+            "scene.toml:39: rest_field.0.growth: `1000` is 1000 at t = 0, (x, y, z) = (-0.05, -0.005, 0): the rest \
+             metric"
+        ),
+        "{text}"
+    );
+    let text = message(&[(END, &growth("-400*t"))], &[]);
+    assert!(text.contains("rest_field.0.growth: `-400*t` is -18"), "{text}");
+    // A large but computable growth is allowed.
+    let text = scene(&[(END, &growth("5*x"))]);
+    load(&text, &[]).unwrap_or_else(|e| panic!("{e}"));
+}
+
+#[test]
 fn huge_and_tiny_numbers_are_shown_with_an_exponent() {
     // Rust's `Display` of 1e300 has 301 digits; messages show the exponent instead.
     assert_eq!(
