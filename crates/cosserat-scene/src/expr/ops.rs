@@ -237,25 +237,28 @@ pub(super) enum Node {
 }
 
 impl Node {
-    /// `op(a)`, folded if `a` is a number.
+    /// `op(a)`, folded if `a` is a finite number. A non-finite one stays in the tree: folding `!` or
+    /// `sgn` of it would give a plain number and hide it from [`Node::non_finite_constant`].
     pub(super) fn unary(op: Unary, a: Node) -> Node {
         match a {
-            Node::Num(v) => Node::Num(op.apply(v)),
+            Node::Num(v) if v.is_finite() => Node::Num(op.apply(v)),
             a => Node::Unary(op, Box::new(a)),
         }
     }
 
-    /// `a op b`, folded if both are numbers.
+    /// `a op b`, folded if both are finite numbers. A non-finite one stays in the tree: a comparison
+    /// of it folds to 0 or 1, which would hide `sqrt(-1) < 1` from [`Node::non_finite_constant`].
     pub(super) fn binary(op: Binary, a: Node, b: Node) -> Node {
         match (a, b) {
-            (Node::Num(x), Node::Num(y)) => Node::Num(op.apply(x, y)),
+            (Node::Num(x), Node::Num(y)) if x.is_finite() && y.is_finite() => Node::Num(op.apply(x, y)),
             (a, b) => Node::Binary(op, Box::new(a), Box::new(b)),
         }
     }
 
-    /// A call of function `index` of `functions`, folded if every argument is a number.
+    /// A call of function `index` of `functions`, folded if every argument is a finite number (as
+    /// [`Node::binary`]).
     pub(super) fn call(index: usize, args: Vec<Node>, functions: &[Node]) -> Node {
-        if args.iter().all(|a| matches!(a, Node::Num(_))) {
+        if args.iter().all(|a| matches!(a, Node::Num(v) if v.is_finite())) {
             let values: Vec<f64> = args
                 .iter()
                 .map(|a| match a {

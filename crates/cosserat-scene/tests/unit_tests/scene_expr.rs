@@ -187,6 +187,11 @@ fn predicates_refuse_infinite_or_nan_parts() {
         assert!(matches!(err, ExprError::NonFiniteOperand { .. }), "{text}: {err:?}");
         assert!(err.to_string().contains("division by zero"), "{err}");
     }
+    // The same with constants: folding the comparison must not hide the NaN.
+    for text in ["sqrt(-1) < 1", "!(0/0)", "min(ln(0), 1) > 0 || x > 0"] {
+        let err = ctx.predicate(text).unwrap_err();
+        assert!(matches!(err, ExprError::NonFinite { .. }), "{text}: {err:?}");
+    }
     // Finite operands everywhere: unchanged.
     let p = ctx.predicate("x / 2 > 0.1 && sqrt(abs(y)) < 1").unwrap();
     assert!(p.test(&Vector3::new(0.5, -0.25, 0.0)).unwrap());
