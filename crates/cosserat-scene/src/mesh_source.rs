@@ -380,7 +380,7 @@ pub struct MeshRecipe {
     pub flatten_cap: Option<f64>,
     /// A similarity transform of the rest mesh.
     pub transform: Option<Transform>,
-    /// Initial positions as a rigid motion of the rest positions.
+    /// Initial positions: the rest positions moved rigidly (the directors keep their rest orientation).
     pub initial: Option<RigidMotion>,
 }
 

@@ -406,7 +406,10 @@ pub struct MeshSection {
     pub flatten_cap: Option<FlattenCapSection>,
     /// Rotate, centre, scale and translate the rest mesh.
     pub transform: Option<TransformSection>,
-    /// Initial positions as a rigid motion of the rest positions.
+    /// Initial positions: the rest positions moved rigidly. Only the positions move: the directors keep
+    /// their rest orientation, so a turned start is strained (a perturbation, as the buckling circles'
+    /// tilt of 1.5°), and beyond 90° its elements start inside out. To start a shell turned without
+    /// strain, turn its rest mesh with `transform`.
     pub initial: Option<InitialSection>,
     /// Displace every node (corners and Tri6 nodes) by `[dx, dy, dz]`, functions of the node's
     /// position `x, y, z` after the transform (e.g. the Papyrus scroll's wavy sheet); applied before
@@ -458,7 +461,8 @@ pub struct TransformSection {
     pub translate: Option<[f64; 3]>,
 }
 
-/// `initial = { rotate, about, translate }`: initial positions `R (X − p) + p + d`.
+/// `initial = { rotate, about, translate }`: initial positions `R (X − p) + p + d`; the directors keep
+/// their rest orientation (a strained start, see `initial`).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct InitialSection {
