@@ -32,14 +32,6 @@ pub enum KlError {
         /// The smallest principal radius of curvature of the face's rest state \[m\].
         radius: f64,
     },
-    /// Two faces share all three vertices, so the stencil of one would contain a vertex twice.
-    #[error("faces {elem_idx} and {other} have the same three vertices")]
-    CoincidentFaces {
-        /// Index of the face whose stencil failed.
-        elem_idx: usize,
-        /// The face across one of its edges with the same vertices.
-        other: usize,
-    },
     /// A force couple joins a vertex to itself or to a vertex out of range.
     #[error("couple `{label}`: pair {pair_idx} = ({a}, {b}) is not a pair of distinct vertices below {n_vertices}")]
     InvalidPair {

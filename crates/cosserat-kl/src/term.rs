@@ -49,7 +49,7 @@ impl KirchhoffLoveTerm {
     /// The term of a shell of thickness `h` \[m\] whose rest state is `mesh`, in a system with `layout`.
     ///
     /// # Errors
-    /// Invalid mesh ([`KlError::Mesh`], [`KlError::CoincidentFaces`]), material
+    /// Invalid mesh ([`KlError::Mesh`]), material
     /// ([`KlError::InvalidParameter`]) or rest state ([`KlError::ThickerThanCurvature`]), and
     /// [`KlError::InvalidParameter`] if the layout has fewer displacement nodes than the mesh vertices.
     pub fn try_new(

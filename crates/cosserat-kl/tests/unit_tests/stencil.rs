@@ -62,7 +62,7 @@ fn invalid_meshes_are_rejected_with_their_reason() {
     };
     assert!(matches!(
         build_stencils(&pillow),
-        Err(KlError::CoincidentFaces { elem_idx: 0, other: 1 })
+        Err(KlError::Mesh(MeshError::DuplicateElement { first: 0, second: 1 }))
     ));
     let bad_index = Tri3Mesh {
         nodes: nodes[..3].to_vec(),
