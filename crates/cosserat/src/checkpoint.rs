@@ -164,7 +164,19 @@ impl Checkpoint {
     /// [`SimulationError::Output`] naming the file and the reason: missing, unreadable, not a
     /// checkpoint, of another version, truncated or damaged.
     pub fn read(dir: &Path) -> Result<Self, SimulationError> {
-        let mut input = Decoder::open(&state_path(dir))?;
+        let path = state_path(dir);
+        if !path.exists() {
+            let reason = if dir.is_dir() {
+                "the run wrote no checkpoint there (a run writes one only with `output.checkpoint_every`)"
+            } else {
+                "no such output directory"
+            };
+            return Err(SimulationError::Resume {
+                path,
+                reason: reason.into(),
+            });
+        }
+        let mut input = Decoder::open(&path)?;
         let scene = input.string()?;
         let fingerprint = u32::try_from(input.usize()?).map_err(|_| input.error("the scene fingerprint is invalid"))?;
         let origin = if input.bool()? {

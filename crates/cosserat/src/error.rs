@@ -28,7 +28,7 @@ pub enum SimulationError {
     /// Writing outputs failed.
     #[error(transparent)]
     Output(#[from] cosserat_io::OutputError),
-    /// A checkpoint does not belong to this scene or run.
+    /// A checkpoint is missing, or does not belong to this scene or run.
     #[error("cannot resume from `{}`: {reason}", path.display())]
     Resume {
         /// The checkpoint file.

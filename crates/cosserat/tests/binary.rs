@@ -371,3 +371,24 @@ fn a_scene_that_cannot_be_set_up_names_its_file() {
         summary.reason
     );
 }
+
+#[test]
+fn resuming_a_run_without_a_checkpoint_says_how_to_write_one() {
+    let d = folder("resume_without_checkpoint");
+    let quick = "[time]\nmode = \"quasi_static\"\nn_levels = 1\n";
+    std::fs::write(d.join("scene.toml"), format!("{STRIP}{quick}")).unwrap();
+    let run = start(&d, &["run", "scene.toml", "--out", "out", "--quiet"])
+        .wait_with_output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(0), "{}", String::from_utf8_lossy(&run.stderr));
+    for (dir, reason) in [
+        ("out", "a run writes one only with `output.checkpoint_every`"),
+        ("missing", "no such output directory"),
+    ] {
+        let output = start(&d, &["resume", dir, "--quiet"]).wait_with_output().unwrap();
+        assert_eq!(output.status.code(), Some(1));
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert!(stderr.contains("cannot resume from"), "{stderr}");
+        assert!(stderr.contains(reason), "{stderr}");
+    }
+}
