@@ -143,6 +143,11 @@ impl Tracer {
                 Ok(d) => d,
                 Err(error) => return Err(fail(self.arc, cuts, error)),
             };
+            if self.first_arc == 0.0 {
+                return Err(PathError::NoFirstArc {
+                    initial_increment: self.settings.initial_increment,
+                });
+            }
             let mut landing = self.passes_end(lambda, dlambda);
             let dlambda = if landing { self.land(lambda, dlambda) } else { dlambda };
             let mut corrected = self.correct(problem, lambda, dlambda, landing, &mut timing);
@@ -431,7 +436,7 @@ impl Tracer {
 
     /// `‖v‖_W`.
     fn norm(&self, v: &[f64]) -> f64 {
-        v.iter().zip(&self.weights).map(|(v, w)| w * v * v).sum::<f64>().sqrt()
+        weighted_norm(v, &self.weights)
     }
 
     fn min_arc(&self) -> f64 {
@@ -446,17 +451,58 @@ impl Tracer {
     }
 }
 
+/// `‖v‖_W`, computed on `v` divided by its largest weighted entry: the squares of an increment taken
+/// from a tiny first load increment would otherwise underflow to zero (a zero arc length, and a NaN
+/// scale of the next predictor), and those of a huge one overflow.
+pub(super) fn weighted_norm(v: &[f64], w: &[f64]) -> f64 {
+    let scale = v
+        .iter()
+        .zip(w)
+        .filter(|(_, w)| **w != 0.0)
+        .fold(0.0_f64, |m, (v, _)| m.max(v.abs()));
+    if scale == 0.0 || !scale.is_finite() {
+        return scale;
+    }
+    let sum: f64 = v
+        .iter()
+        .zip(w)
+        .filter(|(_, w)| **w != 0.0)
+        .map(|(v, w)| w * (v / scale).powi(2))
+        .sum();
+    scale * sum.sqrt()
+}
+
 /// `δλ` of the cylindrical constraint `‖x + dg + δλ dq‖²_W = arc²`: of the two roots the one whose
 /// increment makes the smaller angle with `x`; without a real root the minimiser of the constraint's
 /// left side.
+///
+/// The constraint is homogeneous in the lengths: divided by `σ = max(‖x + dg‖_∞, arc)` it reads
+/// `‖y/σ + (δλ/σ) dq‖²_W = (arc/σ)²`, whose coefficients are of order one in `y` and `arc`, so that the
+/// squares of the tiny increments of a tiny first step neither underflow nor lose their digits.
 pub(super) fn constraint_root(x: &[f64], dg: &[f64], dq: &[f64], w: &[f64], arc: f64) -> f64 {
+    let sigma = x
+        .iter()
+        .zip(dg)
+        .zip(w)
+        .filter(|(_, w)| **w != 0.0)
+        .fold(arc.abs(), |m, ((x, g), _)| m.max((x + g).abs()));
+    if sigma == 0.0 || !sigma.is_finite() {
+        return scaled_constraint_root(x, dg, dq, w, arc, 1.0);
+    }
+    sigma * scaled_constraint_root(x, dg, dq, w, arc, sigma)
+}
+
+/// `δλ/σ` of the constraint divided by `σ` (see [`constraint_root`]).
+fn scaled_constraint_root(x: &[f64], dg: &[f64], dq: &[f64], w: &[f64], arc: f64, sigma: f64) -> f64 {
+    // Unknowns of zero weight are skipped: divided by a tiny `σ` they could overflow, and `0 · ∞` is NaN.
     let (mut a, mut b, mut c) = (0.0, 0.0, 0.0);
-    for (((x, g), q), w) in x.iter().zip(dg).zip(dq).zip(w) {
-        let y = x + g;
+    for (((x, g), q), w) in x.iter().zip(dg).zip(dq).zip(w).filter(|(_, w)| **w != 0.0) {
+        let y = (x + g) / sigma;
         a += w * q * q;
         b += 2.0 * w * y * q;
         c += w * y * y;
     }
+    let arc = arc / sigma;
     c -= arc * arc;
     if a == 0.0 {
         return 0.0;
@@ -468,12 +514,13 @@ pub(super) fn constraint_root(x: &[f64], dg: &[f64], dq: &[f64], w: &[f64], arc:
     // The root of larger magnitude without cancellation, the other from the product of the roots.
     let big = -(b + b.signum() * disc.sqrt()) / (2.0 * a);
     let small = if big == 0.0 { 0.0 } else { c / (a * big) };
-    let alignment = |dl: f64| -> f64 {
+    let alignment = |mu: f64| -> f64 {
         x.iter()
             .zip(dg)
             .zip(dq)
             .zip(w)
-            .map(|(((x, g), q), w)| w * x * (x + g + dl * q))
+            .filter(|(_, w)| **w != 0.0)
+            .map(|(((x, g), q), w)| w * (x / sigma) * ((x + g) / sigma + mu * q))
             .sum()
     };
     if alignment(big) >= alignment(small) { big } else { small }
@@ -481,7 +528,7 @@ pub(super) fn constraint_root(x: &[f64], dg: &[f64], dq: &[f64], w: &[f64], arc:
 
 #[cfg(test)]
 mod tests {
-    use super::constraint_root;
+    use super::{constraint_root, weighted_norm};
 
     #[test]
     fn the_root_keeps_the_arc_length_and_continues_forward() {
@@ -510,5 +557,32 @@ mod tests {
             constraint_root(&[1.0, 0.0], &[0.0, 0.5], &[0.0, 1.0], &[1.0, 0.0], 1.0),
             0.0
         );
+    }
+
+    #[test]
+    fn tiny_lengths_give_the_root_of_the_same_constraint_at_unit_scale() {
+        // The first example scaled down to lengths whose squares underflow (1e-300) or are subnormal
+        // (1e-160): δλ scales with the lengths, as the constraint is homogeneous in them.
+        let (x, dg, dq, w) = ([1.0, 0.0], [0.0, 0.5], [1.0, 0.0], [1.0, 1.0]);
+        let unit = constraint_root(&x, &dg, &dq, &w, 1.0);
+        for s in [1e-300, 1e-160, 1e200] {
+            let scaled = |v: [f64; 2]| v.map(|v| v * s);
+            let dl = constraint_root(&scaled(x), &scaled(dg), &dq, &w, s);
+            assert!((dl / s - unit).abs() < 1e-14 * unit.abs(), "scale {s:e}: δλ = {dl:e}");
+        }
+    }
+
+    #[test]
+    fn the_norm_of_tiny_and_huge_increments_is_neither_zero_nor_infinite() {
+        let w = [1.0, 4.0, 0.0];
+        assert_eq!(weighted_norm(&[3.0, 2.0, 7.0], &w), 5.0);
+        for s in [1e-300, 1e-160, 1e300] {
+            let n = weighted_norm(&[3.0 * s, 2.0 * s, 7.0 * s], &w);
+            assert!((n / s - 5.0).abs() < 1e-14, "scale {s:e}: {n:e}");
+        }
+        assert_eq!(weighted_norm(&[0.0, 0.0, 1.0], &w), 0.0);
+        // An unweighted entry far larger than the weighted ones does not count.
+        let n = weighted_norm(&[3e-300, 2e-300, 1.0], &w);
+        assert!((n / 1e-300 - 5.0).abs() < 1e-14, "{n:e}");
     }
 }

@@ -195,6 +195,16 @@ pub enum PathError {
         /// The last attempt's failure.
         error: CorrectorError,
     },
+    /// The first step's predictor moves no unknown the arc length measures, so the path has no step
+    /// length to keep (every later predictor would be scaled by `0/0`).
+    #[error(
+        "the first load increment {} moves no unknown that the arc length measures (the loads do not act on the free unknowns, or the increment is too small to move them): the path has no step length",
+        Num(*initial_increment)
+    )]
+    NoFirstArc {
+        /// The first load increment.
+        initial_increment: f64,
+    },
     /// The scripts could not set the loads of a load factor (no shorter step helps).
     #[error("{0}")]
     Scripts(#[source] crate::error::ScriptError),
@@ -239,8 +249,9 @@ impl ArcLengthSettings {
 /// committed at that equilibrium).
 ///
 /// # Errors
-/// [`PathError`] when a step fails with every allowed arc length, when the end is not reached within
-/// `max_steps`, or for invalid settings; the problem then holds the last equilibrium.
+/// [`PathError`] when a step fails with every allowed arc length, when the first step's predictor
+/// moves nothing, when the end is not reached within `max_steps`, or for invalid settings; the problem
+/// then holds the last equilibrium.
 pub fn trace_path<P: PathProblem + ?Sized>(
     problem: &mut P,
     settings: &ArcLengthSettings,

@@ -68,6 +68,7 @@ impl PathStepper {
     ///
     /// # Errors
     /// [`PathError::StepFailed`] when the step fails with every allowed arc length,
+    /// [`PathError::NoFirstArc`] when the first step's predictor moves nothing,
     /// [`PathError::TooManySteps`] past `max_steps`, and [`PathError::Scripts`] when `apply` fails; the
     /// potential then holds the last equilibrium.
     pub fn step(

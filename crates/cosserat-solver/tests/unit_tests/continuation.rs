@@ -1,7 +1,9 @@
 //! Arc-length continuation on a problem with a closed-form equilibrium path through two limit points
 //! of the load and two of the displacement (snap-through and snap-back).
 
-use cosserat_solver::{ArcLengthSettings, NewtonProblem, NewtonSettings, PathProblem, ProblemError, trace_path};
+use cosserat_solver::{
+    ArcLengthSettings, NewtonProblem, NewtonSettings, PathError, PathProblem, ProblemError, trace_path,
+};
 use faer::sparse::{SymbolicSparseColMat, SymbolicSparseColMatRef};
 
 use super::toy::{pattern_of, slot};
@@ -165,6 +167,67 @@ fn arc_length_follows_snap_through_and_snap_back_on_the_closed_form_path() {
         f_min / truss.p,
         f_max / truss.p
     );
+}
+
+/// A first load increment so small that the squares of its displacements underflow (or fall among the
+/// subnormal numbers) still sets a finite first arc length: the path goes on at finite load factors,
+/// each equilibrium on the closed-form path, until the step limit.
+#[test]
+fn a_tiny_first_increment_keeps_finite_load_factors() {
+    for initial_increment in [1e-300, 1e-160] {
+        let mut truss = SpringTruss::new();
+        let settings = ArcLengthSettings {
+            initial_increment,
+            max_steps: 3,
+            ..ArcLengthSettings::default()
+        };
+        let mut path = Vec::new();
+        let result = trace_path(&mut truss, &settings, &mut |t, point| {
+            path.push((t.base[0], t.base[1], point.load_factor, point.arc_length));
+        });
+        match result {
+            Err(PathError::TooManySteps {
+                steps: 3, load_factor, ..
+            }) => {
+                assert!(load_factor.is_finite() && load_factor > 0.0, "λ = {load_factor:e}");
+            }
+            other => panic!("increment {initial_increment:e}: expected the step limit, got {other:?}"),
+        }
+        assert_eq!(path.len(), 3);
+        for (k, &(w, v, lambda, arc)) in path.iter().enumerate() {
+            assert!(arc > 0.0 && arc.is_finite(), "step {}: arc length {arc:e}", k + 1);
+            assert!(lambda > 0.0 && lambda.is_finite(), "step {}: λ = {lambda:e}", k + 1);
+            // The spring carries the load: λ P = k_s (v − w).
+            let carried = truss.ks * (v - w);
+            assert!(
+                (carried - lambda * truss.p).abs() <= 1e-6 * lambda * truss.p,
+                "step {}: λ P = {:e}, k_s (v − w) = {carried:e}",
+                k + 1,
+                lambda * truss.p
+            );
+        }
+        assert!(path.windows(2).all(|p| p[1].2 > p[0].2), "λ must grow: {path:?}");
+    }
+}
+
+/// A load that moves nothing gives the first step no arc length: the path stops with that reason
+/// instead of scaling later predictors by `0/0`.
+#[test]
+fn a_first_increment_that_moves_nothing_is_refused() {
+    let mut truss = SpringTruss::new();
+    truss.p = 0.0;
+    let settings = ArcLengthSettings::default();
+    let result = trace_path(&mut truss, &settings, &mut |_, _| {});
+    match result {
+        Err(e @ PathError::NoFirstArc { initial_increment }) => {
+            assert_eq!(initial_increment, settings.initial_increment);
+            assert!(
+                e.to_string().contains("first load increment 0.05 moves no unknown"),
+                "{e}"
+            );
+        }
+        other => panic!("expected NoFirstArc, got {other:?}"),
+    }
 }
 
 /// A sheet pulled along a path: unknowns the stretch `s` and a turn `y`, increments from the committed

@@ -75,7 +75,7 @@ impl Simulation {
 
 /// The outcome of a path that could not go on from load factor `lambda`.
 fn failed_path(e: &PathError, lambda: f64) -> Outcome {
-    let reason = e.to_string();
+    let reason = path_failure_reason(e);
     Outcome::Failed {
         t: lambda,
         step: Some(FailedStep {
@@ -84,5 +84,19 @@ fn failed_path(e: &PathError, lambda: f64) -> Outcome {
             reason: reason.clone(),
         }),
         reason,
+    }
+}
+
+/// The message of a path error, naming the scene settings that decide it where the solver's own
+/// message cannot (it does not know the scene's names).
+fn path_failure_reason(e: &PathError) -> String {
+    match e {
+        PathError::NoFirstArc { .. } => format!("time.initial_increment: {e}"),
+        // The arc length never grows beyond the first step's, so the first increment sets how finely
+        // the path is sampled and with it how many steps it takes.
+        PathError::TooManySteps { .. } => {
+            format!("{e}; steps never grow beyond the first, so raise time.initial_increment or time.max_steps")
+        }
+        _ => e.to_string(),
     }
 }

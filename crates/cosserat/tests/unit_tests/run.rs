@@ -507,3 +507,41 @@ fn a_strip_pulled_taut_at_once_converges_in_a_step_or_two_from_either_start() {
         );
     }
 }
+
+/// Arc-length runs with first increments whose displacements' squares underflow: the path goes on at
+/// finite load factors until the step limit, whose message names the settings that decide it; an
+/// increment too small to move anything (on a tiny load) stops at once, naming
+/// `time.initial_increment`.
+#[test]
+fn arc_length_runs_with_a_tiny_first_increment_stop_with_a_named_setting() {
+    let d = dir("arc_length_tiny_increment");
+    let arc_length = [
+        "time.dt=",
+        "time.end=",
+        "time.adaptive=",
+        "time.output_fps=",
+        "time.mode=arc_length",
+        "time.max_steps=3",
+    ];
+    let tiny_load = STRIP.replace("force = [0.0, 0.0, -0.01]", "force = [0.0, 0.0, -1e-30]");
+    for (load, increment, steps) in [(STRIP, "1e-300", 3), (STRIP, "1e-160", 3), (&tiny_load, "5e-324", 0)] {
+        let scene = write_scene(&d, load);
+        let out = d.join(format!("out_{increment}"));
+        let setting = format!("time.initial_increment={increment}");
+        let overrides: Vec<&str> = arc_length.iter().copied().chain([setting.as_str()]).collect();
+        assert_eq!(run_scene(&args(scene, out.clone(), &overrides)).unwrap(), 1);
+        let summary = read_summary(&out.join("summary.json")).unwrap();
+        assert_eq!(summary.status, RunStatus::Error);
+        assert_eq!(summary.n_steps, steps, "{increment}");
+        let stopped_at = summary.stopped_at.unwrap();
+        assert!(stopped_at.is_finite() && stopped_at >= 0.0, "{increment}: {stopped_at}");
+        let reason = summary.reason.unwrap();
+        assert!(!reason.contains("NaN"), "{increment}: {reason}");
+        let expected = if steps == 0 {
+            "time.initial_increment: the first load increment 5e-324 moves no unknown"
+        } else {
+            "raise time.initial_increment or time.max_steps"
+        };
+        assert!(reason.contains(expected), "{increment}: {reason}");
+    }
+}
