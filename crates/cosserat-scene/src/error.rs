@@ -140,23 +140,9 @@ pub enum SceneError {
     },
 }
 
-/// A number as messages show it: plain where that stays short, scientific notation elsewhere, so
-/// that a value of `1e300` or `1e-300` is not written out in hundreds of digits (Rust's `Display` of
-/// `f64` never switches to an exponent). Both forms are the shortest text that reads back as the
-/// same value, as with `Display`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Num(pub f64);
-
-impl fmt::Display for Num {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        let x = self.0;
-        if x == 0.0 || !x.is_finite() || (1e-4..1e15).contains(&x.abs()) {
-            write!(f, "{x}")
-        } else {
-            write!(f, "{x:e}")
-        }
-    }
-}
+/// A number as messages show it: plain where that stays short, scientific notation elsewhere (shared
+/// with the solver's messages, which cannot depend on this crate).
+pub use cosserat_solver::Num;
 
 /// `"field: "`, or nothing for the top level.
 fn field_prefix(field: &str) -> String {

@@ -6,6 +6,7 @@
 //! [`NewtonError`] wraps both together with the iteration and the residual history, so that a time
 //! stepper can decide between halving the time step and stopping with a diagnostic.
 
+use crate::Num;
 pub use cosserat_sparse::{Factorisation, LinearSolveError, LinearSolveStage};
 use thiserror::Error;
 
@@ -167,7 +168,7 @@ pub enum NewtonError {
     #[error("the problem's Hessian pattern differs from the one the solver was built for")]
     PatternChanged,
     /// A setting is out of range.
-    #[error("setting {name:?} is out of range: {value}")]
+    #[error("setting {name:?} is out of range: {}", Num(*value))]
     InvalidSetting {
         /// Which setting.
         name: SettingName,

@@ -7,6 +7,7 @@
 //! and the step is retried with the scripts re-run for the new `Δt`, up to a bounded number of times.
 //! A state is only ever committed from a converged, finite solution.
 
+use crate::Num;
 use crate::error::{NewtonError, ScriptError};
 use crate::linear::{DomainSplit, LinearSolverKind};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
@@ -95,7 +96,7 @@ pub struct FailedAttempt {
 #[derive(Debug, Clone, Error)]
 pub enum StepError {
     /// Newton failed in every allowed attempt (each halved `Δt`).
-    #[error("time step from t = {t} failed after {} attempt(s); last: dt = {}: {}", attempts.len(), attempts.last().map_or(0.0, |a| a.dt), attempts.last().map_or_else(String::new, |a| a.error.to_string()))]
+    #[error("time step from t = {} failed after {} attempt(s); last: dt = {}: {}", Num(*t), attempts.len(), Num(attempts.last().map_or(0.0, |a| a.dt)), attempts.last().map_or_else(String::new, |a| a.error.to_string()))]
     NotConverged {
         /// Start time of the step \[s\].
         t: f64,
@@ -104,7 +105,7 @@ pub enum StepError {
     },
     /// The scripts could not prepare an attempt (e.g. a load scale that is not finite at its time):
     /// not Newton's failure, so no smaller step is tried.
-    #[error("time step from t = {t} (dt = {dt}): {source}")]
+    #[error("time step from t = {} (dt = {}): {source}", Num(*t), Num(*dt))]
     Scripts {
         /// Start time of the step \[s\].
         t: f64,

@@ -16,6 +16,7 @@ use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHa
 use cosserat_contact::{ContactParameters, ContactStats, ContactSurface, ContactTerm, Coverage, Obstacle};
 use cosserat_io::{BroadPhaseRecord, ContactRecord, DataArray, VtuFrame};
 use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
+use cosserat_solver::Num;
 use nalgebra::Vector3;
 
 /// The flat contact triangles of displacement elements (3 or 6 nodes each, corners first): Tri3
@@ -228,7 +229,10 @@ impl ContactRun {
             if let Some(target) = &target
                 && let Err(e) = term.set_obstacle_positions(k, target.clone())
             {
-                log::warn!("obstacle {k}: its scripted position at t = {t_end} is unusable ({e}); it stays");
+                log::warn!(
+                    "obstacle {k}: its scripted position at t = {} is unusable ({e}); it stays",
+                    Num(t_end)
+                );
                 targets.push(None);
                 continue;
             }

@@ -11,7 +11,7 @@ use cosserat_assembly::{
 };
 use cosserat_io::{ModelRecord, VtuFrame};
 use cosserat_scene::spec::{FieldFunction, RestFieldSpec, SceneSpec, Timing};
-use cosserat_solver::ScriptError;
+use cosserat_solver::{Num, ScriptError};
 use nalgebra::{Matrix3, Vector3};
 
 /// Cosserat shells in a system.
@@ -143,13 +143,14 @@ impl RestFieldScript {
                 Ok(v)
             } else {
                 Err(ScriptError(format!(
-                    "shell {}: {} `{}` is {v} at t = {tau}, X = ({}, {}, {})",
+                    "shell {}: {} `{}` is {v} at t = {}, X = ({}, {}, {})",
                     self.shell,
                     what(),
                     f.description(),
-                    x.x,
-                    x.y,
-                    x.z
+                    Num(tau),
+                    Num(x.x),
+                    Num(x.y),
+                    Num(x.z)
                 )))
             }
         };

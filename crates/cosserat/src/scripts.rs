@@ -20,7 +20,7 @@ use cosserat_scene::spec::{
     BoundarySpec, FieldFunction, ForceDistribution, LoadKind, LoadSpec, MotionSpec, PositionEnforcement, SceneSpec,
     TimeFunction, Timing,
 };
-use cosserat_solver::ScriptError;
+use cosserat_solver::{Num, ScriptError};
 use nalgebra::{Matrix3, Vector3};
 
 /// Where one boundary condition's terms sit in the potential.
@@ -661,9 +661,10 @@ fn finite(value: f64, tau: f64, item: impl FnOnce() -> String, f: &TimeFunction)
         Ok(value)
     } else {
         Err(ScriptError(format!(
-            "{} `{}` is {value} at t = {tau}",
+            "{} `{}` is {value} at t = {}",
             item(),
-            f.description()
+            f.description(),
+            Num(tau)
         )))
     }
 }

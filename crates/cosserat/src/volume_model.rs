@@ -18,7 +18,7 @@ use cosserat_assembly::{IncrementalPotential, SystemOptions, SystemState};
 use cosserat_geometry::rotation::{rotation_matrix, same_hemisphere};
 use cosserat_io::{ModelRecord, VtuFrame};
 use cosserat_scene::spec::{FieldFunction, SceneSpec, ShellSpec, Timing};
-use cosserat_solver::ScriptError;
+use cosserat_solver::{Num, ScriptError};
 use cosserat_volume::grid::PlanarGrid;
 use cosserat_volume::mesh::slab;
 use cosserat_volume::{RestCurvature, VolumeInput, build_volume_system};
@@ -172,11 +172,12 @@ impl Model for VolumeModel {
                     let v = value.eval(x, tau);
                     if !v.is_finite() {
                         return Err(ScriptError(format!(
-                            "rest curvature ({i}, {j}) `{}` is {v} at t = {tau}, X = ({}, {}, {})",
+                            "rest curvature ({i}, {j}) `{}` is {v} at t = {}, X = ({}, {}, {})",
                             value.description(),
-                            x.x,
-                            x.y,
-                            x.z
+                            Num(tau),
+                            Num(x.x),
+                            Num(x.y),
+                            Num(x.z)
                         )));
                     }
                     m[(*i, *j)] += v;

@@ -291,6 +291,10 @@ fn a_run_that_fails_at_a_known_step_keeps_the_steps_before() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(stderr.starts_with("run failed at t = 5e-8: "), "{stderr}");
+    // The solver's reason writes the step's time and size with an exponent too.
+    assert!(stderr.contains("time step from t = 5e-8 failed"), "{stderr}");
+    assert!(stderr.contains("dt = 1e-8: "), "{stderr}");
+    assert!(!stderr.contains("0.0000"), "{stderr}");
     for f in &frames {
         read_vtu(&d.join("out/frames").join(&f.file)).unwrap();
     }

@@ -22,6 +22,7 @@
 //! (and for prescribed motions linear in `λ` on linear constraints); loads that follow the deformation
 //! would need it at every iteration.
 
+use crate::Num;
 use crate::error::{LinearSolveError, NewtonError, ProblemError};
 use crate::newton::{Convergence, NewtonSettings, Tolerance};
 use crate::problem::NewtonProblem;
@@ -181,7 +182,9 @@ pub enum PathError {
     Setup(#[source] NewtonError),
     /// A step failed with every allowed arc length.
     #[error(
-        "path following stopped after step {step} at load factor {load_factor}: the arc length was halved {cuts} times down to {arc_length:e}; last: {error}"
+        "path following stopped after step {step} at load factor {}: the arc length was halved {cuts} times down to {}; last: {error}",
+        Num(*load_factor),
+        Num(*arc_length)
     )]
     StepFailed {
         /// The last equilibrium's step number.
@@ -212,7 +215,11 @@ pub enum PathError {
     #[error("arc-length continuation does not support {0}")]
     Unsupported(&'static str),
     /// The path did not reach the end within the allowed steps.
-    #[error("the path did not reach load factor {end} within {steps} steps (last load factor {load_factor})")]
+    #[error(
+        "the path did not reach load factor {} within {steps} steps (last load factor {})",
+        Num(*end),
+        Num(*load_factor)
+    )]
     TooManySteps {
         /// The end load factor.
         end: f64,

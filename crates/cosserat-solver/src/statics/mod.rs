@@ -12,6 +12,7 @@ mod predictor;
 
 pub use predictor::{LevelIncrement, PredictorMemory};
 
+use crate::Num;
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{IndefiniteHessian, NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::{SolveStart, begin_step, solve_in_domain};
@@ -119,7 +120,7 @@ pub enum LevelFailure {
 
 /// A load level that could not be reached.
 #[derive(Debug, Clone, Error)]
-#[error("quasi-static solve failed between load factors {from} and {to}: {error}")]
+#[error("quasi-static solve failed between load factors {} and {}: {error}", Num(*from), Num(*to))]
 pub struct StaticError {
     /// Last equilibrium reached.
     pub from: f64,
@@ -243,7 +244,10 @@ impl QuasiStaticStepper {
         if let Some(limit) = limit
             && !(limit.is_finite() && limit > 0.0)
         {
-            return Err(format!("the load increment limit {limit} is not a positive number"));
+            return Err(format!(
+                "the load increment limit {} is not a positive number",
+                Num(limit)
+            ));
         }
         self.current = load_factor;
         self.predictor = predictor;

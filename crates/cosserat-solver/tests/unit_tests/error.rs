@@ -1,6 +1,10 @@
 //! Error messages name what failed, and every Newton error exposes its residual history.
 
-use cosserat_solver::{Factorisation, LinearSolveError, NewtonError, NonFiniteQuantity, ProblemError};
+use cosserat_solver::time_step::FailedAttempt;
+use cosserat_solver::{
+    Factorisation, LevelFailure, LinearSolveError, NewtonError, NonFiniteQuantity, PathError, ProblemError,
+    StaticError, StepError,
+};
 
 #[test]
 fn messages_name_the_failing_entry() {
@@ -58,4 +62,49 @@ fn newton_errors_expose_residuals_and_sources() {
     };
     assert!(e.to_string().contains("Gradient") && e.to_string().contains('3'));
     assert!(NewtonError::PatternChanged.residuals().is_empty());
+}
+
+/// Times, step sizes and load factors far from 1 are written with an exponent, not as long decimals.
+#[test]
+fn tiny_times_and_step_sizes_are_written_with_an_exponent() {
+    let e = StepError::NotConverged {
+        t: 5e-8,
+        attempts: vec![FailedAttempt {
+            dt: 1e-8,
+            error: NewtonError::MaxIterations {
+                iterations: 2,
+                residuals: vec![3.0, 2.0, 1.0],
+            },
+        }],
+    };
+    assert_eq!(
+        e.to_string(),
+        "time step from t = 5e-8 failed after 1 attempt(s); last: dt = 1e-8: no convergence in 2 Newton \
+         iterations (last residual 1e0)"
+    );
+    let e = PathError::TooManySteps {
+        end: 1.0,
+        steps: 1000,
+        load_factor: 1e-297,
+    };
+    assert_eq!(
+        e.to_string(),
+        "the path did not reach load factor 1 within 1000 steps (last load factor 1e-297)"
+    );
+    let e = StaticError {
+        from: 0.0,
+        to: 3e-9,
+        error: LevelFailure::Newton(NewtonError::MaxIterations {
+            iterations: 2,
+            residuals: vec![1.0],
+        }),
+        iterations: 2,
+        bisections: 0,
+        sub_levels: 0,
+    };
+    assert!(
+        e.to_string()
+            .starts_with("quasi-static solve failed between load factors 0 and 3e-9:"),
+        "{e}"
+    );
 }
