@@ -186,7 +186,7 @@ impl Coupling<'_> {
         let unused = self.unused_tying_points();
         let first_tying = points.len().saturating_sub(N_TYING);
         for (n, ((p, sg), x)) in points.iter().zip(&sigma).zip(xs).enumerate() {
-            // A point no map reads (the centroid under moment ties, the twins of quadrature points) has
+            // A point no value reads (the centroid under moment ties, the twins of quadrature points) has
             // no stress, gradient or Hessian of its own: only its place in the Jacobian list is kept.
             if self.is_unused(n, first_tying, &unused) {
                 if let FirstOrder::Tied(_, jacobians) = &mut first_order {
@@ -285,7 +285,7 @@ impl Coupling<'_> {
         hl += hv * f;
     }
 
-    /// Which of the element's tying points are not evaluated: those no tying map reads and the twins
+    /// Which of the element's tying points are not evaluated: those no tied value reads and the twins
     /// of quadrature points (none under the projection).
     fn unused_tying_points(self) -> [bool; N_TYING] {
         match self {

@@ -460,7 +460,7 @@ fn a_missing_or_damaged_checkpoint_is_refused_with_the_reason() {
         (Some(&flipped), "checksum"),
         (Some(&bytes[..bytes.len() - 100]), "checksum"),
         (Some(b"name = \"strip\"\n"), "not a checkpoint"),
-        (None, "cannot read"),
+        (None, "a run writes one only with `output.checkpoint_every`"),
     ];
     for (contents, reason) in cases {
         let error = error_for(contents);
