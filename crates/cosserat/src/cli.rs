@@ -375,8 +375,11 @@ impl Reporter {
 
     fn step(&mut self, info: &StepInfo) {
         let msg = format!(
-            "step {} t = {:.4}/{:.4} Newton {} residual {:.2e}",
-            info.step, info.t, info.end, info.newton_iterations, info.residual
+            "step {} t = {} Newton {} residual {:.2e}",
+            info.step,
+            progress_time(info.t, info.end),
+            info.newton_iterations,
+            info.residual
         );
         if let Some(bar) = &self.bar {
             bar.set_position(((info.t / info.end.max(1e-300)) * 1000.0) as u64);
@@ -385,6 +388,16 @@ impl Reporter {
             eprintln!("{msg}");
             self.last = Instant::now();
         }
+    }
+}
+
+/// `t/end` for the progress line: four decimals, or four digits with an exponent where the run's end
+/// is so short (or long) that four decimals would show nothing (or too much).
+fn progress_time(t: f64, end: f64) -> String {
+    if (1e-2..1e6).contains(&end.abs()) {
+        format!("{t:.4}/{end:.4}")
+    } else {
+        format!("{t:.3e}/{end:.3e}")
     }
 }
 
@@ -445,4 +458,16 @@ pub fn render(args: &RenderArgs) -> anyhow::Result<PathBuf> {
         .unwrap_or_else(|| args.dir.join(format!("frame_{idx:05}.png")));
     render_png(&frame, &options, &out).with_context(|| format!("writing {}", out.display()))?;
     Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::progress_time;
+
+    #[test]
+    fn the_progress_line_shows_the_time_on_any_time_scale() {
+        assert_eq!(progress_time(0.35, 2.0), "0.3500/2.0000");
+        assert_eq!(progress_time(5e-8, 1e-7), "5.000e-8/1.000e-7");
+        assert_eq!(progress_time(2.5e6, 1e7), "2.500e6/1.000e7");
+    }
 }
