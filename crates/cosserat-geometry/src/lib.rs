@@ -32,9 +32,11 @@
 
 pub mod error;
 pub mod measure;
+pub mod number;
 pub mod real;
 pub mod rotation;
 pub mod surface;
 
 pub use error::GeometryError;
+pub use number::Num;
 pub use real::Real;

@@ -34,7 +34,6 @@ pub mod atomic;
 pub mod checkpoint;
 pub mod error;
 pub mod mesh_frames;
-mod number;
 pub mod probes;
 pub mod pvd;
 pub mod render;

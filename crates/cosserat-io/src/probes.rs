@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 
 use crate::OutputError;
 use crate::atomic::write_atomic;
-use crate::number::format_f64;
+use cosserat_geometry::Num;
 
 /// Name of the time column.
 pub const TIME_COLUMN: &str = "t";
@@ -186,7 +186,7 @@ impl ProbeWriter {
             if idx > 0 {
                 line.push(',');
             }
-            line.push_str(&format_f64(value));
+            line.push_str(&Num(value).to_string());
         }
         line.push('\n');
         let Self { path, file, .. } = self;

@@ -11,9 +11,9 @@ use roxmltree::Document;
 
 use crate::OutputError;
 use crate::atomic::write_atomic;
-use crate::number::format_f64;
 use crate::vtu::{VtuFrame, xml_escape};
 use crate::vtu_read::read_vtu;
+use cosserat_geometry::Num;
 
 /// One frame of a collection.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,7 +51,7 @@ pub fn to_pvd_string(entries: &[PvdEntry]) -> Result<String, OutputError> {
         }
         xml.push_str(&format!(
             "    <DataSet timestep=\"{}\" group=\"\" part=\"0\" file=\"{}\"/>\n",
-            format_f64(entry.time),
+            Num(entry.time),
             xml_escape(&entry.file)
         ));
     }

@@ -140,9 +140,9 @@ pub enum SceneError {
     },
 }
 
-/// A number as messages show it: plain where that stays short, scientific notation elsewhere (shared
-/// with the solver's messages, which cannot depend on this crate).
-pub use cosserat_solver::Num;
+/// A number as messages show it: plain where that stays short, scientific notation elsewhere (the
+/// rule of every message and text output of the project).
+pub use cosserat_geometry::Num;
 
 /// `"field: "`, or nothing for the top level.
 fn field_prefix(field: &str) -> String {

@@ -6,7 +6,7 @@
 //! [`NewtonError`] wraps both together with the iteration and the residual history, so that a time
 //! stepper can decide between halving the time step and stopping with a diagnostic.
 
-use crate::Num;
+use cosserat_geometry::Num;
 pub use cosserat_sparse::{Factorisation, LinearSolveError, LinearSolveStage};
 use thiserror::Error;
 

@@ -78,7 +78,6 @@ pub mod error;
 mod line_search;
 pub use cosserat_sparse as linear;
 pub mod newton;
-mod number;
 pub mod potential_problem;
 pub mod problem;
 pub mod statics;
@@ -100,7 +99,6 @@ pub use newton::{
     CarriedState, Convergence, Criterion, DomainCost, FactorisationCounts, IndefiniteHessian, NewtonReport,
     NewtonSettings, NewtonSolver, SolveCost, Tolerance,
 };
-pub use number::Num;
 pub use problem::NewtonProblem;
 pub use statics::{
     IncrementControl, LevelFailure, LevelIncrement, LoadLevelReport, PredictorMemory, QuasiStaticSettings,

@@ -7,12 +7,12 @@
 //! and the step is retried with the scripts re-run for the new `Δt`, up to a bounded number of times.
 //! A state is only ever committed from a converged, finite solution.
 
-use crate::Num;
 use crate::error::{NewtonError, ScriptError};
 use crate::linear::{DomainSplit, LinearSolverKind};
 use crate::newton::{NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::{SolveStart, begin_step, solve_in_domain};
 use cosserat_assembly::IncrementalPotential;
+use cosserat_geometry::Num;
 use thiserror::Error;
 
 /// Where Newton starts in each step.

@@ -14,9 +14,9 @@ use crate::model::Model;
 use cosserat_assembly::term::{Evaluation, NodeRotations};
 use cosserat_assembly::{IncrementalPotential, Parallelism, PotentialTerm, TermHandle};
 use cosserat_contact::{ContactParameters, ContactStats, ContactSurface, ContactTerm, Coverage, Obstacle};
+use cosserat_geometry::Num;
 use cosserat_io::{BroadPhaseRecord, ContactRecord, DataArray, VtuFrame};
 use cosserat_scene::spec::{ContactBody, ContactSpec, MotionSpec, SurfaceMesh};
-use cosserat_solver::Num;
 use nalgebra::Vector3;
 
 /// The flat contact triangles of displacement elements (3 or 6 nodes each, corners first): Tri3

@@ -9,9 +9,10 @@ use crate::placement::{NodeMap, ShellPlacement};
 use cosserat_assembly::{
     ElementPair, IncrementalPotential, ShellInput, ShellLayout, SystemOptions, SystemState, build_system,
 };
+use cosserat_geometry::Num;
 use cosserat_io::{ModelRecord, VtuFrame};
 use cosserat_scene::spec::{FieldFunction, RestFieldSpec, SceneSpec, Timing};
-use cosserat_solver::{Num, ScriptError};
+use cosserat_solver::ScriptError;
 use nalgebra::{Matrix3, Vector3};
 
 /// Cosserat shells in a system.

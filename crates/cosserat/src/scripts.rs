@@ -15,12 +15,13 @@ use crate::placement::ShellPlacement;
 use cosserat_assembly::boundary::{AngularVelocityPenalty, PositionConstraint, PositionPenalty, RotationPenalty};
 use cosserat_assembly::pressure::{FollowerPressure, normal_weights, profiled_area_weights};
 use cosserat_assembly::{IncrementalPotential, TermHandle};
+use cosserat_geometry::Num;
 use cosserat_geometry::rotation::exp_map;
 use cosserat_scene::spec::{
     BoundarySpec, FieldFunction, ForceDistribution, LoadKind, LoadSpec, MotionSpec, PositionEnforcement, SceneSpec,
     TimeFunction, Timing,
 };
-use cosserat_solver::{Num, ScriptError};
+use cosserat_solver::ScriptError;
 use nalgebra::{Matrix3, Vector3};
 
 /// Where one boundary condition's terms sit in the potential.

@@ -22,10 +22,10 @@
 //! (and for prescribed motions linear in `λ` on linear constraints); loads that follow the deformation
 //! would need it at every iteration.
 
-use crate::Num;
 use crate::error::{LinearSolveError, NewtonError, ProblemError};
 use crate::newton::{Convergence, NewtonSettings, Tolerance};
 use crate::problem::NewtonProblem;
+use cosserat_geometry::Num;
 use thiserror::Error;
 
 mod corrector;

@@ -12,11 +12,11 @@ mod predictor;
 
 pub use predictor::{LevelIncrement, PredictorMemory};
 
-use crate::Num;
 use crate::error::{NewtonError, ScriptError};
 use crate::newton::{IndefiniteHessian, NewtonReport, NewtonSettings, NewtonSolver, SolveCost};
 use crate::potential_problem::{SolveStart, begin_step, solve_in_domain};
 use cosserat_assembly::IncrementalPotential;
+use cosserat_geometry::Num;
 use thiserror::Error;
 
 /// Settings of a quasi-static solve.
