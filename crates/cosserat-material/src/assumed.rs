@@ -37,7 +37,9 @@
 //! [`StrainInterpolation::Assumed`]: crate::StrainInterpolation::Assumed
 //! [`StrainInterpolation::Regge`]: crate::StrainInterpolation::Regge
 
+use crate::drilling_hourglass::DrillingHourglass;
 use crate::projection::StrainProjection;
+use crate::strain_space::DensityMatrix;
 use nalgebra::{DMatrix, Matrix2, SMatrix, SVector};
 
 /// Number of tying points per element: two Gauss points per edge, the centroid, and the three points
@@ -197,8 +199,8 @@ impl TyingMap {
     }
 }
 
-/// The assumed strains of one element: its tied values, its quadrature points' maps and the tying
-/// points that lie on quadrature points.
+/// The assumed strains of one element: its tied values, its quadrature points' maps, the tying
+/// points that lie on quadrature points and its drilling hourglass term, set up once per evaluation.
 #[derive(Debug, Clone, Copy)]
 pub struct ElementTying<'a> {
     /// The tied values.
@@ -207,6 +209,33 @@ pub struct ElementTying<'a> {
     pub maps: &'a [TyingMap],
     /// The tying points read at quadrature points.
     pub twins: TyingTwins,
+    /// The drilling hourglass term, where the element has one.
+    hourglass: Option<DrillingHourglass>,
+}
+
+impl<'a> ElementTying<'a> {
+    /// The assumed strains of an element with `maps` at its quadrature points, whose weights and
+    /// densities are `quadrature`; `quadratic_rotations` for Tri6 rotations (which have a drilling
+    /// hourglass on the 3-point rule, [`crate::drilling_hourglass`]).
+    pub fn new<'d>(
+        values: &'a TiedValues,
+        maps: &'a [TyingMap],
+        twins: TyingTwins,
+        quadratic_rotations: bool,
+        quadrature: impl Iterator<Item = (f64, &'d DensityMatrix)>,
+    ) -> Self {
+        Self {
+            values,
+            maps,
+            twins,
+            hourglass: DrillingHourglass::of(quadratic_rotations, quadrature, maps, &twins),
+        }
+    }
+
+    /// The drilling hourglass term, where the element has one.
+    pub(crate) fn hourglass(&self) -> Option<&DrillingHourglass> {
+        self.hourglass.as_ref()
+    }
 }
 
 /// The tying points that lie on a quadrature point of the element's rule (the interior degree-2 rule's

@@ -20,7 +20,6 @@
 //! strains, so its stress is added to the quadrature point's and its Jacobian is the quadrature point's.
 
 use crate::assumed::{ElementTying, N_TIED, N_TYING, N_VALUES, TIED, TyingMap, TyingTwins};
-use crate::drilling_hourglass::DrillingHourglass;
 use crate::kernel::PointShape;
 use crate::kernel::strain_vector;
 use crate::model::AxlVariant;
@@ -75,19 +74,8 @@ pub fn element_strains_and_hourglass<const NU: usize, const NR: usize>(
         })
         .collect();
     let z = tied(&strains, twins);
-    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
-    let hourglass = DrillingHourglass::of(NR == 6, quadrature, maps, twins).map_or(0.0, |h| h.energy(&z));
+    let hourglass = tying.hourglass().map_or(0.0, |h| h.energy(&z));
     (assumed(&strains, &tying.values.of(&z), maps), hourglass)
-}
-
-/// The drilling hourglass term of an element with `maps` at its quadrature points, if it has one.
-fn hourglass_of<const NU: usize, const NR: usize>(
-    points: &[ElementPoint<'_, NU, NR>],
-    maps: &[TyingMap],
-    twins: &TyingTwins,
-) -> Option<DrillingHourglass> {
-    let quadrature = points[..maps.len()].iter().map(|p| (p.shape.weight, p.density));
-    DrillingHourglass::of(NR == 6, quadrature, maps, twins)
 }
 
 /// The derivatives `σ̂_q` of the element energy with respect to the raw `strains` of all its points,
@@ -113,7 +101,7 @@ pub(crate) fn stresses<const NU: usize, const NR: usize>(
     }
     let mut tied_stress = SVector::<f64, N_TIED>::zeros();
     tying.values.add_transposed(&value_stress, &mut tied_stress);
-    if let Some(hourglass) = hourglass_of(points, maps, twins) {
+    if let Some(hourglass) = tying.hourglass() {
         value += hourglass.add_stress(&z, &mut tied_stress);
     }
     let first = points.len() - N_TYING;
@@ -217,7 +205,7 @@ pub(crate) fn add_assumed_first_order<const NU: usize, const NR: usize, const NE
         })
         .collect();
     add_first_order(&tied_points, 3 * NU, h);
-    if let Some(hourglass) = hourglass_of(points, maps, twins) {
+    if let Some(hourglass) = tying.hourglass() {
         let jacobian = |t: usize| {
             membrane[twins.source(t, first)]
                 .as_ref()

@@ -109,11 +109,10 @@ impl<const NU: usize, const NR: usize> ShellRest<NU, NR> {
     /// The assumed strains of element `e` with `maps` at its quadrature points (its rest maps or those
     /// in tension, [`Self::element_tying_maps_in_tension`]).
     pub fn element_tying<'a>(&'a self, e: usize, maps: &'a [TyingMap]) -> ElementTying<'a> {
-        ElementTying {
-            values: &self.tied_values[e],
-            maps,
-            twins: self.tying_twins,
-        }
+        let first = e * self.points_per_element;
+        let quadrature =
+            (first..first + self.quadrature_points_per_element).map(|p| (self.shapes[p].weight, self.densities.get(p)));
+        ElementTying::new(&self.tied_values[e], maps, self.tying_twins, NR == 6, quadrature)
     }
 
     /// The tying maps of element `e` under the membrane stress `tension` (of its mean stretch,
