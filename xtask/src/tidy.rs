@@ -31,7 +31,10 @@ pub const LAYERS: [(&str, &[&str]); 15] = [
         "cosserat-assembly",
         &["cosserat-geometry", "cosserat-fem", "cosserat-material"],
     ),
-    ("cosserat-solver", &["cosserat-assembly", "cosserat-sparse"]),
+    (
+        "cosserat-solver",
+        &["cosserat-geometry", "cosserat-assembly", "cosserat-sparse"],
+    ),
     ("cosserat-contact", &["cosserat-geometry", "cosserat-assembly"]),
     (
         "cosserat-kl",
@@ -51,7 +54,7 @@ pub const LAYERS: [(&str, &[&str]); 15] = [
             "cosserat-assembly",
         ],
     ),
-    ("cosserat-io", &[]),
+    ("cosserat-io", &["cosserat-geometry"]),
     (
         "cosserat-scene",
         &[

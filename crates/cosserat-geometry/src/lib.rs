@@ -1,4 +1,5 @@
-//! Differential geometry at a point and rotations, generic over the scalar type.
+//! Differential geometry at a point and rotations, generic over the scalar type; and how the project
+//! writes numbers as text ([`Num`]).
 //!
 //! This is the bottom layer of the Cosserat shell simulator. Everything here is written once for any
 //! scalar `T: Real`, so the same code runs on `f64`, on first-order dual numbers (gradients) and on
