@@ -4,7 +4,7 @@ use crate::error::scene_error;
 use cosserat::scene::SceneSpec;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
-use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
+use pyo3::types::{PyBool, PyBytes, PyDict, PyFloat, PyInt, PyList, PyString, PyTuple};
 use std::path::Path;
 
 /// The overrides as `key=value` texts: a dict `{"mesh.nx": 8}` (values written as TOML, strings
@@ -14,17 +14,61 @@ pub(crate) fn override_texts(overrides: Option<&Bound<'_, PyAny>>) -> PyResult<V
         return Ok(Vec::new());
     };
     if let Ok(dict) = overrides.cast::<PyDict>() {
-        dict.iter()
+        return dict
+            .iter()
             .map(|(k, v)| {
-                let key: String = k.extract()?;
+                let key = override_key(&k)?;
                 Ok(format!("{key}={}", to_toml(&v)?))
             })
-            .collect()
-    } else {
-        overrides
-            .try_iter()?
-            .map(|item| item?.extract::<String>())
-            .collect::<PyResult<Vec<_>>>()
+            .collect();
+    }
+    // A string is iterable too, but its characters are no overrides.
+    if overrides.is_instance_of::<PyString>() || overrides.is_instance_of::<PyBytes>() {
+        return Err(overrides_type_error(overrides));
+    }
+    let items = overrides.try_iter().map_err(|_| overrides_type_error(overrides))?;
+    items.map(|item| override_item(&item?)).collect()
+}
+
+fn overrides_type_error(overrides: &Bound<'_, PyAny>) -> PyErr {
+    PyTypeError::new_err(format!(
+        "overrides must be a dict such as {{\"mesh.nx\": 8}} or a list of \"key=value\" strings (got {} {})",
+        type_name(overrides),
+        short_repr(overrides)
+    ))
+}
+
+fn override_key(key: &Bound<'_, PyAny>) -> PyResult<String> {
+    key.extract().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "overrides: the keys of the dict must be strings such as \"mesh.nx\" (got {} {})",
+            type_name(key),
+            short_repr(key)
+        ))
+    })
+}
+
+fn override_item(item: &Bound<'_, PyAny>) -> PyResult<String> {
+    item.extract().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "overrides: every item of the list must be a \"key=value\" string (got {} {})",
+            type_name(item),
+            short_repr(item)
+        ))
+    })
+}
+
+/// The name of a value's type, for messages.
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string())
+}
+
+/// `repr(value)`, cut to a length that keeps a message readable.
+fn short_repr(value: &Bound<'_, PyAny>) -> String {
+    let text = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+    match text.char_indices().nth(60) {
+        Some((i, _)) => format!("{}...", &text[..i]),
+        None => text,
     }
 }
 

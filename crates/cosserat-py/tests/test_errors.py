@@ -57,3 +57,17 @@ def test_a_missing_file_is_a_scene_error(tmp_path):
     with pytest.raises(cosserat.SceneError) as caught:
         cosserat.Simulation.load(tmp_path / "missing.toml")
     assert caught.value.file == str(tmp_path / "missing.toml")
+
+
+@pytest.mark.parametrize("overrides", ["mesh.nx=8", b"mesh.nx=8", 8])
+def test_overrides_that_are_neither_a_dict_nor_a_list_of_strings_are_a_type_error(overrides):
+    # A string would otherwise be read character by character, as overrides `m`, `e`, ...
+    with pytest.raises(TypeError, match="overrides must be a dict"):
+        cosserat.Simulation.load(STRIP, overrides=overrides)
+
+
+def test_override_keys_and_items_that_are_not_strings_are_named():
+    with pytest.raises(TypeError, match="overrides: the keys .* must be strings .*int 5"):
+        cosserat.Simulation.load(STRIP, overrides={5: 8})
+    with pytest.raises(TypeError, match="overrides: every item .* string .*int 5"):
+        cosserat.Simulation.load(STRIP, overrides=["mesh.nx=8", 5])
