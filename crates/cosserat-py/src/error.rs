@@ -77,6 +77,25 @@ pub(crate) fn scene_error(py: Python<'_>, e: &cosserat::scene::SceneError, from_
     }
 }
 
+/// A `SceneError` for a value given from Python that cannot become part of a scene: `field` is its
+/// dotted path.
+pub(crate) fn scene_value_error(py: Python<'_>, field: &str, reason: String) -> PyErr {
+    let err = SceneError::new_err(format!("{field}: {reason}"));
+    let value = err.value(py);
+    let set = || -> PyResult<()> {
+        value.setattr("file", py.None())?;
+        value.setattr("line", py.None())?;
+        value.setattr("field", field)?;
+        value.setattr("override", py.None())?;
+        value.setattr("reason", reason)?;
+        Ok(())
+    };
+    match set() {
+        Ok(()) => err,
+        Err(e) => e,
+    }
+}
+
 /// The Python exception of a facade error: scene errors keep their attributes.
 pub(crate) fn simulation_error(py: Python<'_>, e: &cosserat::SimulationError) -> PyErr {
     match e {

@@ -1,6 +1,6 @@
 //! Scenes from Python: a TOML file or a dict of the same structure, with `--set`-style overrides.
 
-use crate::error::scene_error;
+use crate::error::{scene_error, scene_value_error};
 use cosserat::scene::SceneSpec;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -18,7 +18,7 @@ pub(crate) fn override_texts(overrides: Option<&Bound<'_, PyAny>>) -> PyResult<V
             .iter()
             .map(|(k, v)| {
                 let key = override_key(&k)?;
-                Ok(format!("{key}={}", to_toml(&v)?))
+                Ok(format!("{key}={}", to_toml(&v, &key)?))
             })
             .collect();
     }
@@ -84,7 +84,7 @@ pub(crate) fn from_dict(
     base_dir: &Path,
     overrides: &[String],
 ) -> PyResult<SceneSpec> {
-    let toml::Value::Table(table) = to_toml(scene.as_any())? else {
+    let toml::Value::Table(table) = to_toml(scene.as_any(), "")? else {
         return Err(PyTypeError::new_err("a scene dict must be a table"));
     };
     let text = toml::to_string(&table)
@@ -92,14 +92,51 @@ pub(crate) fn from_dict(
     SceneSpec::from_str(&text, "<dict>", base_dir, overrides).map_err(|e| scene_error(py, &e, true))
 }
 
+/// How deep a scene value may nest: far deeper than any scene's tables and arrays, and shallow enough
+/// that a dict or list that contains itself ends here rather than overflowing the stack.
+const MAX_DEPTH: usize = 32;
+
+/// Where a value sits in the scene: its dotted path (for messages) and its nesting depth.
+#[derive(Clone, Copy)]
+struct Field<'a> {
+    path: &'a str,
+    depth: usize,
+}
+
+impl Field<'_> {
+    fn child(&self, segment: &str) -> String {
+        if self.path.is_empty() {
+            segment.to_owned()
+        } else {
+            format!("{}.{segment}", self.path)
+        }
+    }
+
+    /// The path for messages, `<scene>` at the top.
+    fn name(&self) -> &str {
+        if self.path.is_empty() { "<scene>" } else { self.path }
+    }
+}
+
 /// A Python value as a TOML value: dicts are tables, lists and tuples arrays (NumPy arrays through
-/// `tolist()`), and bool, int, float and str the scalars.
-fn to_toml(value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
+/// `tolist()`), and bool, int, float and str the scalars. `path` names the value in errors.
+fn to_toml(value: &Bound<'_, PyAny>, path: &str) -> PyResult<toml::Value> {
+    to_toml_at(value, Field { path, depth: 0 })
+}
+
+fn to_toml_at(value: &Bound<'_, PyAny>, field: Field<'_>) -> PyResult<toml::Value> {
+    if field.depth > MAX_DEPTH {
+        return Err(scene_value_error(
+            value.py(),
+            field.name(),
+            format!("nested more than {MAX_DEPTH} levels deep (does a dict or list contain itself?)"),
+        ));
+    }
     if value.is_instance_of::<PyBool>() {
         return Ok(toml::Value::Boolean(value.extract()?));
     }
     if value.is_instance_of::<PyInt>() {
-        return Ok(toml::Value::Integer(value.extract()?));
+        return integer(value, field);
     }
     if value.is_instance_of::<PyFloat>() {
         return Ok(toml::Value::Float(value.extract()?));
@@ -107,26 +144,59 @@ fn to_toml(value: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
     if value.is_instance_of::<PyString>() {
         return Ok(toml::Value::String(value.extract()?));
     }
+    let deeper = |path: &str, item: &Bound<'_, PyAny>| {
+        to_toml_at(
+            item,
+            Field {
+                path,
+                depth: field.depth + 1,
+            },
+        )
+    };
     if let Ok(dict) = value.cast::<PyDict>() {
         let mut table = toml::Table::new();
         for (k, v) in dict.iter() {
-            let key: String = k
-                .extract()
-                .map_err(|_| PyTypeError::new_err(format!("scene keys must be strings (got {k})")))?;
-            table.insert(key, to_toml(&v)?);
+            let key: String = k.extract().map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "`{}`: scene keys must be strings (got {} {})",
+                    field.name(),
+                    type_name(&k),
+                    short_repr(&k)
+                ))
+            })?;
+            let value = deeper(&field.child(&key), &v)?;
+            table.insert(key, value);
         }
         return Ok(toml::Value::Table(table));
     }
     if value.is_instance_of::<PyList>() || value.is_instance_of::<PyTuple>() {
-        let items = value.try_iter()?.map(|item| to_toml(&item?)).collect::<PyResult<Vec<_>>>()?;
+        let items = value
+            .try_iter()?
+            .enumerate()
+            .map(|(i, item)| deeper(&field.child(&i.to_string()), &item?))
+            .collect::<PyResult<Vec<_>>>()?;
         return Ok(toml::Value::Array(items));
     }
     if value.hasattr("tolist")? {
         // NumPy arrays and scalars.
-        return to_toml(&value.call_method0("tolist")?);
+        return deeper(field.path, &value.call_method0("tolist")?);
     }
     Err(PyTypeError::new_err(format!(
-        "a scene value must be a dict, list, bool, int, float or str (got {})",
-        value.get_type().name()?
+        "`{}`: a scene value must be a dict, list, bool, int, float or str (got {} {})",
+        field.name(),
+        type_name(value),
+        short_repr(value)
     )))
+}
+
+/// A Python int as a TOML integer, which has 64 bits.
+fn integer(value: &Bound<'_, PyAny>, field: Field<'_>) -> PyResult<toml::Value> {
+    match value.extract::<i64>() {
+        Ok(i) => Ok(toml::Value::Integer(i)),
+        Err(_) => Err(scene_value_error(
+            value.py(),
+            field.name(),
+            format!("{} does not fit in a 64-bit integer", short_repr(value)),
+        )),
+    }
 }

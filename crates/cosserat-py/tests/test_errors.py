@@ -71,3 +71,41 @@ def test_override_keys_and_items_that_are_not_strings_are_named():
         cosserat.Simulation.load(STRIP, overrides={5: 8})
     with pytest.raises(TypeError, match="overrides: every item .* string .*int 5"):
         cosserat.Simulation.load(STRIP, overrides=["mesh.nx=8", 5])
+
+
+def _scene_dict():
+    tomllib = pytest.importorskip("tomllib")
+    return tomllib.loads(STRIP.read_text())
+
+
+@pytest.mark.parametrize("container", [dict, list])
+def test_a_scene_dict_that_contains_itself_is_a_scene_error(container):
+    scene = _scene_dict()
+    if container is dict:
+        scene["time"]["self"] = scene["time"]
+    else:
+        loop = []
+        loop.append(loop)
+        scene["gravity"] = loop
+    # Without a bound on the nesting, the conversion overflowed the stack and killed the interpreter.
+    with pytest.raises(cosserat.SceneError, match="nested more than") as caught:
+        cosserat.Simulation.from_dict(scene)
+    assert caught.value.field.startswith("time.self" if container is dict else "gravity.0")
+
+
+def test_an_integer_beyond_64_bits_is_a_scene_error_naming_its_field():
+    scene = _scene_dict()
+    scene["mesh"]["nx"] = 2**64
+    with pytest.raises(cosserat.SceneError, match="64-bit") as caught:
+        cosserat.Simulation.from_dict(scene)
+    assert caught.value.field == "mesh.nx" and caught.value.file is None
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(STRIP, overrides={"mesh.nx": 2**64})
+    assert caught.value.field == "mesh.nx"
+
+
+def test_a_value_of_the_wrong_type_in_a_scene_dict_names_its_field():
+    scene = _scene_dict()
+    scene["boundary"][1]["name"] = None
+    with pytest.raises(TypeError, match="`boundary.1.name`: a scene value must be"):
+        cosserat.Simulation.from_dict(scene)
