@@ -33,7 +33,7 @@ create_exception!(
 /// whose line numbers mean nothing to the user.
 pub(crate) fn scene_error(py: Python<'_>, e: &cosserat::scene::SceneError, from_dict: bool) -> PyErr {
     use cosserat::scene::SceneError as E;
-    let err = SceneError::new_err(e.to_string());
+    let err = SceneError::new_err(message(e, from_dict));
     let (mut file, mut line, mut over) = (None, None, None);
     match e.location() {
         Some(Location::File { file: f, line: l }) => {
@@ -74,6 +74,22 @@ pub(crate) fn scene_error(py: Python<'_>, e: &cosserat::scene::SceneError, from_
     match set() {
         Ok(()) => err,
         Err(e) => e,
+    }
+}
+
+/// The message of a scene error. A dict's errors carry the location of the TOML text made from it, a
+/// line the user never saw: they name the dict instead.
+fn message(e: &cosserat::scene::SceneError, from_dict: bool) -> String {
+    let text = e.to_string();
+    match e.location() {
+        Some(location @ Location::File { .. }) if from_dict => {
+            let prefix = format!("{location}: ");
+            match text.strip_prefix(&prefix) {
+                Some(rest) => format!("scene dict: {rest}"),
+                None => text,
+            }
+        }
+        _ => text,
     }
 }
 

@@ -51,6 +51,8 @@ def test_a_dict_error_names_the_field_without_a_line():
     e = caught.value
     assert e.file is None and e.line is None
     assert e.field == "time.dt"
+    # The message cites no line either: the dict has none.
+    assert str(e).startswith("scene dict: time.dt: ") and "<dict>" not in str(e)
 
 
 def test_a_missing_file_is_a_scene_error(tmp_path):
