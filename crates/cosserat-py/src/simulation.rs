@@ -12,9 +12,9 @@ use cosserat::solver::TimeStepper;
 use cosserat::{Simulation, StepInfo, StopReason, StopRequest};
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray2, PyArray3};
-use pyo3::exceptions::{PyKeyError, PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyList};
+use pyo3::types::{PyBool, PyDict, PyList};
 use std::path::PathBuf;
 use std::sync::{Mutex, MutexGuard, TryLockError};
 
@@ -206,6 +206,38 @@ impl PySimulation {
     }
 }
 
+/// The most threads a step or run takes: more than any machine's cores, and few enough that a count
+/// mistyped by orders of magnitude fails at once instead of spawning that many threads.
+const MAX_THREADS: i64 = 1024;
+
+/// The `threads` argument: `None` (all cores) or a count from 1 to [`MAX_THREADS`]. Zero is refused
+/// rather than read as "all cores", which `None` says.
+fn thread_count(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
+    let Some(threads) = threads.filter(|t| !t.is_none()) else {
+        return Ok(None);
+    };
+    let not_an_int = || {
+        let type_name = threads.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string());
+        PyTypeError::new_err(format!("threads must be an int or None (got {type_name} {threads})"))
+    };
+    if threads.is_instance_of::<PyBool>() {
+        return Err(not_an_int());
+    }
+    let n = match threads.extract::<i64>() {
+        Ok(n) => n,
+        // Larger than any count: refused below with the same message.
+        Err(e) if e.is_instance_of::<PyOverflowError>(threads.py()) => i64::MAX,
+        Err(_) => return Err(not_an_int()),
+    };
+    if (1..=MAX_THREADS).contains(&n) {
+        Ok(usize::try_from(n).ok())
+    } else {
+        Err(PyValueError::new_err(format!(
+            "threads must be from 1 to {MAX_THREADS}, or None for all cores (got {threads})"
+        )))
+    }
+}
+
 fn check_name(name: &str, known: &[String], what: &str) -> PyResult<()> {
     if known.iter().any(|n| n == name) {
         Ok(())
@@ -290,10 +322,11 @@ impl PySimulation {
     /// Advances one time step (dynamic scenes) with the GIL released; returns its `StepInfo`.
     ///
     /// Raises `StepFailed` when the step failed after every allowed reduction (the state is that of
-    /// the last completed step). `threads`: the number of threads of this step (default: the process's
-    /// pool, all cores); results are the same for any number.
+    /// the last completed step). `threads`: the number of threads of this step, 1 to 1024 (default:
+    /// the process's pool, all cores); results are the same for any number.
     #[pyo3(signature = (threads = None))]
-    fn step(&self, py: Python<'_>, threads: Option<usize>) -> PyResult<PyStepInfo> {
+    fn step(&self, py: Python<'_>, threads: Option<&Bound<'_, PyAny>>) -> PyResult<PyStepInfo> {
+        let threads = thread_count(threads)?;
         let mut inner = self.lock()?;
         self.step_once(py, &mut inner, threads)
     }
@@ -301,7 +334,8 @@ impl PySimulation {
     /// Steps until the time reaches `t` (within half a step); returns the number of steps taken.
     /// Ctrl-C raises `KeyboardInterrupt` after the current step. `threads` as for `step`.
     #[pyo3(signature = (t, threads = None))]
-    fn run_until(&self, py: Python<'_>, t: f64, threads: Option<usize>) -> PyResult<usize> {
+    fn run_until(&self, py: Python<'_>, t: f64, threads: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
+        let threads = thread_count(threads)?;
         let mut inner = self.lock()?;
         let mut n = 0;
         loop {
@@ -326,15 +360,16 @@ impl PySimulation {
     /// thread watches for Ctrl-C. Ctrl-C stops the run after its current step, writes the
     /// summary (status `"interrupted"`) and raises `KeyboardInterrupt`.
     ///
-    /// `threads`: the number of threads of the run (default: all cores, like the CLI).
+    /// `threads`: the number of threads of the run, 1 to 1024 (default: all cores, like the CLI).
     #[pyo3(signature = (out_dir, on_step = None, threads = None))]
     fn run(
         &self,
         py: Python<'_>,
         out_dir: PathBuf,
         on_step: Option<Py<PyAny>>,
-        threads: Option<usize>,
+        threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyRunSummary> {
+        let threads = thread_count(threads)?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads.unwrap_or(0))
             .build()

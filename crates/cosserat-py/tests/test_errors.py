@@ -111,3 +111,21 @@ def test_a_value_of_the_wrong_type_in_a_scene_dict_names_its_field():
     scene["boundary"][1]["name"] = None
     with pytest.raises(TypeError, match="`boundary.1.name`: a scene value must be"):
         cosserat.Simulation.from_dict(scene)
+
+
+@pytest.mark.parametrize("threads", [0, -1, 2**64, 10**6])
+def test_a_thread_count_out_of_range_is_a_value_error(tmp_path, strip_overrides, threads):
+    # A million threads were spawned (a hang), -1 and 2**64 raised OverflowError, 0 meant all cores.
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    for call in (lambda: sim.step(threads=threads), lambda: sim.run_until(0.02, threads=threads),
+                 lambda: sim.run(tmp_path / "out", threads=threads)):
+        with pytest.raises(ValueError, match="threads must be from 1 to 1024"):
+            call()
+    assert sim.time == 0.0
+
+
+@pytest.mark.parametrize("threads", [2.0, "2", True])
+def test_a_thread_count_that_is_not_an_int_is_a_type_error(strip_overrides, threads):
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    with pytest.raises(TypeError, match="threads must be an int or None"):
+        sim.step(threads=threads)

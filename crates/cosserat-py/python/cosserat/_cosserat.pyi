@@ -138,8 +138,8 @@ class Simulation:
     @property
     def load_names(self) -> list[str]: ...
     def step(self, threads: Optional[int] = None) -> StepInfo:
-        """One time step (dynamic scenes), with the GIL released, on ``threads`` threads (default: all
-        cores; results do not depend on it). Raises ``StepFailed``."""
+        """One time step (dynamic scenes), with the GIL released, on ``threads`` threads (1 to 1024,
+        default ``None``: all cores; results do not depend on it). Raises ``StepFailed``."""
     def run_until(self, t: float, threads: Optional[int] = None) -> int:
         """Steps until the time reaches ``t``; returns the number of steps."""
     def run(
