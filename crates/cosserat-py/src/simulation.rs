@@ -96,6 +96,8 @@ pub struct PySimulation {
     pending: Mutex<Vec<Command>>,
     name: String,
     end: f64,
+    /// The scene's time step, for dynamic scenes (the others have no time stepper).
+    dt: Option<f64>,
     boundary_names: Vec<String>,
     load_names: Vec<String>,
 }
@@ -106,6 +108,10 @@ impl PySimulation {
         let end = match &spec.time {
             TimeSpec::Dynamic { end, .. } | TimeSpec::ArcLength { end, .. } => *end,
             TimeSpec::QuasiStatic { levels, .. } => levels.last().copied().unwrap_or(1.0),
+        };
+        let dt = match &spec.time {
+            TimeSpec::Dynamic { dt, .. } => Some(*dt),
+            TimeSpec::QuasiStatic { .. } | TimeSpec::ArcLength { .. } => None,
         };
         let sim = py.detach(|| Simulation::new(spec)).map_err(|e| simulation_error(py, &e))?;
         Ok(Self {
@@ -121,6 +127,7 @@ impl PySimulation {
             pending: Mutex::new(Vec::new()),
             name,
             end,
+            dt,
         })
     }
 
@@ -151,6 +158,31 @@ impl PySimulation {
             }
         }
         Ok(())
+    }
+
+    /// Refuses a target time that `run_until` could only step towards forever (NaN, infinity) or far
+    /// past the scene's end, where a mistyped unit would step for hours.
+    fn check_target_time(&self, t: f64) -> PyResult<()> {
+        let slack = 0.5 * self.dt.unwrap_or(0.0);
+        if t.is_finite() && t <= self.end + slack {
+            return Ok(());
+        }
+        Err(PyValueError::new_err(format!(
+            "t must be a finite time up to the scene's end {} (got {t}); to step further, raise `time.end` \
+             with an override or call `step`",
+            self.end
+        )))
+    }
+
+    /// Whether the time is within half a step of `t`. A simulation that cannot step (quasi-static, or
+    /// run) has not reached it, so that `step_once` says why.
+    fn reached(&self, inner: &Inner, t: f64) -> bool {
+        let (time, dt) = match (&inner.stepper, self.dt) {
+            (Some(stepper), _) => (stepper.time(), stepper.dt()),
+            (None, Some(dt)) if inner.mode == Mode::Fresh => (inner.sim.time(), dt),
+            _ => return false,
+        };
+        time >= t - 0.5 * dt
     }
 
     fn check_boundary(&self, name: &str) -> PyResult<()> {
@@ -331,23 +363,20 @@ impl PySimulation {
         self.step_once(py, &mut inner, threads)
     }
 
-    /// Steps until the time reaches `t` (within half a step); returns the number of steps taken.
-    /// Ctrl-C raises `KeyboardInterrupt` after the current step. `threads` as for `step`.
+    /// Steps until the time reaches `t` (within half a step); returns the number of steps taken, none
+    /// if the time is there already. `t` must be finite and at most the scene's end. Ctrl-C raises `KeyboardInterrupt` after the current step. `threads` as for `step`.
     #[pyo3(signature = (t, threads = None))]
     fn run_until(&self, py: Python<'_>, t: f64, threads: Option<&Bound<'_, PyAny>>) -> PyResult<usize> {
         let threads = thread_count(threads)?;
+        self.check_target_time(t)?;
         let mut inner = self.lock()?;
         let mut n = 0;
-        loop {
-            if let Some(stepper) = &inner.stepper
-                && stepper.time() >= t - 0.5 * stepper.dt()
-            {
-                return Ok(n);
-            }
+        while !self.reached(&inner, t) {
             self.step_once(py, &mut inner, threads)?;
             n += 1;
             py.check_signals()?;
         }
+        Ok(n)
     }
 
     /// Runs the scene to its end and writes its outputs into `out_dir`, the same files as

@@ -129,3 +129,21 @@ def test_a_thread_count_that_is_not_an_int_is_a_type_error(strip_overrides, thre
     sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
     with pytest.raises(TypeError, match="threads must be an int or None"):
         sim.step(threads=threads)
+
+
+@pytest.mark.parametrize("t", [float("nan"), float("inf"), 1e9])
+def test_run_until_refuses_a_time_it_would_step_towards_for_ever(strip_overrides, t):
+    # NaN and infinity were never reached: the strip was stepped until it failed, 4000 steps later.
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    with pytest.raises(ValueError, match="t must be a finite time up to the scene's end 0.05"):
+        sim.run_until(t)
+    assert sim.time == 0.0
+
+
+@pytest.mark.parametrize("t", [-1.0, 0.0, 0.004])
+def test_run_until_a_time_already_reached_takes_no_step(strip_overrides, t):
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    assert sim.run_until(t) == 0
+    assert sim.time == 0.0
+    sim.step()
+    assert sim.run_until(t) == 0 and sim.time == pytest.approx(0.01)

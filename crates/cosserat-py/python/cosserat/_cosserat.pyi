@@ -141,7 +141,8 @@ class Simulation:
         """One time step (dynamic scenes), with the GIL released, on ``threads`` threads (1 to 1024,
         default ``None``: all cores; results do not depend on it). Raises ``StepFailed``."""
     def run_until(self, t: float, threads: Optional[int] = None) -> int:
-        """Steps until the time reaches ``t``; returns the number of steps."""
+        """Steps until the time reaches ``t`` (finite, at most ``end``); returns the number of steps,
+        0 if the time is there already."""
     def run(
         self,
         out_dir: _Path,
