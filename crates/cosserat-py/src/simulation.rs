@@ -238,6 +238,25 @@ impl PySimulation {
     }
 }
 
+/// Checks what `run` cannot check once it has started: a misspelt callback would end the run at its
+/// first step, and an empty `out_dir` would scatter the outputs over the current directory.
+fn check_run_args(py: Python<'_>, out_dir: &std::path::Path, on_step: Option<&Py<PyAny>>) -> PyResult<()> {
+    if out_dir.as_os_str().is_empty() {
+        return Err(PyValueError::new_err(
+            "out_dir is empty; name the directory of the outputs (\".\" for the current one)",
+        ));
+    }
+    match on_step.map(|f| f.bind(py)) {
+        Some(f) if !f.is_callable() => {
+            let type_name = f.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string());
+            Err(PyTypeError::new_err(format!(
+                "on_step must be callable, taking a StepInfo (got {type_name} {f})"
+            )))
+        }
+        _ => Ok(()),
+    }
+}
+
 /// The most threads a step or run takes: more than any machine's cores, and few enough that a count
 /// mistyped by orders of magnitude fails at once instead of spawning that many threads.
 const MAX_THREADS: i64 = 1024;
@@ -389,7 +408,8 @@ impl PySimulation {
     /// thread watches for Ctrl-C. Ctrl-C stops the run after its current step, writes the
     /// summary (status `"interrupted"`) and raises `KeyboardInterrupt`.
     ///
-    /// `threads`: the number of threads of the run, 1 to 1024 (default: all cores, like the CLI).
+    /// `threads`: the number of threads of the run, 1 to 1024 (default: all cores, like the CLI). An
+    /// `out_dir` that cannot be created raises `SimulationError` and leaves the simulation runnable.
     #[pyo3(signature = (out_dir, on_step = None, threads = None))]
     fn run(
         &self,
@@ -399,6 +419,7 @@ impl PySimulation {
         threads: Option<&Bound<'_, PyAny>>,
     ) -> PyResult<PyRunSummary> {
         let threads = thread_count(threads)?;
+        check_run_args(py, &out_dir, on_step.as_ref())?;
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads.unwrap_or(0))
             .build()
@@ -444,7 +465,13 @@ impl PySimulation {
                 pool.install(|| sim.run_controlled(&out_dir, &mut controller, &stop))
             })
         });
-        let summary = result.map_err(|e| simulation_error(py, &e))?;
+        let summary = result.map_err(|e| {
+            // Outputs that could not be set up leave the state as built: another `run` may try again.
+            if inner.sim.time() == 0.0 {
+                inner.mode = Mode::Fresh;
+            }
+            simulation_error(py, &e)
+        })?;
         match raised.into_inner().unwrap_or_else(|p| p.into_inner()) {
             Some(e) => Err(e),
             None => Ok(PyRunSummary { inner: summary }),

@@ -147,3 +147,25 @@ def test_run_until_a_time_already_reached_takes_no_step(strip_overrides, t):
     assert sim.time == 0.0
     sim.step()
     assert sim.run_until(t) == 0 and sim.time == pytest.approx(0.01)
+
+
+def test_run_checks_its_arguments_before_it_starts(tmp_path, strip_overrides):
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    # A callback that is not callable ended the run after its first step and used up the simulation.
+    with pytest.raises(TypeError, match="on_step must be callable"):
+        sim.run(tmp_path / "out", on_step=5)
+    # An empty path wrote the outputs into the current directory.
+    with pytest.raises(ValueError, match="out_dir is empty"):
+        sim.run("")
+    assert not (tmp_path / "out").exists()
+    assert sim.run(tmp_path / "out").status == "ok"
+
+
+def test_a_run_whose_outputs_cannot_be_set_up_may_be_run_again(tmp_path, strip_overrides):
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    blocker = tmp_path / "a_file"
+    blocker.write_text("")
+    with pytest.raises(cosserat.SimulationError, match="cannot create the directory"):
+        sim.run(blocker / "out")
+    summary = sim.run(tmp_path / "out")
+    assert summary.status == "ok" and summary.n_steps == 5

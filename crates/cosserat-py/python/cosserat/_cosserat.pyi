@@ -151,7 +151,8 @@ class Simulation:
     ) -> RunSummary:
         """Runs to the end writing the same files as ``cosserat run --out out_dir``. ``on_step`` may
         set targets; returning ``False`` stops the run. Ctrl-C stops it after the current step and raises
-        ``KeyboardInterrupt`` once ``summary.json`` is written."""
+        ``KeyboardInterrupt`` once ``summary.json`` is written. An ``out_dir`` that cannot be created
+        raises ``SimulationError`` and leaves the simulation ready to run again."""
     def set_motion(
         self,
         name: str,
