@@ -144,8 +144,9 @@ impl PySimulation {
         }
     }
 
-    fn queue(&self, command: Command) {
+    fn queue(&self, command: Command) -> PyResult<()> {
         self.pending.lock().unwrap_or_else(|e| e.into_inner()).push(command);
+        Ok(())
     }
 
     /// Applies the targets set since the last step.
@@ -481,38 +482,45 @@ impl PySimulation {
     /// Prescribes the motion of boundary `name` from the next step on, in place of the scene's: its
     /// nodes go to `R (X - center) + center + translation` from their positions `X` when the scene was
     /// built, and its rotations to `R`. `R` is `rotation` (a 3 × 3 rotation matrix) or the rotation by
-    /// `angle` [rad] about `axis`. Stiffnesses, axes and timing stay as the scene sets them.
-    #[pyo3(signature = (name, *, angle = 0.0, axis = [0.0, 0.0, 1.0], center = [0.0; 3], translation = [0.0; 3], rotation = None))]
+    /// `angle` [rad] (default 0) about `axis` (default z), not both. Stiffnesses, axes and timing stay
+    /// as the scene sets them.
+    #[pyo3(signature = (name, *, angle = None, axis = None, center = [0.0; 3], translation = [0.0; 3], rotation = None))]
     fn set_motion(
         &self,
         name: &str,
-        angle: f64,
-        axis: [f64; 3],
+        angle: Option<f64>,
+        axis: Option<[f64; 3]>,
         center: [f64; 3],
         translation: [f64; 3],
         rotation: Option<[[f64; 3]; 3]>,
     ) -> PyResult<()> {
         self.check_boundary(name)?;
         let invalid = |e: ScriptTargetError| PyValueError::new_err(format!("boundary `{name}`: {e}"));
+        if rotation.is_some() && (angle.is_some() || axis.is_some()) {
+            return Err(PyValueError::new_err(format!(
+                "boundary `{name}`: give either `rotation` or `angle` and `axis`, not both"
+            )));
+        }
         let mut motion = match rotation {
             Some(r) => RigidMotion {
                 rotation: Matrix3::from_fn(|i, j| r[i][j]),
                 center: vector(center),
                 translation: Vector3::zeros(),
             },
-            None => RigidMotion::about_axis(vector(axis), angle, vector(center)).map_err(invalid)?,
+            None => {
+                let axis = vector(axis.unwrap_or([0.0, 0.0, 1.0]));
+                RigidMotion::about_axis(axis, angle.unwrap_or(0.0), vector(center)).map_err(invalid)?
+            }
         };
         motion.translation = vector(translation);
         motion.check().map_err(invalid)?;
-        self.queue(Command::Motion(name.into(), Some(motion)));
-        Ok(())
+        self.queue(Command::Motion(name.into(), Some(motion)))
     }
 
     /// Gives boundary `name` back its scene motion from the next step on.
     fn reset_motion(&self, name: &str) -> PyResult<()> {
         self.check_boundary(name)?;
-        self.queue(Command::Motion(name.into(), None));
-        Ok(())
+        self.queue(Command::Motion(name.into(), None))
     }
 
     /// Sets the scale of load `name` from the next step on, in place of the scene's scale function
@@ -524,8 +532,7 @@ impl PySimulation {
                 "load `{name}`: the scale must be finite (got {s})"
             )));
         }
-        self.queue(Command::LoadScale(name.into(), scale));
-        Ok(())
+        self.queue(Command::LoadScale(name.into(), scale))
     }
 
     /// Positions of the displacement nodes (n × 3) [m]: a read-only view of the simulation's memory

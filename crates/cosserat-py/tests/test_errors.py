@@ -169,3 +169,13 @@ def test_a_run_whose_outputs_cannot_be_set_up_may_be_run_again(tmp_path, strip_o
         sim.run(blocker / "out")
     summary = sim.run(tmp_path / "out")
     assert summary.status == "ok" and summary.n_steps == 5
+
+
+def test_a_rotation_with_an_angle_or_axis_is_refused(strip_overrides):
+    # The angle and axis were silently ignored.
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    with pytest.raises(ValueError, match="either `rotation` or `angle` and `axis`"):
+        sim.set_motion("right_twist", rotation=[[1, 0, 0], [0, 1, 0], [0, 0, 1]], angle=1.0)
+    with pytest.raises(ValueError, match="either `rotation` or `angle` and `axis`"):
+        sim.set_motion("right_twist", rotation=[[1, 0, 0], [0, 1, 0], [0, 0, 1]], axis=(1.0, 0.0, 0.0))
+

@@ -157,15 +157,15 @@ class Simulation:
         self,
         name: str,
         *,
-        angle: float = 0.0,
-        axis: _Vec3 = (0.0, 0.0, 1.0),
+        angle: Optional[float] = None,
+        axis: Optional[_Vec3] = None,
         center: _Vec3 = (0.0, 0.0, 0.0),
         translation: _Vec3 = (0.0, 0.0, 0.0),
         rotation: Optional[Sequence[Sequence[float]]] = None,
     ) -> None:
         """Prescribes boundary ``name``'s motion from the next step on: nodes to
-        ``R (X - center) + center + translation``, rotations to ``R`` (``rotation``, or ``angle`` about
-        ``axis``)."""
+        ``R (X - center) + center + translation``, rotations to ``R`` (``rotation``, or ``angle``, default
+        0, about ``axis``, default z; not both)."""
     def reset_motion(self, name: str) -> None:
         """Gives boundary ``name`` back its scene motion."""
     def set_load_scale(self, name: str, scale: Optional[float]) -> None:
