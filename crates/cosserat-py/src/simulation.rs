@@ -144,7 +144,20 @@ impl PySimulation {
         }
     }
 
+    /// Queues a target for the next step. After a run there is no next step, and a target that would
+    /// silently never apply is refused; during one (`on_step`) the simulation is locked and the target
+    /// goes to the run's next step.
     fn queue(&self, command: Command) -> PyResult<()> {
+        let ran = match self.inner.try_lock() {
+            Ok(inner) => inner.mode == Mode::Ran,
+            Err(TryLockError::Poisoned(e)) => e.into_inner().mode == Mode::Ran,
+            Err(TryLockError::WouldBlock) => false,
+        };
+        if ran {
+            return Err(PyRuntimeError::new_err(
+                "this simulation has run, so a target would never apply; load the scene again",
+            ));
+        }
         self.pending.lock().unwrap_or_else(|e| e.into_inner()).push(command);
         Ok(())
     }

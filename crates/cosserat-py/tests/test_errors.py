@@ -179,3 +179,16 @@ def test_a_rotation_with_an_angle_or_axis_is_refused(strip_overrides):
     with pytest.raises(ValueError, match="either `rotation` or `angle` and `axis`"):
         sim.set_motion("right_twist", rotation=[[1, 0, 0], [0, 1, 0], [0, 0, 1]], axis=(1.0, 0.0, 0.0))
 
+
+def test_targets_after_a_run_are_refused(tmp_path, strip_overrides):
+    # They were queued for a step that never comes.
+    sim = cosserat.Simulation.load(STRIP, overrides=strip_overrides)
+    sim.run(tmp_path / "out")
+    for call in (lambda: sim.set_motion("right_twist", angle=1.0), lambda: sim.reset_motion("right_twist")):
+        with pytest.raises(RuntimeError, match="this simulation has run"):
+            call()
+    plate = cosserat.Simulation.load(STRIP.parent / "plate_under_load.toml",
+                                     overrides={"mesh.nx": 8, "mesh.ny": 2, "time.end": 0.01})
+    plate.run(tmp_path / "plate")
+    with pytest.raises(RuntimeError, match="this simulation has run"):
+        plate.set_load_scale("tip_load", 1.0)

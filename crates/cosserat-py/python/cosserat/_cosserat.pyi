@@ -165,11 +165,12 @@ class Simulation:
     ) -> None:
         """Prescribes boundary ``name``'s motion from the next step on: nodes to
         ``R (X - center) + center + translation``, rotations to ``R`` (``rotation``, or ``angle``, default
-        0, about ``axis``, default z; not both)."""
+        0, about ``axis``, default z; not both). Raises ``RuntimeError`` after a run."""
     def reset_motion(self, name: str) -> None:
-        """Gives boundary ``name`` back its scene motion."""
+        """Gives boundary ``name`` back its scene motion. Raises ``RuntimeError`` after a run."""
     def set_load_scale(self, name: str, scale: Optional[float]) -> None:
-        """Sets load ``name``'s scale from the next step on (``None``: the scene's)."""
+        """Sets load ``name``'s scale from the next step on (``None``: the scene's). Raises
+        ``RuntimeError`` after a run."""
     @property
     def positions(self) -> npt.NDArray[np.float64]:
         """(n, 3) read-only view of the displacement nodes' positions [m]."""
