@@ -52,3 +52,14 @@ def test_descriptions_round_trip_through_json(tmp_path):
     assert [r.cli_args() for r in loaded] == [r.cli_args() for r in runs]
     assert runs[0].cli_args() == ["run", str(STRIP), "--out", str(tmp_path / "nx=4"), "--set", "mesh.nx=4",
                                   "--threads", "1"]
+
+
+def test_numpy_values_make_overrides_the_scene_reads(tmp_path):
+    np = pytest.importorskip("numpy")
+    # np.linspace gives np.float64 values, whose repr `np.float64(0.02)` was passed on as the value.
+    (run,) = cosserat.grid(STRIP, tmp_path, **{"time.end": np.linspace(0.02, 0.02, 1),
+                                               "mesh.nx": np.array([8]), "mesh.ny": [np.int32(2)],
+                                               "gravity": [np.zeros(3)]})
+    assert run.overrides == ("time.end=0.02", "mesh.nx=8", "mesh.ny=2", "gravity=[0.0, 0.0, 0.0]")
+    row = run.run()
+    assert row["status"] == "ok" and row["n_steps"] == 2

@@ -42,7 +42,17 @@ SUMMARY_COLUMNS = (
 )
 
 
+def _plain(value: Any) -> Any:
+    """NumPy scalars and arrays as Python values: their repr (``np.float64(0.5)``) is no TOML."""
+    if hasattr(value, "tolist") and not isinstance(value, (str, bytes)):
+        return value.tolist()
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value
+
+
 def _override_text(key: str, value: Any) -> str:
+    value = _plain(value)
     if isinstance(value, bool):
         return f"{key}={'true' if value else 'false'}"
     if isinstance(value, str):
