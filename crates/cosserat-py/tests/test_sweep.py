@@ -1,6 +1,7 @@
 """A sweep of independent runs on Dask distributed: two worker processes, rows gathered in order."""
 
 import json
+import os
 
 import pytest
 
@@ -63,3 +64,31 @@ def test_numpy_values_make_overrides_the_scene_reads(tmp_path):
     assert run.overrides == ("time.end=0.02", "mesh.nx=8", "mesh.ny=2", "gravity=[0.0, 0.0, 0.0]")
     row = run.run()
     assert row["status"] == "ok" and row["n_steps"] == 2
+
+
+@pytest.mark.parametrize("axis, error, message", [
+    ("abc", TypeError, "grid axis `name` must be a list of values"),
+    (8, TypeError, "grid axis `name` must be a list of values"),
+    ([], ValueError, "grid axis `name` has no values"),
+])
+def test_a_grid_axis_that_is_no_list_of_values_is_refused(tmp_path, axis, error, message):
+    # A string was swept character by character, and an empty axis gave an empty sweep.
+    with pytest.raises(error, match=message):
+        cosserat.grid(STRIP, tmp_path, **{"name": axis})
+
+
+def test_runs_that_would_share_an_output_directory_are_refused(tmp_path):
+    # The second run's outputs replaced the first's.
+    with pytest.raises(ValueError, match="runs 0 and 1 both write into"):
+        cosserat.grid(STRIP, tmp_path, **{"mesh.nx": [4, 4]})
+    same = [cosserat.RunDescription.of(STRIP, tmp_path / "out", {"mesh.nx": n}) for n in (4, 8)]
+    with pytest.raises(ValueError, match="runs 0 and 1 both write into"):
+        sweep.run_local(same)
+    with pytest.raises(ValueError, match="runs 0 and 1 both write into"):
+        sweep.run_sweep(same, client=object())
+
+
+def test_a_label_never_nests_or_leaves_the_output_root(tmp_path):
+    runs = cosserat.grid(STRIP, tmp_path, **{"name": ["a/b", "../x"]})
+    assert [r.label for r in runs] == ["name=a_b", "name=.._x"]
+    assert all(os.path.dirname(r.out_dir) == str(tmp_path) for r in runs)

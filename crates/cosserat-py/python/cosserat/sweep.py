@@ -146,14 +146,51 @@ def grid(scene: str | os.PathLike, out_root: str | os.PathLike, threads: int | N
          **axes: Iterable[Any]) -> list[RunDescription]:
     """The cartesian product of override values as run descriptions, e.g.
     ``grid("scenes/plate.toml", "out/sweep", **{"material.youngs_modulus": [1e6, 1e7], "mesh.nx": [4, 8]})``;
-    each run writes into ``out_root/<label>`` with a label made of its values."""
+    each run writes into ``out_root/<label>`` with a label made of its values (path separators in them
+    become ``_``). Every axis is a non-empty list; a value repeated on an axis raises ``ValueError``, since
+    its runs would share a directory."""
     keys = list(axes)
+    values_of = [_axis_values(k, axes[k]) for k in keys]
     runs = []
-    for values in itertools.product(*(list(axes[k]) for k in keys)):
+    for values in itertools.product(*values_of):
         overrides = dict(zip(keys, values))
-        label = "_".join(f"{k.split('.')[-1]}={v}" for k, v in overrides.items()) or "run"
+        label = "_".join(f"{k.split('.')[-1]}={_label_text(v)}" for k, v in overrides.items()) or "run"
         runs.append(RunDescription.of(scene, os.path.join(os.fspath(out_root), label), overrides, label, threads))
+    check_distinct_out_dirs(runs)
     return runs
+
+
+def _axis_values(key: str, values: Any) -> list:
+    """The values of one axis of a grid: a string would be read as its characters, and an empty axis
+    would make an empty sweep."""
+    if isinstance(values, (str, bytes)) or not isinstance(values, Iterable):
+        raise TypeError(f"grid axis `{key}` must be a list of values (got {type(values).__name__} {values!r})")
+    values = list(values)
+    if not values:
+        raise ValueError(f"grid axis `{key}` has no values")
+    return values
+
+
+def _label_text(value: Any) -> str:
+    """A value as part of a label, which names a folder: path separators would nest it elsewhere."""
+    text = str(_plain(value))
+    for sep in {"/", "\\", os.sep, os.altsep or "/"}:
+        text = text.replace(sep, "_")
+    return text
+
+
+def check_distinct_out_dirs(runs: Sequence[RunDescription]) -> None:
+    """Raises ``ValueError`` if two runs write into the same directory: the later run's outputs would
+    replace the earlier's, and one result would be lost."""
+    first: dict[str, int] = {}
+    for i, run in enumerate(runs):
+        key = os.path.normpath(os.path.abspath(run.out_dir))
+        if key in first:
+            raise ValueError(
+                f"runs {first[key]} and {i} both write into `{run.out_dir}`; give each run its own out_dir "
+                "(in a grid: each axis value once)"
+            )
+        first[key] = i
 
 
 def _run_one(description: RunDescription) -> dict:
@@ -161,7 +198,9 @@ def _run_one(description: RunDescription) -> dict:
 
 
 def run_local(runs: Sequence[RunDescription]) -> list[dict]:
-    """Runs the descriptions one after the other in this process; returns their rows in order."""
+    """Runs the descriptions one after the other in this process; returns their rows in order. Two
+    runs with the same ``out_dir`` raise ``ValueError`` before any runs."""
+    check_distinct_out_dirs(runs)
     return [d.run() for d in runs]
 
 
@@ -171,8 +210,10 @@ def run_sweep(runs: Sequence[RunDescription], client: Any = None) -> list[dict]:
 
     ``client`` is a ``distributed.Client`` (of a ``LocalCluster``, a scheduler address or a
     dask-jobqueue cluster); ``None`` uses the current default client. Every worker needs this package
-    installed; the scene files and output directories must be on paths the workers share.
+    installed; the scene files and output directories must be on paths the workers share. Two runs with
+    the same ``out_dir`` raise ``ValueError`` before any runs.
     """
+    check_distinct_out_dirs(runs)
     if client is None:
         from distributed import default_client
 
