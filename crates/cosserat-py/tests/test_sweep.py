@@ -92,3 +92,38 @@ def test_a_label_never_nests_or_leaves_the_output_root(tmp_path):
     runs = cosserat.grid(STRIP, tmp_path, **{"name": ["a/b", "../x"]})
     assert [r.label for r in runs] == ["name=a_b", "name=.._x"]
     assert all(os.path.dirname(r.out_dir) == str(tmp_path) for r in runs)
+
+
+@pytest.mark.parametrize("overrides, error, message", [
+    ("mesh.nx=8", TypeError, "overrides must be a dict"),
+    (8, TypeError, "overrides must be a dict"),
+    (["mesh.nx"], ValueError, "override `mesh.nx` is not of the form"),
+    (["=8"], ValueError, "override `=8` is not of the form"),
+    ([8], TypeError, "an override must be a \"key=value\" string"),
+])
+def test_a_description_with_malformed_overrides_is_refused(tmp_path, overrides, error, message):
+    # A string was split into one override per character; an override without `=` broke the run's row
+    # (ValueError inside `run`, which on Dask fails the task and the gathering of the whole sweep).
+    with pytest.raises(error, match=message):
+        cosserat.RunDescription.of(STRIP, tmp_path, overrides)
+
+
+@pytest.mark.parametrize("threads, error", [(0, ValueError), (-1, ValueError), (10**6, ValueError),
+                                            ("2", TypeError), (2.0, TypeError)])
+def test_a_description_with_a_bad_thread_count_is_refused(tmp_path, threads, error):
+    # -1 raised OverflowError inside `run`, outside the error row.
+    with pytest.raises(error, match="RunDescription.threads must be"):
+        cosserat.RunDescription.of(STRIP, tmp_path, {"mesh.nx": 8}, threads=threads)
+    with pytest.raises(error, match="RunDescription.threads must be"):
+        cosserat.grid(STRIP, tmp_path, threads=threads, **{"mesh.nx": [8]})
+
+
+def test_descriptions_read_from_json_are_checked(tmp_path):
+    path = tmp_path / "runs.json"
+    path.write_text('{"scene": "a.toml"}')
+    with pytest.raises(ValueError, match="expected a JSON list"):
+        sweep.load_descriptions(path)
+    path.write_text('[{"scene": "a.toml"}]')
+    with pytest.raises(ValueError, match="lacks `out_dir`"):
+        sweep.load_descriptions(path)
+    assert cosserat.RunDescription.of(STRIP, tmp_path, None).overrides == ()

@@ -73,15 +73,37 @@ class RunDescription:
     threads: int | None = 1
     params: tuple[tuple[str, Any], ...] = field(default=())
 
+    def __post_init__(self) -> None:
+        # Checked here rather than when the run starts: on a Dask worker a bad description would fail
+        # its task, and gathering the sweep would raise and lose every other row.
+        for name in ("scene", "out_dir", "label"):
+            value = getattr(self, name)
+            if not isinstance(value, str):
+                raise TypeError(f"RunDescription.{name} must be a str (got {type(value).__name__} {value!r})")
+        if not isinstance(self.overrides, tuple):
+            raise TypeError(f"RunDescription.overrides must be a tuple of \"key=value\" strings "
+                            f"(got {type(self.overrides).__name__})")
+        for text in self.overrides:
+            _check_override_text(text)
+        _check_threads(self.threads)
+
     @staticmethod
     def of(scene: str | os.PathLike, out_dir: str | os.PathLike, overrides: Mapping[str, Any] | Sequence[str] = (),
            label: str = "", threads: int | None = 1) -> "RunDescription":
-        """A description from a dict of overrides (``{"mesh.nx": 8}``) or ``"key=value"`` strings."""
+        """A description from a dict of overrides (``{"mesh.nx": 8}``) or ``"key=value"`` strings
+        (``None``: none)."""
+        if overrides is None:
+            overrides = ()
         if isinstance(overrides, Mapping):
             params = tuple(overrides.items())
             texts = tuple(_override_text(k, v) for k, v in overrides.items())
+        elif isinstance(overrides, (str, bytes)) or not isinstance(overrides, Iterable):
+            raise TypeError("overrides must be a dict such as {\"mesh.nx\": 8} or a list of \"key=value\" "
+                            f"strings (got {type(overrides).__name__} {overrides!r})")
         else:
             texts = tuple(overrides)
+            for text in texts:
+                _check_override_text(text)
             params = tuple(tuple(t.split("=", 1)) for t in texts)  # type: ignore[misc]
         return RunDescription(os.fspath(scene), os.fspath(out_dir), texts, label, threads, params)
 
@@ -107,6 +129,12 @@ class RunDescription:
     @staticmethod
     def from_dict(data: Mapping[str, Any]) -> "RunDescription":
         """The inverse of :meth:`to_dict`."""
+        if not isinstance(data, Mapping):
+            raise TypeError(f"a run description must be a dict (got {type(data).__name__} {data!r})")
+        missing = [key for key in ("scene", "out_dir") if key not in data]
+        if missing:
+            raise ValueError(f"a run description needs `scene` and `out_dir`; {data!r} lacks "
+                             + " and ".join(f"`{key}`" for key in missing))
         return RunDescription.of(data["scene"], data["out_dir"], list(data.get("overrides", ())),
                                  data.get("label", ""), data.get("threads", 1))
 
@@ -128,6 +156,28 @@ class RunDescription:
             row[name] = getattr(summary, name)
         row.update(last_probes(os.path.join(self.out_dir, "probes.csv")))
         return row
+
+
+#: The most threads of one run, as ``Simulation.run`` takes them.
+MAX_THREADS = 1024
+
+
+def _check_override_text(text: Any) -> None:
+    if not isinstance(text, str):
+        raise TypeError(f"an override must be a \"key=value\" string (got {type(text).__name__} {text!r})")
+    key, sep, _ = text.partition("=")
+    if not sep or not key.strip():
+        raise ValueError(f"override `{text}` is not of the form \"key=value\"")
+
+
+def _check_threads(threads: Any) -> None:
+    if threads is None:
+        return
+    if isinstance(threads, bool) or not isinstance(threads, int):
+        raise TypeError(f"RunDescription.threads must be an int or None (got {type(threads).__name__} {threads!r})")
+    if not 1 <= threads <= MAX_THREADS:
+        raise ValueError(f"RunDescription.threads must be from 1 to {MAX_THREADS}, or None for all cores "
+                         f"(got {threads})")
 
 
 def last_probes(path: str) -> dict[str, float]:
@@ -243,4 +293,7 @@ def save_descriptions(runs: Sequence[RunDescription], path: str | os.PathLike) -
 def load_descriptions(path: str | os.PathLike) -> list[RunDescription]:
     """Reads descriptions written by :func:`save_descriptions`."""
     with open(path) as f:
-        return [RunDescription.from_dict(d) for d in json.load(f)]
+        data = json.load(f)
+    if not isinstance(data, list):
+        raise ValueError(f"{os.fspath(path)}: expected a JSON list of run descriptions (got {type(data).__name__})")
+    return [RunDescription.from_dict(d) for d in data]
