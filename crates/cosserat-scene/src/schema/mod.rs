@@ -925,8 +925,8 @@ pub struct OutputSection {
     pub frames: Option<bool>,
     /// Subdivision level of quadratic elements in frames (default 1).
     pub subdivision: Option<usize>,
-    /// Frame formats (default `["vtu"]`): `"vtu"` (ParaView), `"obj"` and `"ply"` (one file per
-    /// frame), `"usd"` (one `run.usda` with time samples).
+    /// Frame formats, each named once (default `["vtu"]`): `"vtu"` (ParaView), `"obj"` and `"ply"`
+    /// (one file per frame), `"usd"` (one `run.usda` with time samples).
     pub formats: Option<Vec<FrameFormatName>>,
     /// Write a checkpoint every this many steps (load levels in quasi-static runs) into
     /// `checkpoint/` of the output folder; `cosserat resume DIR` continues the run from it, with the
@@ -948,4 +948,16 @@ pub enum FrameFormatName {
     Ply,
     /// One USD stage (`.usda`) with time samples.
     Usd,
+}
+
+impl FrameFormatName {
+    /// The name in the scene file.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            FrameFormatName::Vtu => "vtu",
+            FrameFormatName::Obj => "obj",
+            FrameFormatName::Ply => "ply",
+            FrameFormatName::Usd => "usd",
+        }
+    }
 }

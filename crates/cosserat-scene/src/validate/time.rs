@@ -317,22 +317,7 @@ impl Ctx<'_> {
                 format!("must be at most {MAX_SUBDIVISION} (got {subdivision})"),
             ));
         }
-        let names = output
-            .and_then(|o| o.formats.clone())
-            .unwrap_or_else(|| vec![FrameFormatName::Vtu]);
-        if names.is_empty() {
-            return Err(self.invalid(
-                "output.formats",
-                "lists no format; set `frames = false` to write no frames",
-            ));
-        }
-        let has = |f: FrameFormatName| names.contains(&f);
-        let formats = FrameFormats {
-            vtu: has(FrameFormatName::Vtu),
-            obj: has(FrameFormatName::Obj),
-            ply: has(FrameFormatName::Ply),
-            usd: has(FrameFormatName::Usd),
-        };
+        let formats = self.frame_formats(output.and_then(|o| o.formats.as_deref()))?;
         let checkpoint_every = output.and_then(|o| o.checkpoint_every);
         if checkpoint_every == Some(0) {
             return Err(self.invalid("output.checkpoint_every", "must be at least 1 step"));
@@ -355,6 +340,39 @@ impl Ctx<'_> {
             subdivision,
             formats,
             checkpoint_every,
+        })
+    }
+
+    /// The frame formats named by `output.formats` (default VTU), each at most once.
+    fn frame_formats(&self, names: Option<&[FrameFormatName]>) -> Result<FrameFormats, SceneError> {
+        let names = names.unwrap_or(&[FrameFormatName::Vtu]);
+        if names.is_empty() {
+            return Err(self.invalid(
+                "output.formats",
+                "lists no format; set `frames = false` to write no frames",
+            ));
+        }
+        // A format named twice would still be written once: the repeat is more likely a slip for another
+        // format than a request.
+        for (k, name) in names.iter().enumerate() {
+            if let Some(first) = names[..k].iter().position(|n| n == name) {
+                return Err(self.invalid(
+                    "output.formats",
+                    format!(
+                        "lists `{}` twice (entries {} and {}); name each format once",
+                        name.as_str(),
+                        first + 1,
+                        k + 1
+                    ),
+                ));
+            }
+        }
+        let has = |f: FrameFormatName| names.contains(&f);
+        Ok(FrameFormats {
+            vtu: has(FrameFormatName::Vtu),
+            obj: has(FrameFormatName::Obj),
+            ply: has(FrameFormatName::Ply),
+            usd: has(FrameFormatName::Usd),
         })
     }
 }

@@ -637,3 +637,16 @@ fn checkpoints_are_refused_where_a_run_cannot_resume() {
         "{arc}"
     );
 }
+
+#[test]
+fn a_frame_format_named_twice_is_refused() {
+    let twice = |formats: &str| format!("{}\n[output]\nformats = {formats}\n", scene(&[]));
+    let err = load(&twice("[\"vtu\", \"obj\", \"vtu\"]"), &[]).unwrap_err();
+    assert_eq!(err.field(), Some("output.formats"));
+    assert_eq!(
+        err.to_string(),
+        "scene.toml:39: output.formats: lists `vtu` twice (entries 1 and 3); name each format once"
+    );
+    let spec = load(&twice("[\"vtu\", \"obj\"]"), &[]).unwrap_or_else(|e| panic!("{e}"));
+    assert!(spec.output.formats.vtu && spec.output.formats.obj);
+}
