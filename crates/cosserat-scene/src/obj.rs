@@ -2,7 +2,9 @@
 //! and checked before simulation.
 //!
 //! Only `v` (positions), `f` (faces), `g` (groups) and `o` (objects) statements matter; normals,
-//! texture coordinates, smoothing groups and materials are ignored. Each group or object name becomes
+//! texture coordinates, smoothing groups, materials and vertex colours (`v x y z r g b`) are ignored. A
+//! vertex may carry the weight `w` of `v x y z w` only if it is 1: any other weight makes the vertex
+//! rational (the OBJ format's curves and surfaces), which a triangle mesh cannot represent. Each group or object name becomes
 //! a [`MeshGroup`] of the vertices of its faces (`g a b` puts the following faces in both `a` and `b`;
 //! the exporters' `default` group is skipped), which regions select with `group = "name"`. Face corners may be written `i`, `i/t`,
 //! `i//n` or `i/t/n`, with negative (relative) indices allowed. Every face must be a triangle: the
@@ -22,7 +24,7 @@
 //! pieces there, unless [`ObjMesh::welded`] merges them) and bowtie vertices (two fans of faces that
 //! touch in one vertex only, so that the shell can turn freely about it).
 
-use crate::error::ObjError;
+use crate::error::{Num, ObjError};
 use crate::gmsh::MeshGroup;
 use cosserat_fem::{MeshError, Tri3Mesh, TriMesh};
 use nalgebra::Vector3;
@@ -185,26 +187,49 @@ impl Statements {
     }
 }
 
-/// The coordinates of a `v` statement.
+/// The coordinates of a `v` statement: `x y z`, optionally followed by the weight `w`, by a colour
+/// `r g b`, or by both (`x y z w r g b`).
 fn parse_vertex<'a>(
     words: impl Iterator<Item = &'a str>,
     line: usize,
     parse_error: &dyn Fn(usize, String) -> ObjError,
 ) -> Result<Vector3<f64>, ObjError> {
     let coords: Vec<&str> = words.collect();
-    if coords.len() < 3 {
-        return Err(parse_error(
-            line,
-            format!("a vertex needs 3 coordinates, found {}", coords.len()),
-        ));
-    }
+    let number = |word: &str| word.parse::<f64>().ok().filter(|v| v.is_finite());
+    let weight = match coords.len() {
+        0..3 => {
+            return Err(parse_error(
+                line,
+                format!("a vertex needs 3 coordinates, found {}", coords.len()),
+            ));
+        }
+        3 | 6 => None,
+        4 | 7 => Some(coords[3]),
+        // With 5 or more than 7 numbers, which of them is the weight is a guess.
+        n => {
+            return Err(parse_error(
+                line,
+                format!("a vertex is `v x y z`, with an optional weight `w` and colour `r g b`; found {n} values"),
+            ));
+        }
+    };
     let mut p = [0.0; 3];
     for (c, word) in p.iter_mut().zip(&coords) {
-        *c = word
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| parse_error(line, format!("`{word}` is not a finite coordinate")))?;
+        *c = number(word).ok_or_else(|| parse_error(line, format!("`{word}` is not a finite coordinate")))?;
+    }
+    if let Some(word) = weight {
+        let w = number(word).ok_or_else(|| parse_error(line, format!("`{word}` is not a finite weight")))?;
+        // Exporters write w = 1 (the default); any other weight makes the vertex rational.
+        if (w - 1.0).abs() > 1e-12 {
+            return Err(parse_error(
+                line,
+                format!(
+                    "the vertex has the weight w = {}; only w = 1 is supported (a rational vertex cannot be a \
+                     node of a triangle mesh)",
+                    Num(w)
+                ),
+            ));
+        }
     }
     Ok(Vector3::from(p))
 }

@@ -159,6 +159,36 @@ fn malformed_statements_are_rejected_with_their_line() {
     assert!(matches!(parse_obj("v 0 0 0\n", path), Err(ObjError::Empty { .. })));
 }
 
+#[test]
+fn a_vertex_weight_other_than_one_is_refused_with_its_line() {
+    let path = Path::new("weighted.obj");
+    let triangle = |second: &str| format!("v 0 0 0\n{second}\nv 0 1 0\nf 1 2 3\n");
+    let err = parse_obj(&triangle("v 1 0 0 0.5"), path).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "`weighted.obj` line 2: the vertex has the weight w = 0.5; only w = 1 is supported (a rational vertex \
+         cannot be a node of a triangle mesh)"
+    );
+    // With a colour after the weight.
+    let err = parse_obj(&triangle("v 1 0 0 2 0.1 0.2 0.3"), path).unwrap_err();
+    assert!(
+        matches!(err, ObjError::Parse { line: 2, ref reason, .. } if reason.contains("w = 2")),
+        "{err}"
+    );
+    let err = parse_obj(&triangle("v 1 0 0 1 0"), path).unwrap_err();
+    assert!(err.to_string().contains("line 2: a vertex is `v x y z`"), "{err}");
+    // A weight of 1 (to round-off) and a colour alone are read as the plain position.
+    for second in [
+        "v 1 0 0 1",
+        "v 1 0 0 1.0000000000001",
+        "v 1 0 0 0.5 0.5 0.5",
+        "v 1 0 0 1 0.5 0.5 0.5",
+    ] {
+        let obj = parse_obj(&triangle(second), path).unwrap_or_else(|e| panic!("{second}: {e}"));
+        assert_eq!(obj.mesh.nodes[1], Vector3::x(), "{second}");
+    }
+}
+
 /// Two unit squares side by side, written as two pieces: the shared edge's vertices appear twice.
 const SPLIT: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 1 0 0\nv 1 1 0\nv 2 0 0\nv 2 1 0\n\
                      f 1 2 3\nf 1 3 4\nf 5 7 8\nf 5 8 6\n";
