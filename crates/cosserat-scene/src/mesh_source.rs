@@ -298,17 +298,29 @@ pub enum MeshSource {
 }
 
 impl MeshSource {
-    /// A mesh file by its extension: `.msh` is Gmsh, `.ply` PLY, anything else OBJ.
-    pub fn file(path: PathBuf) -> Self {
-        match path
-            .extension()
-            .and_then(|e| e.to_str())
-            .map(str::to_ascii_lowercase)
-            .as_deref()
-        {
-            Some("msh") => Self::Gmsh(path),
-            Some("ply") => Self::Ply(path),
-            _ => Self::Obj(path),
+    /// A mesh file by its extension, in any case: `.obj` is OBJ, `.msh` Gmsh, `.ply` PLY.
+    ///
+    /// # Errors
+    /// [`MeshSourceError::Invalid`] (step `path`) for any other extension or none: reading such a file
+    /// as one of the three would report its content as a broken mesh instead of a wrong format.
+    pub fn file(path: PathBuf) -> Result<Self, MeshSourceError> {
+        let extension = path.extension().map(|e| e.to_string_lossy().into_owned());
+        match extension.as_deref().map(str::to_ascii_lowercase).as_deref() {
+            Some("obj") => Ok(Self::Obj(path)),
+            Some("msh") => Ok(Self::Gmsh(path)),
+            Some("ply") => Ok(Self::Ply(path)),
+            _ => {
+                let found = match &extension {
+                    Some(e) => format!("the extension `.{e}` is not a mesh format the simulator reads"),
+                    None => format!("`{}` has no extension to tell its format", path.display()),
+                };
+                Err(MeshSourceError::Invalid {
+                    step: "path",
+                    reason: format!(
+                        "{found}; use `.obj` (Wavefront OBJ), `.msh` (Gmsh MSH 4.1) or `.ply` (PLY), in any case"
+                    ),
+                })
+            }
         }
     }
 }

@@ -341,7 +341,9 @@ pub enum ElementName {
 pub struct MeshSection {
     /// A procedural mesh (exclusive with `path`).
     pub generator: Option<GeneratorName>,
-    /// An OBJ file, relative to the scene file's directory or absolute (exclusive with `generator`).
+    /// A mesh file, relative to the scene file's directory or absolute (exclusive with `generator`),
+    /// read by its extension in any case: `.obj` (Wavefront OBJ), `.msh` (Gmsh MSH 4.1) or `.ply`;
+    /// any other extension is refused.
     pub path: Option<String>,
     /// OBJ input: merge vertices closer than this distance \[m\] (files split along seams; default: no
     /// merging, and a warning when vertices coincide).

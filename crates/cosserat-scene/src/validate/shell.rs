@@ -382,7 +382,7 @@ impl Ctx<'_> {
         })
     }
 
-    /// Where the mesh comes from: a generator with its parameters or an OBJ file, exactly one.
+    /// Where the mesh comes from: a generator with its parameters or a mesh file, exactly one.
     fn mesh_source(&self, m: &str, mesh: &MeshSection) -> Result<MeshSource, SceneError> {
         let given = given_parameters(mesh);
         match (mesh.generator, &mesh.path) {
@@ -392,7 +392,8 @@ impl Ctx<'_> {
                 if let Some((key, _)) = given.iter().find(|(_, g)| *g) {
                     return Err(self.invalid(&format!("{m}.{key}"), "a generator parameter, not used with `path`"));
                 }
-                Ok(MeshSource::file(self.resolve_path(&format!("{m}.path"), path)))
+                MeshSource::file(self.resolve_path(&format!("{m}.path"), path))
+                    .map_err(|e| self.mesh_source_error(m, e))
             }
             (Some(generator), None) => Ok(MeshSource::Generator(self.generator(m, generator, mesh, &given)?)),
         }

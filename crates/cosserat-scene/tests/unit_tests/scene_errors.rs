@@ -650,3 +650,22 @@ fn a_frame_format_named_twice_is_refused() {
     let spec = load(&twice("[\"vtu\", \"obj\"]"), &[]).unwrap_or_else(|e| panic!("{e}"));
     assert!(spec.output.formats.vtu && spec.output.formats.obj);
 }
+
+#[test]
+fn a_mesh_file_of_an_unknown_format_is_refused_by_its_extension() {
+    let with_path = |file: &str| load(&scene(&[(MESH, &format!("path = \"{file}\""))]), &[]).unwrap_err();
+    assert_eq!(
+        with_path("plate.stl").to_string(),
+        "scene.toml:8: mesh.path: the extension `.stl` is not a mesh format the simulator reads; use `.obj` \
+         (Wavefront OBJ), `.msh` (Gmsh MSH 4.1) or `.ply` (PLY), in any case"
+    );
+    assert!(with_path("plate.txt").to_string().contains("the extension `.txt` is not"));
+    let bare = with_path("plate").to_string();
+    assert!(
+        bare.contains("plate` has no extension to tell its format; use `.obj`"),
+        "{bare}"
+    );
+    // Known extensions in any case are read in their format (these files do not exist).
+    assert!(matches!(with_path("missing.OBJ"), SceneError::Obj { .. }));
+    assert!(matches!(with_path("missing.Msh"), SceneError::MeshFile { .. }));
+}
