@@ -116,10 +116,18 @@ impl Ctx<'_> {
         for (k, r) in rest_fields.iter().enumerate() {
             match kind(r.shell) {
                 ModelKind::KirchhoffLove(_) => {
+                    // Name the key that prescribes the field (a rest field has at least one), not the table.
+                    let (key, what) = match r.growth {
+                        Some(_) => ("growth", "rest-metric growth"),
+                        None => ("curvature", "rest curvature"),
+                    };
                     return Err(self.invalid(
-                    &format!("rest_field.{k}"),
-                    "the Kirchhoff–Love model takes its rest state from the rest mesh; prescribed rest fields are not available",
-                ));
+                        &format!("rest_field.{k}.{key}"),
+                        format!(
+                            "the Kirchhoff–Love model takes its rest state from the rest mesh; a prescribed {what} is \
+                             not available"
+                        ),
+                    ));
                 }
                 ModelKind::MicropolarVolume { .. } if r.growth.is_some() => {
                     return Err(self.invalid(

@@ -154,11 +154,18 @@ fn a_kirchhoff_love_scene_rejects_tri6_and_rotations() {
         message(KL, &[("[[probe]]", torque)]),
         "scene.toml:29: load.0.torque: the Kirchhoff–Love model has no rotation unknowns to carry a torque"
     );
+    // The key that prescribes the field is named, not the table's header.
     let field = "[[rest_field]]\ncurvature = [{ row = 2, col = 1, value = 1.0 }]\n\n[[probe]]";
-    assert!(
-        message(KL, &[("[[probe]]", field)]).starts_with(
-            "scene.toml:27: rest_field.0: the Kirchhoff–Love model takes its rest state from the rest mesh"
-        )
+    assert_eq!(
+        message(KL, &[("[[probe]]", field)]),
+        "scene.toml:28: rest_field.0.curvature: the Kirchhoff–Love model takes its rest state from the rest mesh; \
+         a prescribed rest curvature is not available"
+    );
+    let growth = "[[rest_field]]\ntiming = \"end_of_step\"\ngrowth = \"0.1 * t\"\n\n[[probe]]";
+    assert_eq!(
+        message(KL, &[("[[probe]]", growth)]),
+        "scene.toml:29: rest_field.0.growth: the Kirchhoff–Love model takes its rest state from the rest mesh; a \
+         prescribed rest-metric growth is not available"
     );
     assert_eq!(
         message(
