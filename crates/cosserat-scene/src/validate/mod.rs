@@ -4,7 +4,8 @@
 //! Entry points: [`SceneSpec::from_file`] and [`SceneSpec::from_str`]. The steps:
 //! 1. parse the text into a spanned TOML document (syntax errors carry their line);
 //! 2. apply `--set key=value` overrides to the document ([`crate::overrides`]);
-//! 3. deserialise the [`crate::schema`] types from it (unknown keys, missing keys, wrong types);
+//! 3. deserialise the [`crate::schema`] types from it (unknown keys, missing keys, wrong types, and
+//!    sections written as the other kind of table, [`table_kind`]);
 //! 4. check values and build the spec: time and solver ([`time`]), shells with their meshes and
 //!    materials ([`shell`]), and boundary conditions, loads, rest fields and probes, whose regions are
 //!    resolved against the rest nodes ([`conditions`]), and contact with its obstacles ([`contact`]);
@@ -19,6 +20,7 @@ mod contact;
 mod model;
 mod shell;
 mod source;
+mod table_kind;
 mod time;
 
 use crate::error::{ExprError, Location, Num, SceneError};
@@ -145,23 +147,7 @@ impl SceneSpec {
         }
         let source = Source::new(source_name, text, root_span.clone(), document.clone(), &overrides);
         let deserializer = toml::de::Deserializer::from(toml::Spanned::new(root_span, document));
-        let file = SceneFile::deserialize(deserializer).map_err(|e| {
-            let (location, field) = match e.span() {
-                Some(span) => (source.location_of_offset(span.start), source.path_of_span(&span)),
-                None => (
-                    Location::File {
-                        file: source_name.to_string(),
-                        line: None,
-                    },
-                    String::new(),
-                ),
-            };
-            SceneError::Schema {
-                location,
-                field,
-                message: e.message().to_string(),
-            }
-        })?;
+        let file = SceneFile::deserialize(deserializer).map_err(|e| schema_error(&source, source_name, &e))?;
         let mut ctx = Ctx {
             source,
             base_dir,
@@ -170,6 +156,35 @@ impl SceneSpec {
             sample_times: Vec::new(),
         };
         ctx.scene(file)
+    }
+}
+
+/// A document that does not fit the schema, at the span serde names; where a section is written as the
+/// other kind of table, the error names the section and says so instead.
+fn schema_error(source: &Source<'_>, source_name: &str, e: &toml::de::Error) -> SceneError {
+    let Some(span) = e.span() else {
+        return SceneError::Schema {
+            location: Location::File {
+                file: source_name.to_string(),
+                line: None,
+            },
+            field: String::new(),
+            message: e.message().to_string(),
+        };
+    };
+    let field = source.path_of_span(&span);
+    let (document, root_span) = source.document();
+    match table_kind::wrong_kind_of_table(document, root_span, &field, e.message()) {
+        Some((section, hint)) => SceneError::Schema {
+            location: source.location(&section),
+            field: section,
+            message: hint,
+        },
+        None => SceneError::Schema {
+            location: source.location_of_offset(span.start),
+            field,
+            message: e.message().to_string(),
+        },
     }
 }
 

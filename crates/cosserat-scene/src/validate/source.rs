@@ -107,14 +107,24 @@ impl<'i> Source<'i> {
     /// table or array whose value span is exactly `span` (e.g. a table with a missing key), and
     /// otherwise the deepest key or array element containing the span's start.
     pub(crate) fn path_of_span(&self, span: &Range<usize>) -> String {
-        if *span == self.root_span {
-            return String::new();
-        }
-        search_exact(&self.document, span)
-            .or_else(|| search_table(&self.document, span.start))
-            .unwrap_or_default()
-            .join(".")
+        path_of_span(&self.document, &self.root_span, span)
     }
+
+    /// The document as deserialised (overrides applied) and the span of its root.
+    pub(crate) fn document(&self) -> (&DeTable<'i>, &Range<usize>) {
+        (&self.document, &self.root_span)
+    }
+}
+
+/// [`Source::path_of_span`] in any document with the root span `root_span`.
+pub(crate) fn path_of_span(document: &DeTable<'_>, root_span: &Range<usize>, span: &Range<usize>) -> String {
+    if span == root_span {
+        return String::new();
+    }
+    search_exact(document, span)
+        .or_else(|| search_table(document, span.start))
+        .unwrap_or_default()
+        .join(".")
 }
 
 /// The longest path to a value whose span is exactly `span`.

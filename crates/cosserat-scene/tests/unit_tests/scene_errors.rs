@@ -669,3 +669,28 @@ fn a_mesh_file_of_an_unknown_format_is_refused_by_its_extension() {
     assert!(matches!(with_path("missing.OBJ"), SceneError::Obj { .. }));
     assert!(matches!(with_path("missing.Msh"), SceneError::MeshFile { .. }));
 }
+
+#[test]
+fn a_section_written_as_the_other_kind_of_table_is_named_with_its_kind() {
+    assert_eq!(
+        message(&[("[time]", "[[time]]")], &[]),
+        "scene.toml:3: time: is a table (`[time]`), not an array of tables (`[[time]]`)"
+    );
+    assert_eq!(
+        message(&[("[[boundary]]", "[boundary]")], &[]),
+        "scene.toml:23: boundary: is an array of tables (one `[[boundary]]` per entry), not a table (`[boundary]`)"
+    );
+    assert_eq!(
+        message(
+            &[("position = { stiffness = 1e6 }", "position = [{ stiffness = 1e6 }]")],
+            &[]
+        ),
+        "scene.toml:26: boundary.0.position: is a table (`[boundary.position]`), not an array of tables \
+         (`[[boundary.position]]`)"
+    );
+    // A list of numbers written as tables is not a table either: serde's message stays.
+    assert_eq!(
+        message(&[("name = \"base\"\n", "name = \"base\"\n[[gravity]]\n")], &[]),
+        "scene.toml:2: gravity.0: invalid type: map, expected f64"
+    );
+}
