@@ -79,7 +79,8 @@ pub struct SceneFile {
     /// Newton and linear solver settings (all optional).
     pub solver: Option<SolverSection>,
     /// Gravitational acceleration `[gx, gy, gz]` \[m/s²\]. Default `[0, 0, 0]`: no gravity unless asked
-    /// for (most of the paper's scenes switch it off).
+    /// for (most of the paper's scenes switch it off). Each component at most 1e150 in magnitude
+    /// (larger ones approach a magnitude whose square overflows).
     pub gravity: Option<[f64; 3]>,
     /// Named helper functions for expressions: `name = { args = ["u"], body = "…" }`.
     pub functions: Option<BTreeMap<String, FunctionSection>>,
@@ -827,12 +828,15 @@ pub struct LoadSection {
     pub shell: Option<ShellRef>,
     /// The loaded nodes.
     pub region: RegionSection,
-    /// A force \[N\] (exclusive with `torque`).
+    /// A force \[N\] (exclusive with `torque`), each component at most 1e150 in magnitude (larger
+    /// ones approach a magnitude whose square overflows).
     pub force: Option<[f64; 3]>,
-    /// A torque \[N·m\] (exclusive with `force`).
+    /// A torque \[N·m\] (exclusive with `force`), each component at most 1e150 in magnitude (larger
+    /// ones approach a magnitude whose square overflows).
     pub torque: Option<[f64; 3]>,
     /// A pressure \[Pa\] on the elements whose nodes are all selected, positive along the normal
-    /// of the element node order (exclusive with `force` and `torque`).
+    /// of the element node order (exclusive with `force` and `torque`), at most 1e150 in magnitude
+    /// (larger ones approach a magnitude whose square overflows).
     pub pressure: Option<f64>,
     /// Whether the pressure follows the deformed surface (default `true`) or keeps the rest normals
     /// and areas (dead pressure).

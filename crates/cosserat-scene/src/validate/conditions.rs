@@ -446,7 +446,7 @@ impl Ctx<'_> {
         match (l.force, l.torque, l.pressure) {
             (Some(v), None, None) => Ok((
                 LoadKind::Force {
-                    vector: self.vector(&format!("{f}.force"), v)?,
+                    vector: self.load_vector(&format!("{f}.force"), v)?,
                     distribution,
                 },
                 Needs::Displacement,
@@ -454,16 +454,14 @@ impl Ctx<'_> {
             )),
             (None, Some(v), None) => Ok((
                 LoadKind::Torque {
-                    vector: self.vector(&format!("{f}.torque"), v)?,
+                    vector: self.load_vector(&format!("{f}.torque"), v)?,
                     distribution,
                 },
                 Needs::Rotation,
                 true,
             )),
             (None, None, Some(p)) => {
-                if !p.is_finite() {
-                    return Err(self.invalid(&format!("{f}.pressure"), "must be finite"));
-                }
+                self.load_magnitude(&format!("{f}.pressure"), p)?;
                 if l.distribution.is_some() {
                     return Err(self.invalid(
                         &format!("{f}.distribution"),

@@ -35,6 +35,12 @@ use source::Source;
 use std::path::Path;
 use toml::de::DeTable;
 
+/// The largest magnitude of a load or gravity component. The solver squares loads (in energies and
+/// residual norms), and squares overflow from √f64::MAX ≈ 1.3e154; the bound leaves a margin for the
+/// masses, areas and time steps that multiply them. Beyond it a run stopped in its first step with a
+/// non-finite energy that named no field.
+const MAX_LOAD: f64 = 1e150;
+
 impl SceneSpec {
     /// Reads, parses and checks a scene file. Relative mesh paths are resolved against the file's
     /// directory, those set by `overrides` against the working directory; `overrides` are `key=value`
@@ -227,7 +233,7 @@ impl Ctx<'_> {
         let time = self.time(&file.time)?;
         let solver = self.solver(file.solver.as_ref(), &time)?;
         let gravity = match file.gravity {
-            Some(g) => self.vector("gravity", g)?,
+            Some(g) => self.load_vector("gravity", g)?,
             None => Vector3::zeros(),
         };
         let shells = self.shells(&file)?;
@@ -319,6 +325,34 @@ impl Ctx<'_> {
         } else {
             Err(self.invalid(field, format!("must be finite (got {v:?})")))
         }
+    }
+
+    /// A force, torque or gravity: finite, with no component beyond [`MAX_LOAD`].
+    fn load_vector(&self, field: &str, v: [f64; 3]) -> Result<Vector3<f64>, SceneError> {
+        let v = self.vector(field, v)?;
+        for &c in v.iter() {
+            self.load_magnitude(field, c)?;
+        }
+        Ok(v)
+    }
+
+    /// A load value (a pressure, or a component of a load vector): finite and within [`MAX_LOAD`].
+    fn load_magnitude(&self, field: &str, value: f64) -> Result<f64, SceneError> {
+        if !value.is_finite() {
+            return Err(self.invalid(field, format!("must be finite (got {})", Num(value))));
+        }
+        if value.abs() > MAX_LOAD {
+            return Err(self.invalid(
+                field,
+                format!(
+                    "{} exceeds {} in magnitude, the largest load the solver takes: it squares loads, and \
+                     their squares overflow from about 1.3e154",
+                    Num(value),
+                    Num(MAX_LOAD)
+                ),
+            ));
+        }
+        Ok(value)
     }
 
     /// A unit axis.

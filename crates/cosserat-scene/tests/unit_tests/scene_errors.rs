@@ -694,3 +694,29 @@ fn a_section_written_as_the_other_kind_of_table_is_named_with_its_kind() {
         "scene.toml:2: gravity.0: invalid type: map, expected f64"
     );
 }
+
+#[test]
+fn loads_too_large_to_square_are_refused_naming_the_field() {
+    // Gravity of 1e308 passed as finite and stopped the run in its first step with a non-finite energy.
+    assert_eq!(
+        message(&[], &["gravity=[0, 0, -1e308]"]),
+        "override `gravity=[0, 0, -1e308]`: gravity: -1e308 exceeds 1e150 in magnitude, the largest load the \
+         solver takes: it squares loads, and their squares overflow from about 1.3e154"
+    );
+    let force = message(&[("force = [0.0, 0.0, 1.0]", "force = [0.0, 2e150, 1.0]")], &[]);
+    assert!(
+        force.starts_with("scene.toml:31: load.0.force: 2e150 exceeds 1e150"),
+        "{force}"
+    );
+    let torque = message(&[("force = [0.0, 0.0, 1.0]", "torque = [1e200, 0.0, 0.0]")], &[]);
+    assert!(
+        torque.starts_with("scene.toml:31: load.0.torque: 1e200 exceeds 1e150"),
+        "{torque}"
+    );
+    let pressure = message(&[("force = [0.0, 0.0, 1.0]", "pressure = -1e160")], &[]);
+    assert!(
+        pressure.starts_with("scene.toml:31: load.0.pressure: -1e160 exceeds 1e150"),
+        "{pressure}"
+    );
+    load(&scene(&[]), &["gravity=[0, 0, -1e150]", "load.0.force=[0, 0, 1e150]"]).unwrap_or_else(|e| panic!("{e}"));
+}
