@@ -118,14 +118,18 @@ fn rest_field_scripts(
         match scripts.iter_mut().find(|s| s.shell == r.shell) {
             None => scripts.push(new),
             Some(existing) => {
-                if existing.frame != new.frame
-                    || existing.timing != new.timing
-                    || (existing.growth.is_some() && new.growth.is_some())
+                // A table without curvature entries (growth alone) has no frame to disagree with.
+                let frames_differ =
+                    !existing.curvature.is_empty() && !new.curvature.is_empty() && existing.frame != new.frame;
+                if frames_differ || existing.timing != new.timing || (existing.growth.is_some() && new.growth.is_some())
                 {
                     return Err(SimulationError::Setup(format!(
                         "shell {}: several rest fields with different frames, timings or growth; merge them into one",
                         r.shell
                     )));
+                }
+                if existing.curvature.is_empty() {
+                    existing.frame = new.frame;
                 }
                 existing.curvature.extend(new.curvature);
                 existing.growth = existing.growth.take().or(new.growth);

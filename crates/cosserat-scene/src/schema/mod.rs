@@ -865,7 +865,8 @@ pub struct CurvatureEntrySection {
     pub value: ExprValue,
 }
 
-/// `[[rest_field]]`.
+/// `[[rest_field]]`. Several tables on one shell act as one: their curvature entries add up, tables
+/// with entries share one `frame`, all share one `timing`, and one of them at most has a `growth`.
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct RestFieldSection {

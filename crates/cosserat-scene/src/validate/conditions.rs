@@ -568,7 +568,37 @@ impl Ctx<'_> {
                 timing: Self::timing(r.timing, Timing::StartOfStep),
             });
         }
+        self.rest_fields_combine(&out)?;
         Ok(out)
+    }
+
+    /// The rest-field tables of one shell act as one: their curvature entries add up, so they share one
+    /// frame (none is the identity) where both have entries, and one timing, and one of them at most
+    /// grows the shell.
+    fn rest_fields_combine(&self, fields: &[RestFieldSpec]) -> Result<(), SceneError> {
+        for (k, r) in fields.iter().enumerate() {
+            for (j, earlier) in fields[..k].iter().enumerate().filter(|(_, e)| e.shell == r.shell) {
+                let clash = if r.growth.is_some() && earlier.growth.is_some() {
+                    Some(("growth", "a shell has one growth field; write both as one expression"))
+                } else if r.timing != earlier.timing {
+                    Some(("timing", "the tables of one shell are evaluated at one timing"))
+                } else if !r.curvature.is_empty()
+                    && !earlier.curvature.is_empty()
+                    && r.curvature_frame != earlier.curvature_frame
+                {
+                    Some(("frame", "the curvature entries of one shell share one frame"))
+                } else {
+                    None
+                };
+                if let Some((key, reason)) = clash {
+                    return Err(self.invalid(
+                        &format!("rest_field.{k}.{key}"),
+                        format!("`rest_field.{j}` acts on the same shell: {reason}"),
+                    ));
+                }
+            }
+        }
+        Ok(())
     }
 
     pub(super) fn probes(&self, list: &[ProbeSection], shells: &[ValidShell]) -> Result<Vec<ProbeSpec>, SceneError> {

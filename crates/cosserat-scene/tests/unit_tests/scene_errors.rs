@@ -720,3 +720,47 @@ fn loads_too_large_to_square_are_refused_naming_the_field() {
     );
     load(&scene(&[]), &["gravity=[0, 0, -1e150]", "load.0.force=[0, 0, 1e150]"]).unwrap_or_else(|e| panic!("{e}"));
 }
+
+#[test]
+fn rest_fields_of_one_shell_that_cannot_act_as_one_are_refused() {
+    const END: &str = "point = [0.05, 0.0, 0.0]\n";
+    let tables = |first: &str, second: &str| format!("{END}\n[[rest_field]]\n{first}\n\n[[rest_field]]\n{second}\n");
+    let curvature = "curvature = [{ row = 1, col = 1, value = \"1\" }]";
+    let cases = [
+        (
+            "growth = \"0.1\"",
+            "growth = \"0.2\"",
+            "rest_field.1.growth",
+            "one growth field",
+        ),
+        (
+            curvature,
+            &format!("{curvature}\ntiming = \"end_of_step\""),
+            "rest_field.1.timing",
+            "one timing",
+        ),
+        (
+            curvature,
+            &format!("{curvature}\nframe = [{{ axis = \"z\", degrees = 3 }}]"),
+            "rest_field.1.frame",
+            "one frame",
+        ),
+    ];
+    for (first, second, field, reason) in cases {
+        let err = load(&scene(&[(END, &tables(first, second))]), &[]).unwrap_err();
+        assert_eq!(err.field(), Some(field), "{second}: {err}");
+        assert!(err.to_string().contains(reason), "{second}: {err}");
+        assert!(
+            err.to_string().contains("`rest_field.0` acts on the same shell"),
+            "{err}"
+        );
+    }
+    // Growth beside curvature in a frame, and curvature entries split over two tables, act as one.
+    let framed = format!("{curvature}\nframe = [{{ axis = \"z\", degrees = 3 }}]");
+    for (first, second) in [
+        ("growth = \"0.1\"", framed.as_str()),
+        (curvature, "curvature = [{ row = 2, col = 2, value = \"1\" }]"),
+    ] {
+        load(&scene(&[(END, &tables(first, second))]), &[]).unwrap_or_else(|e| panic!("{second}: {e}"));
+    }
+}

@@ -3,6 +3,7 @@ mod contact;
 mod intersections;
 mod kl_model;
 mod memory;
+mod rest_fields;
 mod run;
 mod run_description;
 mod script_targets;
