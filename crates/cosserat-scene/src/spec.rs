@@ -43,7 +43,7 @@ impl TimeFunction {
 
     /// A constant.
     pub fn constant(value: f64) -> Self {
-        Self::new(format!("{value}"), move |_| value)
+        Self::new(cosserat_geometry::Num(value).to_string(), move |_| value)
     }
 
     /// The value at time `t`.

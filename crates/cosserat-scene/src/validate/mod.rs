@@ -425,7 +425,7 @@ impl Ctx<'_> {
                     return Err(self.invalid(field, format!("must be finite (got {})", Num(*v))));
                 }
                 let v = *v;
-                return Ok(FieldFunction::new(format!("{v}"), false, move |_, _| v));
+                return Ok(FieldFunction::new(Num(v).to_string(), false, move |_, _| v));
             }
             ExprValue::Text(text) => self.exprs.field_function(text).map_err(|e| self.expr_error(field, e))?,
         };

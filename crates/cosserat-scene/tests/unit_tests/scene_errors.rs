@@ -248,6 +248,10 @@ fn a_growth_beyond_what_the_energy_can_hold_is_rejected() {
     );
     let text = message(&[(END, &growth("-400*t"))], &[]);
     assert!(text.contains("rest_field.0.growth: `-400*t` is -18"), "{text}");
+    // A constant growth is named as it reads, not in its 309 digits.
+    let constant = format!("{END}\n[[rest_field]]\ngrowth = 1e308\n");
+    let text = message(&[(END, &constant)], &[]);
+    assert!(text.contains("rest_field.0.growth: `1e308` is 1e308 at"), "{text}");
     // A large but computable growth is allowed.
     let text = scene(&[(END, &growth("5*x"))]);
     load(&text, &[]).unwrap_or_else(|e| panic!("{e}"));
