@@ -1,6 +1,6 @@
 //! Output frames as NumPy arrays: what `run` writes into a `.vtu` file, and the reader of such files.
 
-use cosserat::io::{DataArray, VtuFrame};
+use cosserat::io::{DataArray, OutputError, VtuFrame};
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2, PyUntypedArrayMethods};
 use pyo3::prelude::*;
@@ -68,8 +68,15 @@ impl PyFrame {
 /// Raises `OSError` or `ValueError` for files that cannot be read or are not such frames.
 #[pyfunction]
 pub fn read_vtu(py: Python<'_>, path: PathBuf) -> PyResult<PyFrame> {
-    let frame = py
-        .detach(|| cosserat::io::read_vtu(&path))
-        .map_err(|e| pyo3::exceptions::PyValueError::new_err(format!("{}: {e}", path.display())))?;
+    let frame = py.detach(|| cosserat::io::read_vtu(&path)).map_err(|e| read_error(&path, &e))?;
     PyFrame::new(py, frame)
+}
+
+/// A file that cannot be read is the `OSError` of its cause (`FileNotFoundError`, `PermissionError`,
+/// …), whose message names the path; one that is no frame a `ValueError` naming it.
+fn read_error(path: &std::path::Path, e: &OutputError) -> PyErr {
+    match e {
+        OutputError::Io { source, .. } => std::io::Error::new(source.kind(), e.to_string()).into(),
+        _ => pyo3::exceptions::PyValueError::new_err(format!("{}: {e}", path.display())),
+    }
 }

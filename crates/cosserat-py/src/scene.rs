@@ -1,6 +1,7 @@
 //! Scenes from Python: a TOML file or a dict of the same structure, with `--set`-style overrides.
 
 use crate::error::{scene_error, scene_value_error};
+use cosserat::geometry::Num;
 use cosserat::scene::SceneSpec;
 use pyo3::exceptions::PyTypeError;
 use pyo3::prelude::*;
@@ -18,7 +19,7 @@ pub(crate) fn override_texts(overrides: Option<&Bound<'_, PyAny>>) -> PyResult<V
             .iter()
             .map(|(k, v)| {
                 let key = override_key(&k)?;
-                Ok(format!("{key}={}", to_toml(&v, &key)?))
+                Ok(format!("{key}={}", override_value_text(&to_toml(&v, &key)?)))
             })
             .collect();
     }
@@ -28,6 +29,26 @@ pub(crate) fn override_texts(overrides: Option<&Bound<'_, PyAny>>) -> PyResult<V
     }
     let items = overrides.try_iter().map_err(|_| overrides_type_error(overrides))?;
     items.map(|item| override_item(&item?)).collect()
+}
+
+/// The TOML text of an override's value. TOML writes a float in plain decimals, `1e-300` in three
+/// hundred digits, which a message quoting the override would show; such floats keep an exponent.
+fn override_value_text(value: &toml::Value) -> String {
+    match value {
+        toml::Value::Float(x) => {
+            let text = Num(*x).to_string();
+            if x.is_finite() && text.contains('e') {
+                text
+            } else {
+                value.to_string()
+            }
+        }
+        toml::Value::Array(items) => {
+            let items: Vec<String> = items.iter().map(override_value_text).collect();
+            format!("[{}]", items.join(", "))
+        }
+        other => other.to_string(),
+    }
 }
 
 fn overrides_type_error(overrides: &Bound<'_, PyAny>) -> PyErr {

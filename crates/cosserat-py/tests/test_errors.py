@@ -41,6 +41,15 @@ def test_an_override_error_names_the_override():
     assert "positive" in e.reason
 
 
+def test_an_override_of_an_extreme_float_is_quoted_with_an_exponent():
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(STRIP, overrides={"time.dt": 1e-300})
+    assert caught.value.override == "time.dt=1e-300"
+    with pytest.raises(cosserat.SceneError) as caught:
+        cosserat.Simulation.load(STRIP, overrides={"gravity": [0.0, 0.0, -1e200]})
+    assert caught.value.override == "gravity=[0.0, 0.0, -1e200]"
+
+
 def test_a_dict_error_names_the_field_without_a_line():
     tomllib = pytest.importorskip("tomllib")
 
@@ -192,3 +201,15 @@ def test_targets_after_a_run_are_refused(tmp_path, strip_overrides):
     plate.run(tmp_path / "plate")
     with pytest.raises(RuntimeError, match="this simulation has run"):
         plate.set_load_scale("tip_load", 1.0)
+
+
+def test_a_frame_that_cannot_be_read_is_the_os_error_of_its_cause(tmp_path):
+    missing = tmp_path / "missing.vtu"
+    with pytest.raises(FileNotFoundError) as caught:
+        cosserat.read_vtu(missing)
+    assert str(caught.value).count(str(missing)) == 1, str(caught.value)
+    not_a_frame = tmp_path / "empty.vtu"
+    not_a_frame.write_text("<VTKFile/>")
+    with pytest.raises(ValueError) as caught:
+        cosserat.read_vtu(not_a_frame)
+    assert str(not_a_frame) in str(caught.value)

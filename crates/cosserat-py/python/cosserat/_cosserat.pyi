@@ -110,7 +110,9 @@ class Frame:
     def cell_data(self) -> dict[str, npt.NDArray[np.float64]]: ...
 
 def read_vtu(path: _Path) -> Frame:
-    """Reads a ``.vtu`` file written by a run."""
+    """Reads a ``.vtu`` file written by a run. Raises the ``OSError`` of the cause
+    (``FileNotFoundError``, ``PermissionError``, …) when the file cannot be read, ``ValueError`` when it
+    holds no frame."""
 
 class Simulation:
     """A scene ready to run."""
