@@ -16,10 +16,12 @@ use thiserror::Error;
 pub enum ProblemError {
     /// The energy contribution of one part of the problem (an element, a term, a spring; the problem
     /// says which numbering it uses) is not finite.
-    #[error("non-finite energy in part {index}")]
+    #[error("non-finite energy in {part}")]
     NonFiniteEnergy {
         /// Index of the offending part in the problem's own numbering.
         index: usize,
+        /// What the part is, for messages (e.g. "term `gravity` at node 3", or "part 3").
+        part: String,
     },
     /// The state is outside the problem's domain (an inverted element, an interpenetration, a
     /// quaternion outside its hemisphere). During a Newton step this makes the solver shorten the step.

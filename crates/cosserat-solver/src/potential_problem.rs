@@ -203,7 +203,14 @@ fn retract_into_domain(potential: &mut IncrementalPotential, x: &mut [f64], orig
 
 pub(crate) fn map_error(e: AssemblyError) -> ProblemError {
     match e {
-        AssemblyError::NonFinite { index, .. } => ProblemError::NonFiniteEnergy { index },
+        AssemblyError::NonFinite {
+            ref term,
+            location,
+            index,
+        } => ProblemError::NonFiniteEnergy {
+            index,
+            part: format!("term `{term}` at {location} {index}"),
+        },
         other => ProblemError::InvalidState {
             reason: other.to_string(),
         },
@@ -352,5 +359,27 @@ impl NewtonProblem for PotentialProblem<'_> {
             let b = 3 * parts.layout.rot_block(k);
             m[b..b + 3].fill(1.0 / dt);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_non_finite_term_is_named_in_the_solver_error() {
+        let e = map_error(AssemblyError::NonFinite {
+            term: "gravity".into(),
+            location: "node",
+            index: 3,
+        });
+        assert_eq!(
+            e,
+            ProblemError::NonFiniteEnergy {
+                index: 3,
+                part: "term `gravity` at node 3".into()
+            }
+        );
+        assert_eq!(e.to_string(), "non-finite energy in term `gravity` at node 3");
     }
 }

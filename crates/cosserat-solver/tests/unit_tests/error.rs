@@ -28,8 +28,11 @@ fn messages_name_the_failing_entry() {
         col: None,
     };
     assert_eq!(e.to_string(), "the matrix is singular (LU factorisation)");
-    let e = ProblemError::NonFiniteEnergy { index: 12 };
-    assert_eq!(e.to_string(), "non-finite energy in part 12");
+    let e = ProblemError::NonFiniteEnergy {
+        index: 12,
+        part: "term `gravity` at node 12".into(),
+    };
+    assert_eq!(e.to_string(), "non-finite energy in term `gravity` at node 12");
 }
 
 #[test]
