@@ -300,7 +300,8 @@ impl RunWriter {
     ///
     /// # Errors
     /// [`OutputError::FrameTimeNotIncreasing`] if the time is not after the previous frame's, the errors
-    /// of [`VtuFrame::validate`] (nothing is written then), and I/O errors naming the path.
+    /// of [`VtuFrame::validate`] (nothing is written then), and I/O errors naming the path (the files of
+    /// the frame that were written before the failure are removed again).
     pub fn write_frame(&mut self, frame: &VtuFrame) -> Result<PathBuf, OutputError> {
         let frame_idx = self.frames.len();
         if let Some(previous) = self.frames.last().map(|entry| entry.time) {
@@ -316,26 +317,48 @@ impl RunWriter {
         let file = frame_file_name(frame_idx);
         let path = self.frames_dir().join(&file);
         frame.validate()?;
+        if let Err(error) = self.write_frame_files(&path, &file, frame) {
+            self.discard_frame_files(&path);
+            return Err(error);
+        }
+        self.frames.push(PvdEntry { time: frame.time, file });
+        Ok(path)
+    }
+
+    /// Writes every format of the frame at `path` and the collection that lists it. The USD sample
+    /// comes last because it cannot be taken back.
+    fn write_frame_files(&mut self, path: &Path, file: &str, frame: &VtuFrame) -> Result<(), OutputError> {
         if self.formats.obj {
             write_obj(&path.with_extension("obj"), frame)?;
         }
         if self.formats.ply {
             write_ply(&path.with_extension("ply"), frame)?;
         }
+        if self.formats.vtu {
+            write_vtu(path, frame)?;
+            let mut listed = self.frames.clone();
+            listed.push(PvdEntry {
+                time: frame.time,
+                file: file.to_owned(),
+            });
+            write_pvd(&self.pvd_path(), &listed)?;
+        }
         if let Some(usd) = &mut self.usd {
             usd.append(frame)?;
         }
-        if !self.formats.vtu {
-            self.frames.push(PvdEntry { time: frame.time, file });
-            return Ok(path);
+        Ok(())
+    }
+
+    /// Removes what a frame that failed halfway wrote (best effort: the failure itself is the error
+    /// worth reporting), so that no file of a frame the collection and the probes do not list stays,
+    /// and the collection lists the frames before it again.
+    fn discard_frame_files(&self, path: &Path) {
+        for extension in ["obj", "ply", "vtu"] {
+            let _ = remove_if_exists(&path.with_extension(extension));
         }
-        write_vtu(&path, frame)?;
-        self.frames.push(PvdEntry { time: frame.time, file });
-        if let Err(error) = write_pvd(&self.pvd_path(), &self.frames) {
-            self.frames.pop();
-            return Err(error);
+        if self.formats.vtu {
+            let _ = write_pvd(&self.pvd_path(), &self.frames);
         }
-        Ok(path)
     }
 
     /// Appends a row to `DIR/probes.csv`: the time `t` and one value per declared column.

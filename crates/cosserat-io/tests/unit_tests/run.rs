@@ -4,7 +4,8 @@ use std::fs;
 
 use cosserat_io::run::{FRAMES_DIR, PROBES_FILE, PVD_FILE, SUMMARY_FILE, frame_file_name};
 use cosserat_io::{
-    OutputError, RunStatus, RunSummary, RunWriter, VtuFrame, read_summary, read_vtu, write_failure_summary,
+    FrameFormats, OutputError, RunStatus, RunSummary, RunWriter, VtuFrame, read_summary, read_vtu,
+    write_failure_summary,
 };
 
 use super::{entries, test_dir};
@@ -163,4 +164,32 @@ fn failure_summary_helper_touches_nothing_else_and_refuses_ok() {
     )
     .expect("creates the directory");
     assert_eq!(entries(&fresh), [SUMMARY_FILE]);
+}
+
+#[test]
+fn a_frame_that_fails_halfway_leaves_none_of_its_files() {
+    let dir = test_dir("run_frame_fails_halfway");
+    let mut writer = RunWriter::create(&dir, &["tip.ux"]).expect("create");
+    writer
+        .set_formats(FrameFormats {
+            obj: true,
+            ply: true,
+            ..FrameFormats::default()
+        })
+        .expect("formats");
+    writer.write_frame(&frame(0.0)).expect("first frame");
+    let frames = writer.frames_dir();
+    // A directory where the VTU file goes: its OBJ and PLY siblings are written before the VTU fails,
+    // as when a disk fills up between them.
+    fs::create_dir(frames.join("frame_00001.vtu")).expect("blocking directory");
+    writer.write_frame(&frame(0.5)).expect_err("the VTU file cannot be written");
+    let first = ["frame_00000.obj", "frame_00000.ply", "frame_00000.vtu"];
+    assert_eq!(entries(&frames), [&first[..], &["frame_00001.vtu", PVD_FILE]].concat());
+    fs::remove_dir(frames.join("frame_00001.vtu")).expect("unblock");
+    // The collection cannot be rewritten: the frame it would list goes with it.
+    fs::remove_file(frames.join(PVD_FILE)).expect("remove the collection");
+    fs::create_dir(frames.join(PVD_FILE)).expect("blocking directory");
+    writer.write_frame(&frame(0.5)).expect_err("the collection cannot be written");
+    assert_eq!(entries(&frames), [&first[..], &[PVD_FILE]].concat());
+    assert_eq!(writer.n_frames(), 1);
 }
