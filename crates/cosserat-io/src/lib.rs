@@ -45,7 +45,7 @@ pub mod vtu_read;
 pub use atomic::write_atomic;
 pub use error::OutputError;
 pub use mesh_frames::{FrameFormats, UsdWriter};
-pub use probes::ProbeWriter;
+pub use probes::{KeptProbes, ProbeWriter};
 pub use pvd::{PvdEntry, read_pvd, read_pvd_frame, write_pvd};
 pub use run::{RunWriter, clear_run_outputs, write_failure_summary};
 pub use summary::{

@@ -100,9 +100,18 @@ impl ProbeWriter {
     /// checkpoint, are removed (the resumed run writes them again).
     ///
     /// # Errors
+    /// The errors of [`ProbeWriter::keep`] and I/O errors naming the file.
+    pub fn reopen<S: AsRef<str>>(path: &Path, columns: &[S], n_rows: usize) -> Result<Self, OutputError> {
+        Self::keep(path, columns, n_rows)?.reopen()
+    }
+
+    /// Reads and checks the file of an earlier run at `path` and its first `n_rows` rows, without
+    /// changing it: [`KeptProbes::reopen`] then cuts it there.
+    ///
+    /// # Errors
     /// The column errors of [`ProbeWriter::create`]; [`OutputError::Format`] when the header does not
     /// name these columns or the file has fewer rows; I/O errors naming the file.
-    pub fn reopen<S: AsRef<str>>(path: &Path, columns: &[S], n_rows: usize) -> Result<Self, OutputError> {
+    pub fn keep<S: AsRef<str>>(path: &Path, columns: &[S], n_rows: usize) -> Result<KeptProbes, OutputError> {
         check_columns(columns)?;
         let text = std::fs::read_to_string(path).map_err(|source| OutputError::Io {
             operation: "read",
@@ -128,16 +137,9 @@ impl ProbeWriter {
                 reason: format!("holds {} complete rows, the checkpoint expects {n_rows}", kept.len()),
             });
         }
-        let contents = format!("{header}\n{}", kept.concat());
-        write_atomic(path, contents.as_bytes())?;
-        let file = OpenOptions::new().append(true).open(path).map_err(|source| OutputError::Io {
-            operation: "open for appending",
+        Ok(KeptProbes {
             path: path.to_path_buf(),
-            source,
-        })?;
-        Ok(Self {
-            path: path.to_path_buf(),
-            file,
+            contents: format!("{header}\n{}", kept.concat()),
             columns,
             n_rows,
         })
@@ -202,5 +204,38 @@ impl ProbeWriter {
         file.flush().map_err(io_error("flush"))?;
         self.n_rows += 1;
         Ok(())
+    }
+}
+
+/// The probes file of an earlier run, checked by [`ProbeWriter::keep`] and not yet changed.
+#[derive(Debug)]
+pub struct KeptProbes {
+    path: PathBuf,
+    contents: String,
+    columns: Vec<String>,
+    n_rows: usize,
+}
+
+impl KeptProbes {
+    /// Cuts the file after the kept rows and opens it for appending.
+    ///
+    /// # Errors
+    /// I/O errors naming the file.
+    pub fn reopen(self) -> Result<ProbeWriter, OutputError> {
+        write_atomic(&self.path, self.contents.as_bytes())?;
+        let file = OpenOptions::new()
+            .append(true)
+            .open(&self.path)
+            .map_err(|source| OutputError::Io {
+                operation: "open for appending",
+                path: self.path.clone(),
+                source,
+            })?;
+        Ok(ProbeWriter {
+            path: self.path,
+            file,
+            columns: self.columns,
+            n_rows: self.n_rows,
+        })
     }
 }

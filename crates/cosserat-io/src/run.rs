@@ -125,6 +125,20 @@ fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError
     Ok(())
 }
 
+/// Refuses frames of a checkpoint whose VTU file is missing.
+fn check_frames_exist(frames_dir: &Path, frames: &[PvdEntry], formats: FrameFormats) -> Result<(), OutputError> {
+    if !formats.vtu {
+        return Ok(());
+    }
+    match frames.iter().map(|f| frames_dir.join(&f.file)).find(|p| !p.is_file()) {
+        Some(path) => Err(OutputError::Format {
+            path,
+            reason: "the frame is missing, but the checkpoint counts it".into(),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Removes everything a run writes into `dir` (frames, collection, probes, summary, temporary files),
 /// and the frames directory itself if that leaves it empty. Other files are kept.
 ///
@@ -193,11 +207,12 @@ impl RunWriter {
     /// Takes over `dir` of an earlier run to continue it from a checkpoint: keeps the first
     /// `probe_rows` rows of `probes.csv` and the frames of `frame_times` (the collection is rewritten to
     /// list exactly them), and removes the frames the earlier run wrote after them. The resumed run
-    /// then writes the later rows and frames again.
+    /// then writes the later rows and frames again. Everything is checked before anything changes: a
+    /// refused resume leaves `dir` as it was.
     ///
     /// # Errors
-    /// The errors of [`ProbeWriter::reopen`]; [`OutputError::Format`] for a frame of the checkpoint
-    /// that is missing; I/O errors naming the path.
+    /// The errors of [`ProbeWriter::keep`]; [`OutputError::Format`] for a frame of the checkpoint that
+    /// is missing; I/O errors naming the path.
     pub fn resume<S: AsRef<str>>(
         dir: impl Into<PathBuf>,
         probe_columns: &[S],
@@ -206,7 +221,7 @@ impl RunWriter {
         formats: FrameFormats,
     ) -> Result<Self, OutputError> {
         let dir = dir.into();
-        let probes = ProbeWriter::reopen(&dir.join(PROBES_FILE), probe_columns, probe_rows)?;
+        let kept = ProbeWriter::keep(&dir.join(PROBES_FILE), probe_columns, probe_rows)?;
         let frames_dir = dir.join(FRAMES_DIR);
         let frames: Vec<PvdEntry> = frame_times
             .iter()
@@ -216,14 +231,7 @@ impl RunWriter {
                 file: frame_file_name(k),
             })
             .collect();
-        if formats.vtu
-            && let Some(missing) = frames.iter().find(|f| !frames_dir.join(&f.file).is_file())
-        {
-            return Err(OutputError::Format {
-                path: frames_dir.join(&missing.file),
-                reason: "the frame is missing, but the checkpoint counts it".into(),
-            });
-        }
+        check_frames_exist(&frames_dir, &frames, formats)?;
         remove_frames_from(&frames_dir, frames.len())?;
         if formats.vtu {
             write_pvd(&frames_dir.join(PVD_FILE), &frames)?;
@@ -231,7 +239,7 @@ impl RunWriter {
         Ok(Self {
             dir,
             frames,
-            probes,
+            probes: kept.reopen()?,
             formats,
             usd: None,
         })

@@ -468,3 +468,26 @@ fn a_missing_or_damaged_checkpoint_is_refused_with_the_reason() {
         assert!(error.contains(reason), "{error}");
     }
 }
+
+/// The dynamic strip stopped after step 8 in `d/out`: its last checkpoint (step 6) counts four probe
+/// rows and frames, the run wrote a fifth of each after it.
+fn stopped_after_its_checkpoint(d: &Path, text: &str) -> PathBuf {
+    let scene = write_scene(d, text);
+    let out = d.join("out");
+    let stopped = run(&scene, &out, Some((8, StopReason::Interrupt)));
+    assert_eq!(stopped.status, RunStatus::Interrupted);
+    let rows = std::fs::read_to_string(out.join("probes.csv")).unwrap().lines().count() - 1;
+    assert_eq!((Checkpoint::read(&out).unwrap().probe_rows, rows), (4, 5));
+    out
+}
+
+#[test]
+fn a_refused_resume_leaves_the_run_as_it_was() {
+    let d = dir("refused_untouched");
+    let out = stopped_after_its_checkpoint(&d, &dynamic_strip());
+    std::fs::remove_file(out.join("frames").join("frame_00001.vtu")).unwrap();
+    let before = outputs(&out);
+    let error = format!("{:#}", resume_run(&resume_args(&out)).unwrap_err());
+    assert!(error.contains("frame_00001.vtu"), "{error}");
+    assert!(before == outputs(&out), "the refused resume changed the outputs");
+}
