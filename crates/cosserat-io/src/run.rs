@@ -125,12 +125,16 @@ fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError
     Ok(())
 }
 
-/// Refuses frames of a checkpoint whose VTU file is missing.
+/// Refuses frames of a checkpoint of which a file is missing in one of the per-frame `formats`.
 fn check_frames_exist(frames_dir: &Path, frames: &[PvdEntry], formats: FrameFormats) -> Result<(), OutputError> {
-    if !formats.vtu {
-        return Ok(());
-    }
-    match frames.iter().map(|f| frames_dir.join(&f.file)).find(|p| !p.is_file()) {
+    let extensions = [(formats.vtu, "vtu"), (formats.obj, "obj"), (formats.ply, "ply")];
+    let mut files = frames.iter().flat_map(|f| {
+        extensions
+            .iter()
+            .filter(|(on, _)| *on)
+            .map(|(_, extension)| frames_dir.join(&f.file).with_extension(extension))
+    });
+    match files.find(|p| !p.is_file()) {
         Some(path) => Err(OutputError::Format {
             path,
             reason: "the frame is missing, but the checkpoint counts it".into(),
@@ -211,8 +215,8 @@ impl RunWriter {
     /// refused resume leaves `dir` as it was.
     ///
     /// # Errors
-    /// The errors of [`ProbeWriter::keep`]; [`OutputError::Format`] for a frame of the checkpoint that
-    /// is missing; I/O errors naming the path.
+    /// The errors of [`ProbeWriter::keep`]; [`OutputError::Format`] for a file of a frame of the
+    /// checkpoint that is missing (in any of `formats` written per frame); I/O errors naming the path.
     pub fn resume<S: AsRef<str>>(
         dir: impl Into<PathBuf>,
         probe_columns: &[S],

@@ -491,3 +491,19 @@ fn a_refused_resume_leaves_the_run_as_it_was() {
     assert!(error.contains("frame_00001.vtu"), "{error}");
     assert!(before == outputs(&out), "the refused resume changed the outputs");
 }
+
+#[test]
+fn resuming_refuses_a_missing_obj_or_ply_frame() {
+    let d = dir("missing_mesh_frame");
+    let text = dynamic_strip().replace("[output]\n", "[output]\nformats = [\"vtu\", \"obj\", \"ply\"]\n");
+    let out = stopped_after_its_checkpoint(&d, &text);
+    for file in ["frame_00002.obj", "frame_00003.ply"] {
+        let path = out.join("frames").join(file);
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::remove_file(&path).unwrap();
+        let error = format!("{:#}", resume_run(&resume_args(&out)).unwrap_err());
+        assert!(error.contains(&path.display().to_string()), "{error}");
+        assert!(error.contains("the checkpoint counts it"), "{error}");
+        std::fs::write(&path, bytes).unwrap();
+    }
+}
