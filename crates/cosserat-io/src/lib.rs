@@ -47,7 +47,7 @@ pub use error::OutputError;
 pub use mesh_frames::{FrameFormats, UsdWriter};
 pub use probes::{KeptProbes, ProbeWriter};
 pub use pvd::{PvdEntry, read_pvd, read_pvd_frame, write_pvd};
-pub use run::{RunWriter, clear_run_outputs, write_failure_summary};
+pub use run::{RunWriter, clear_run_outputs, remove_temporaries, write_failure_summary};
 pub use summary::{
     Attempt, BoundingBox, BroadPhaseRecord, ContactRecord, ConvergenceRecord, EnergyHistory, FactorRecord, FailedStep,
     LinearSolverRecord, ModelRecord, RunStatus, RunSummary, ToleranceMode, read_summary, write_summary,

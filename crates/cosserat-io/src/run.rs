@@ -16,7 +16,8 @@
 //! past 99 999 frames; the `.pvd` keeps the order either way.
 //!
 //! Starting a run removes what an earlier run left in `DIR`: the files above and the temporary files of
-//! interrupted atomic writes. Nothing else in `DIR` is touched. A run that ends early (an error, an
+//! interrupted atomic writes; resuming one removes those temporary files. Nothing else in `DIR` is
+//! touched. A run that ends early (an error, an
 //! interrupt) keeps every frame and probe row written before, and the collection lists exactly the
 //! frames that exist.
 
@@ -125,6 +126,32 @@ fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError
     Ok(())
 }
 
+/// Removes from `dir` the temporary files of atomic writes that a killed process left there (hidden,
+/// `.<name>.tmp<pid>-<n>`): a run that takes over `dir` owns them, and nobody else renames them.
+///
+/// # Errors
+/// [`OutputError::Io`] naming the directory that cannot be listed or the file that cannot be removed.
+pub fn remove_temporaries(dir: &Path) -> Result<(), OutputError> {
+    let entries = match fs::read_dir(dir) {
+        Ok(entries) => entries,
+        Err(source) if source.kind() == std::io::ErrorKind::NotFound => return Ok(()),
+        Err(source) => {
+            return Err(OutputError::Io {
+                operation: "list",
+                path: dir.to_path_buf(),
+                source,
+            });
+        }
+    };
+    for entry in entries.flatten() {
+        let is_file = entry.file_type().is_ok_and(|kind| kind.is_file());
+        if is_file && entry.file_name().to_str().and_then(temporary_target).is_some() {
+            remove_if_exists(&entry.path())?;
+        }
+    }
+    Ok(())
+}
+
 /// Refuses frames of a checkpoint of which a file is missing in one of the per-frame `formats`.
 fn check_frames_exist(frames_dir: &Path, frames: &[PvdEntry], formats: FrameFormats) -> Result<(), OutputError> {
     let extensions = [(formats.vtu, "vtu"), (formats.obj, "obj"), (formats.ply, "ply")];
@@ -211,7 +238,8 @@ impl RunWriter {
     /// Takes over `dir` of an earlier run to continue it from a checkpoint: keeps the first
     /// `probe_rows` rows of `probes.csv` and the frames of `frame_times` (the collection is rewritten to
     /// list exactly them), and removes the frames the earlier run wrote after them. The resumed run
-    /// then writes the later rows and frames again. Everything is checked before anything changes: a
+    /// then writes the later rows and frames again, and the temporary files of atomic writes that the
+    /// earlier run left when it was killed go. Everything is checked before anything changes: a
     /// refused resume leaves `dir` as it was.
     ///
     /// # Errors
@@ -236,6 +264,8 @@ impl RunWriter {
             })
             .collect();
         check_frames_exist(&frames_dir, &frames, formats)?;
+        remove_temporaries(&dir)?;
+        remove_temporaries(&frames_dir)?;
         remove_frames_from(&frames_dir, frames.len())?;
         if formats.vtu {
             write_pvd(&frames_dir.join(PVD_FILE), &frames)?;

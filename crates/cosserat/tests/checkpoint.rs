@@ -507,3 +507,37 @@ fn resuming_refuses_a_missing_obj_or_ply_frame() {
         std::fs::write(&path, bytes).unwrap();
     }
 }
+
+#[test]
+fn resuming_removes_the_temporary_files_of_a_killed_run() {
+    let d = dir("killed_temporaries");
+    let out = stopped_after_its_checkpoint(&d, &dynamic_strip());
+    // What a run killed while writing leaves: hidden temporaries of its atomic writes.
+    let left = [
+        out.join(".probes.csv.tmp4242-1"),
+        out.join("frames").join(".run.pvd.tmp4242-2"),
+        out.join("frames").join(".frame_00005.vtu.tmp4242-3"),
+        out.join("checkpoint").join(".state.bin.tmp4242-4"),
+    ];
+    let keep = out.join("checkpoint").join("notes.txt");
+    for path in left.iter().chain([&keep]) {
+        std::fs::write(path, "partial").unwrap();
+    }
+    assert_eq!(resume_run(&resume_args(&out)).unwrap(), 0);
+    for path in &left {
+        assert!(!path.exists(), "{} stayed", path.display());
+    }
+    assert!(keep.exists(), "a file of the user went");
+    // A new run into the folder clears its checkpoint's temporaries too.
+    std::fs::write(&left[3], "partial").unwrap();
+    let args = RunArgs {
+        scene: d.join("scene.toml"),
+        out: Some(out.clone()),
+        overrides: Vec::new(),
+        threads: Some(1),
+        quiet: true,
+        max_memory: None,
+    };
+    assert_eq!(run_scene(&args).unwrap(), 0);
+    assert!(!left[3].exists());
+}

@@ -70,20 +70,23 @@ impl Simulation {
     /// The run's outputs: a fresh directory, or the earlier run's taken over at the checkpoint.
     pub(super) fn open_outputs(&self, dir: &Path, resume: Option<&Checkpoint>) -> Result<RunWriter, SimulationError> {
         let columns = self.probe_columns();
+        let folder = dir.join(CHECKPOINT_DIR);
         if let Some(c) = resume {
             let formats = cosserat_io::FrameFormats {
                 usd: false,
                 ..self.frame_formats
             };
-            return Ok(RunWriter::resume(dir, &columns, c.probe_rows, &c.frame_times, formats)?);
+            let writer = RunWriter::resume(dir, &columns, c.probe_rows, &c.frame_times, formats)?;
+            cosserat_io::remove_temporaries(&folder)?;
+            return Ok(writer);
         }
         let mut writer = RunWriter::create(dir, &columns)?;
         writer.set_formats(self.frame_formats)?;
         // A checkpoint of an earlier run in `dir` does not belong to this one.
-        let folder = dir.join(CHECKPOINT_DIR);
         for file in [STATE_FILE, SCENE_COPY] {
             let _ = std::fs::remove_file(folder.join(file));
         }
+        cosserat_io::remove_temporaries(&folder)?;
         if self.restart.every.is_some()
             && let Some(origin) = &self.restart.origin
         {
