@@ -190,6 +190,15 @@ pub enum OutputError {
         /// The refused value.
         value: f64,
     },
+    /// An output folder that another run or resume is writing into.
+    #[error(
+        "`{}` is in use by another run writing into it; wait until that run ends or choose another output folder",
+        path.display()
+    )]
+    InUse {
+        /// The output folder.
+        path: PathBuf,
+    },
     /// A failure-only summary requested with the status `ok`.
     #[error("a failure summary needs the status \"error\" or \"interrupted\", not \"ok\"")]
     NotAFailure,

@@ -126,6 +126,29 @@ fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError
     Ok(())
 }
 
+/// Locks `dir` for one run, so that a second run into it is refused instead of mixing its rows and
+/// frames into the first's. The lock is the operating system's advisory lock on the folder itself: it
+/// leaves no file behind and goes with the process, however that ends. A file system without such
+/// locks gets no lock.
+///
+/// # Errors
+/// [`OutputError::InUse`] when another process holds the lock; [`OutputError::Io`] naming `dir` when it
+/// cannot be opened.
+fn lock_dir(dir: &Path) -> Result<Option<fs::File>, OutputError> {
+    let folder = fs::File::open(dir).map_err(|source| OutputError::Io {
+        operation: "open",
+        path: dir.to_path_buf(),
+        source,
+    })?;
+    match folder.try_lock() {
+        Ok(()) => Ok(Some(folder)),
+        Err(fs::TryLockError::WouldBlock) => Err(OutputError::InUse {
+            path: dir.to_path_buf(),
+        }),
+        Err(fs::TryLockError::Error(_)) => Ok(None),
+    }
+}
+
 /// Removes from `dir` the temporary files of atomic writes that a killed process left there (hidden,
 /// `.<name>.tmp<pid>-<n>`): a run that takes over `dir` owns them, and nobody else renames them.
 ///
@@ -208,6 +231,8 @@ pub struct RunWriter {
     probes: ProbeWriter,
     formats: FrameFormats,
     usd: Option<UsdWriter>,
+    /// Held while the writer lives ([`lock_dir`]).
+    _lock: Option<fs::File>,
 }
 
 impl RunWriter {
@@ -216,13 +241,15 @@ impl RunWriter {
     /// empty list gives a file with the time column only).
     ///
     /// # Errors
-    /// The column errors of [`ProbeWriter::create`] (checked before anything is removed) and I/O errors
-    /// naming the path.
+    /// The column errors of [`ProbeWriter::create`] (checked before anything is removed),
+    /// [`OutputError::InUse`] when another run writes into `dir` (nothing is removed then either), and
+    /// I/O errors naming the path.
     pub fn create<S: AsRef<str>>(dir: impl Into<PathBuf>, probe_columns: &[S]) -> Result<Self, OutputError> {
         let dir = dir.into();
         // Bad columns are refused before anything is removed, so an earlier run stays intact.
         check_columns(probe_columns)?;
         create_dir_all(&dir)?;
+        let lock = lock_dir(&dir)?;
         clear_run_outputs(&dir)?;
         create_dir_all(&dir.join(FRAMES_DIR))?;
         let probes = ProbeWriter::create(&dir.join(PROBES_FILE), probe_columns)?;
@@ -232,6 +259,7 @@ impl RunWriter {
             probes,
             formats: FrameFormats::default(),
             usd: None,
+            _lock: lock,
         })
     }
 
@@ -243,7 +271,8 @@ impl RunWriter {
     /// refused resume leaves `dir` as it was.
     ///
     /// # Errors
-    /// The errors of [`ProbeWriter::keep`]; [`OutputError::Format`] for a file of a frame of the
+    /// [`OutputError::InUse`] when another run writes into `dir`; the errors of [`ProbeWriter::keep`];
+    /// [`OutputError::Format`] for a file of a frame of the
     /// checkpoint that is missing (in any of `formats` written per frame); I/O errors naming the path.
     pub fn resume<S: AsRef<str>>(
         dir: impl Into<PathBuf>,
@@ -253,6 +282,7 @@ impl RunWriter {
         formats: FrameFormats,
     ) -> Result<Self, OutputError> {
         let dir = dir.into();
+        let lock = lock_dir(&dir)?;
         let kept = ProbeWriter::keep(&dir.join(PROBES_FILE), probe_columns, probe_rows)?;
         let frames_dir = dir.join(FRAMES_DIR);
         let frames: Vec<PvdEntry> = frame_times
@@ -276,6 +306,7 @@ impl RunWriter {
             probes: kept.reopen()?,
             formats,
             usd: None,
+            _lock: lock,
         })
     }
 

@@ -396,3 +396,35 @@ fn resuming_a_run_without_a_checkpoint_says_how_to_write_one() {
         assert!(stderr.contains(reason), "{stderr}");
     }
 }
+
+#[test]
+fn a_second_run_into_a_folder_in_use_is_refused_and_changes_nothing() {
+    let d = folder("folder_in_use");
+    let checkpoints = "[output]\ncheckpoint_every = 2\n";
+    std::fs::write(d.join("scene.toml"), format!("{STRIP}{DYNAMIC}{checkpoints}")).unwrap();
+    let args = ["run", "scene.toml", "--out", "out", "--quiet", "--threads", "1"];
+    let mut first = start(&d, &args);
+    // Past the first checkpoint, which the resume reads before it finds the folder in use.
+    wait_for_rows(&d.join("out"), 6, &mut first);
+    let refused: Vec<_> = [&args[..], &["resume", "out", "--quiet"]]
+        .into_iter()
+        .map(|second| start(&d, second).wait_with_output().unwrap())
+        .collect();
+    signal(&first, "INT");
+    let output = first.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(130));
+    for output in refused {
+        let stderr = String::from_utf8_lossy(&output.stderr);
+        assert_eq!(output.status.code(), Some(1), "{stderr}");
+        assert!(stderr.contains("`out` is in use by another run"), "{stderr}");
+    }
+    // The first run's rows and frames are its own, without a gap: the second run removed nothing.
+    check_interrupted(&d.join("out"), "interrupted by SIGINT (Ctrl-C)");
+    let probes = std::fs::read_to_string(d.join("out").join("probes.csv")).unwrap();
+    let times: Vec<f64> = probes
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(times.windows(2).all(|w| w[1] > w[0]) && times[0] == 0.0, "{probes}");
+}
