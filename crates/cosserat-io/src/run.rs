@@ -266,8 +266,8 @@ impl RunWriter {
     /// Takes over `dir` of an earlier run to continue it from a checkpoint: keeps the first
     /// `probe_rows` rows of `probes.csv` and the frames of `frame_times` (the collection is rewritten to
     /// list exactly them), and removes the frames the earlier run wrote after them. The resumed run
-    /// then writes the later rows and frames again, and the temporary files of atomic writes that the
-    /// earlier run left when it was killed go. Everything is checked before anything changes: a
+    /// then writes the later rows and frames again; the earlier run's `summary.json` and the temporary
+    /// files of atomic writes that it left when it was killed go. Everything is checked before anything changes: a
     /// refused resume leaves `dir` as it was.
     ///
     /// # Errors
@@ -294,6 +294,9 @@ impl RunWriter {
             })
             .collect();
         check_frames_exist(&frames_dir, &frames, formats)?;
+        // The earlier run's report describes outputs that change from here on; a resumed run that is
+        // killed must not leave it behind, as a killed run leaves no report.
+        remove_if_exists(&dir.join(SUMMARY_FILE))?;
         remove_temporaries(&dir)?;
         remove_temporaries(&frames_dir)?;
         remove_frames_from(&frames_dir, frames.len())?;

@@ -541,3 +541,25 @@ fn resuming_removes_the_temporary_files_of_a_killed_run() {
     assert_eq!(run_scene(&args).unwrap(), 0);
     assert!(!left[3].exists());
 }
+
+#[test]
+fn a_resumed_run_under_way_leaves_no_summary_of_the_earlier_run() {
+    // A resumed run that is killed must not leave the earlier run's summary, which says where that
+    // run stopped, next to the rows and frames written after it.
+    let d = dir("resumed_summary");
+    let out = stopped_after_its_checkpoint(&d, &dynamic_strip());
+    assert!(out.join("summary.json").is_file());
+    let mut sim = simulation(&d.join("scene.toml"));
+    sim.resume_from(&out, Checkpoint::read(&out).unwrap()).unwrap();
+    let mut seen = Vec::new();
+    let summary = sim
+        .run(
+            &out,
+            &mut |_| seen.push(out.join("summary.json").exists()),
+            &StopRequest::new(),
+        )
+        .unwrap();
+    assert_eq!(summary.status, RunStatus::Ok);
+    assert!(!seen.is_empty() && seen.iter().all(|&exists| !exists), "{seen:?}");
+    assert!(out.join("summary.json").is_file());
+}
