@@ -35,6 +35,19 @@ fn column_problem(column: &str) -> Option<&'static str> {
     }
 }
 
+/// Why `line` cannot be a row this writer wrote with `n_values` values (the time included), if it
+/// cannot: a resumed run keeps the earlier run's rows, which must still read as numbers.
+fn row_problem(line: &str, n_values: usize) -> Option<String> {
+    let fields: Vec<&str> = line.trim_end_matches('\n').split(',').collect();
+    if fields.len() != n_values {
+        return Some(format!("{} values where the header names {n_values}", fields.len()));
+    }
+    fields
+        .iter()
+        .find(|f| !f.parse::<f64>().is_ok_and(f64::is_finite))
+        .map(|f| format!("`{f}` is not a finite number"))
+}
+
 /// Refuses malformed or repeated probe column names.
 pub(crate) fn check_columns<S: AsRef<str>>(columns: &[S]) -> Result<(), OutputError> {
     let mut seen = HashSet::new();
@@ -110,7 +123,8 @@ impl ProbeWriter {
     ///
     /// # Errors
     /// The column errors of [`ProbeWriter::create`]; [`OutputError::Format`] when the header does not
-    /// name these columns or the file has fewer rows; I/O errors naming the file.
+    /// name these columns, the file has fewer rows or one of them is not a row of numbers of the
+    /// header's length; I/O errors naming the file.
     pub fn keep<S: AsRef<str>>(path: &Path, columns: &[S], n_rows: usize) -> Result<KeptProbes, OutputError> {
         check_columns(columns)?;
         let text = std::fs::read_to_string(path).map_err(|source| OutputError::Io {
@@ -135,6 +149,16 @@ impl ProbeWriter {
             return Err(OutputError::Format {
                 path: path.to_path_buf(),
                 reason: format!("holds {} complete rows, the checkpoint expects {n_rows}", kept.len()),
+            });
+        }
+        if let Some((row, reason)) = kept
+            .iter()
+            .enumerate()
+            .find_map(|(k, l)| row_problem(l, columns.len() + 1).map(|r| (k, r)))
+        {
+            return Err(OutputError::Format {
+                path: path.to_path_buf(),
+                reason: format!("row {row} (line {}) is damaged: {reason}", row + 2),
             });
         }
         Ok(KeptProbes {

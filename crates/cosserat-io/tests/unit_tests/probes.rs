@@ -100,3 +100,38 @@ fn malformed_and_duplicate_columns_are_refused() {
     assert!(matches!(error, OutputError::DuplicateName { .. }), "{error:?}");
     assert!(!path.exists());
 }
+
+#[test]
+fn reopening_refuses_a_kept_row_that_is_damaged() {
+    let dir = test_dir("probes_reopen_damaged");
+    let path = dir.join("probes.csv");
+    let mut writer = ProbeWriter::create(&path, &COLUMNS).expect("create");
+    for k in 0..3 {
+        writer.write_row(f64::from(k), &[1.0, 2.0, 3.0]).expect("write row");
+    }
+    drop(writer);
+    let good = std::fs::read_to_string(&path).expect("read");
+    for (damaged, reason) in [
+        ("1,1,2,3\n", ""),
+        ("1,1,2\n", "3 values where the header names 4"),
+        ("1,1,2,3,4\n", "5 values where the header names 4"),
+        ("1,1,x,3\n", "`x` is not a finite number"),
+        ("1,1,NaN,3\n", "`NaN` is not a finite number"),
+    ] {
+        let text = good.replacen("1,1,2,3\n", damaged, 1);
+        std::fs::write(&path, &text).expect("damage the file");
+        let result = ProbeWriter::reopen(&path, &COLUMNS, 2);
+        if damaged == "1,1,2,3\n" {
+            result.expect("an intact file reopens");
+            continue;
+        }
+        let error = result.expect_err("a damaged row is refused").to_string();
+        assert!(error.contains("row 1 (line 3) is damaged"), "{error}");
+        assert!(error.contains(reason), "{error}");
+        assert_eq!(
+            std::fs::read_to_string(&path).expect("read"),
+            text,
+            "the refusal changed the file"
+        );
+    }
+}
