@@ -175,22 +175,44 @@ pub fn remove_temporaries(dir: &Path) -> Result<(), OutputError> {
     Ok(())
 }
 
-/// Refuses frames of a checkpoint of which a file is missing in one of the per-frame `formats`.
-fn check_frames_exist(frames_dir: &Path, frames: &[PvdEntry], formats: FrameFormats) -> Result<(), OutputError> {
+/// Refuses frames of a checkpoint of which a file is missing in one of the per-frame `formats`, or
+/// whose VTU file is cut short or overwritten.
+fn check_kept_frames(frames_dir: &Path, frames: &[PvdEntry], formats: FrameFormats) -> Result<(), OutputError> {
     let extensions = [(formats.vtu, "vtu"), (formats.obj, "obj"), (formats.ply, "ply")];
-    let mut files = frames.iter().flat_map(|f| {
+    let files = frames.iter().flat_map(|f| {
         extensions
             .iter()
             .filter(|(on, _)| *on)
             .map(|(_, extension)| frames_dir.join(&f.file).with_extension(extension))
     });
-    match files.find(|p| !p.is_file()) {
-        Some(path) => Err(OutputError::Format {
+    for path in files {
+        let reason = if !path.is_file() {
+            "the frame is missing, but the checkpoint counts it"
+        } else if path.extension().is_some_and(|e| e == "vtu") && !ends_like_vtu(&path) {
+            "the frame is damaged (it does not end with `</VTKFile>`), but the checkpoint counts it"
+        } else {
+            continue;
+        };
+        return Err(OutputError::Format {
             path,
-            reason: "the frame is missing, but the checkpoint counts it".into(),
-        }),
-        None => Ok(()),
+            reason: reason.into(),
+        });
     }
+    Ok(())
+}
+
+/// Whether the file at `path` ends as every VTU file this crate writes does. Only the end is read: a
+/// resume checks every kept frame, and a cut or overwritten file seldom keeps the closing tag.
+fn ends_like_vtu(path: &Path) -> bool {
+    use std::io::{Read, Seek, SeekFrom};
+    const END: &[u8] = b"</VTKFile>\n";
+    let Ok(mut file) = fs::File::open(path) else {
+        return false;
+    };
+    let mut tail = [0_u8; END.len()];
+    file.seek(SeekFrom::End(-(END.len() as i64)))
+        .and_then(|_| file.read_exact(&mut tail))
+        .is_ok_and(|()| tail == END)
 }
 
 /// Removes everything a run writes into `dir` (frames, collection, probes, summary, temporary files),
@@ -273,7 +295,8 @@ impl RunWriter {
     /// # Errors
     /// [`OutputError::InUse`] when another run writes into `dir`; the errors of [`ProbeWriter::keep`];
     /// [`OutputError::Format`] for a file of a frame of the
-    /// checkpoint that is missing (in any of `formats` written per frame); I/O errors naming the path.
+    /// checkpoint that is missing (in any of `formats` written per frame) or a VTU frame that does not
+    /// end as one; I/O errors naming the path.
     pub fn resume<S: AsRef<str>>(
         dir: impl Into<PathBuf>,
         probe_columns: &[S],
@@ -293,7 +316,7 @@ impl RunWriter {
                 file: frame_file_name(k),
             })
             .collect();
-        check_frames_exist(&frames_dir, &frames, formats)?;
+        check_kept_frames(&frames_dir, &frames, formats)?;
         // The earlier run's report describes outputs that change from here on; a resumed run that is
         // killed must not leave it behind, as a killed run leaves no report.
         remove_if_exists(&dir.join(SUMMARY_FILE))?;

@@ -563,3 +563,21 @@ fn a_resumed_run_under_way_leaves_no_summary_of_the_earlier_run() {
     assert!(!seen.is_empty() && seen.iter().all(|&exists| !exists), "{seen:?}");
     assert!(out.join("summary.json").is_file());
 }
+
+#[test]
+fn resuming_refuses_a_vtu_frame_that_is_cut_short_or_overwritten() {
+    let d = dir("damaged_frame");
+    let out = stopped_after_its_checkpoint(&d, &dynamic_strip());
+    let path = out.join("frames").join("frame_00002.vtu");
+    let bytes = std::fs::read(&path).unwrap();
+    for damaged in [&bytes[..bytes.len() / 2], b"not a frame"] {
+        std::fs::write(&path, damaged).unwrap();
+        let before = outputs(&out);
+        let error = format!("{:#}", resume_run(&resume_args(&out)).unwrap_err());
+        assert!(error.contains(&path.display().to_string()), "{error}");
+        assert!(error.contains("the frame is damaged"), "{error}");
+        assert!(before == outputs(&out), "the refused resume changed the outputs");
+    }
+    std::fs::write(&path, bytes).unwrap();
+    assert_eq!(resume_run(&resume_args(&out)).unwrap(), 0);
+}
