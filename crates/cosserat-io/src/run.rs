@@ -317,15 +317,17 @@ impl RunWriter {
             })
             .collect();
         check_kept_frames(&frames_dir, &frames, formats)?;
-        // The earlier run's report describes outputs that change from here on; a resumed run that is
-        // killed must not leave it behind, as a killed run leaves no report.
-        remove_if_exists(&dir.join(SUMMARY_FILE))?;
         remove_temporaries(&dir)?;
         remove_temporaries(&frames_dir)?;
-        remove_frames_from(&frames_dir, frames.len())?;
+        // The collection first: a frames folder where files cannot be removed still lists only the
+        // kept frames, and the earlier run's report stays until the rows change.
         if formats.vtu {
             write_pvd(&frames_dir.join(PVD_FILE), &frames)?;
         }
+        remove_frames_from(&frames_dir, frames.len())?;
+        // The earlier run's report describes rows that change from here on; a resumed run that is
+        // killed must not leave it behind, as a killed run leaves no report.
+        remove_if_exists(&dir.join(SUMMARY_FILE))?;
         Ok(Self {
             dir,
             frames,

@@ -581,3 +581,17 @@ fn resuming_refuses_a_vtu_frame_that_is_cut_short_or_overwritten() {
     std::fs::write(&path, bytes).unwrap();
     assert_eq!(resume_run(&resume_args(&out)).unwrap(), 0);
 }
+
+#[test]
+fn a_resume_that_cannot_take_over_the_frames_keeps_the_earlier_summary() {
+    let d = dir("takeover_fails");
+    let out = stopped_after_its_checkpoint(&d, &dynamic_strip());
+    let summary = std::fs::read(out.join("summary.json")).unwrap();
+    // A frame after the checkpoint that cannot be removed, as in a frames folder without write access.
+    let stuck = out.join("frames").join("frame_00004.vtu");
+    std::fs::remove_file(&stuck).unwrap();
+    std::fs::create_dir(&stuck).unwrap();
+    let error = format!("{:#}", resume_run(&resume_args(&out)).unwrap_err());
+    assert!(error.contains("frame_00004.vtu"), "{error}");
+    assert_eq!(std::fs::read(out.join("summary.json")).unwrap(), summary);
+}
