@@ -129,17 +129,15 @@ fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError
 /// Locks `dir` for one run, so that a second run into it is refused instead of mixing its rows and
 /// frames into the first's. The lock is the operating system's advisory lock on the folder itself: it
 /// leaves no file behind and goes with the process, however that ends. A file system without such
-/// locks gets no lock.
+/// locks, or a system that does not open folders as files (Windows), gets no lock.
 ///
 /// # Errors
-/// [`OutputError::InUse`] when another process holds the lock; [`OutputError::Io`] naming `dir` when it
-/// cannot be opened.
+/// [`OutputError::InUse`] when another process holds the lock.
 fn lock_dir(dir: &Path) -> Result<Option<fs::File>, OutputError> {
-    let folder = fs::File::open(dir).map_err(|source| OutputError::Io {
-        operation: "open",
-        path: dir.to_path_buf(),
-        source,
-    })?;
+    // A folder that cannot be opened here is reported by the writes into it, with their own path.
+    let Ok(folder) = fs::File::open(dir) else {
+        return Ok(None);
+    };
     match folder.try_lock() {
         Ok(()) => Ok(Some(folder)),
         Err(fs::TryLockError::WouldBlock) => Err(OutputError::InUse {
