@@ -69,18 +69,23 @@ fn is_run_file(name: &str, in_frames: bool) -> bool {
     }
 }
 
+/// The entries of `dir`, or `None` where it does not exist.
+fn entries_of(dir: &Path) -> Result<Option<fs::ReadDir>, OutputError> {
+    match fs::read_dir(dir) {
+        Ok(entries) => Ok(Some(entries)),
+        Err(source) if source.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(source) => Err(OutputError::Io {
+            operation: "list",
+            path: dir.to_path_buf(),
+            source,
+        }),
+    }
+}
+
 /// Removes from `dir` the files a run writes there, including leftover temporary files of atomic writes.
 fn remove_run_files(dir: &Path, in_frames: bool) -> Result<(), OutputError> {
-    let entries = match fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(source) if source.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(source) => {
-            return Err(OutputError::Io {
-                operation: "list",
-                path: dir.to_path_buf(),
-                source,
-            });
-        }
+    let Some(entries) = entries_of(dir)? else {
+        return Ok(());
     };
     for entry in entries {
         let entry = entry.map_err(|source| OutputError::Io {
@@ -101,16 +106,8 @@ fn remove_run_files(dir: &Path, in_frames: bool) -> Result<(), OutputError> {
 
 /// Removes the frame files numbered `first` and up from `frames_dir`.
 fn remove_frames_from(frames_dir: &Path, first: usize) -> Result<(), OutputError> {
-    let entries = match fs::read_dir(frames_dir) {
-        Ok(entries) => entries,
-        Err(source) if source.kind() == std::io::ErrorKind::NotFound => return create_dir_all(frames_dir),
-        Err(source) => {
-            return Err(OutputError::Io {
-                operation: "list",
-                path: frames_dir.to_path_buf(),
-                source,
-            });
-        }
+    let Some(entries) = entries_of(frames_dir)? else {
+        return create_dir_all(frames_dir);
     };
     for entry in entries.flatten() {
         let name = entry.file_name();
@@ -153,16 +150,8 @@ fn lock_dir(dir: &Path) -> Result<Option<fs::File>, OutputError> {
 /// # Errors
 /// [`OutputError::Io`] naming the directory that cannot be listed or the file that cannot be removed.
 pub fn remove_temporaries(dir: &Path) -> Result<(), OutputError> {
-    let entries = match fs::read_dir(dir) {
-        Ok(entries) => entries,
-        Err(source) if source.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(source) => {
-            return Err(OutputError::Io {
-                operation: "list",
-                path: dir.to_path_buf(),
-                source,
-            });
-        }
+    let Some(entries) = entries_of(dir)? else {
+        return Ok(());
     };
     for entry in entries.flatten() {
         let is_file = entry.file_type().is_ok_and(|kind| kind.is_file());
