@@ -3,7 +3,7 @@
 
 use cosserat::scene::error::Location;
 use pyo3::create_exception;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyRuntimeError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 
 create_exception!(
@@ -62,6 +62,19 @@ pub(crate) fn scene_error(py: Python<'_>, e: &cosserat::scene::SceneError, from_
         other => other.to_string(),
     };
     let field = e.field().filter(|f| !f.is_empty()).map(str::to_owned);
+    with_attributes(py, err, file, line, field, over, reason)
+}
+
+/// `err` with the attributes of a `SceneError` (or the error of setting them).
+fn with_attributes(
+    py: Python<'_>,
+    err: PyErr,
+    file: Option<String>,
+    line: Option<usize>,
+    field: Option<String>,
+    over: Option<String>,
+    reason: String,
+) -> PyErr {
     let value = err.value(py);
     let set = || -> PyResult<()> {
         value.setattr("file", file)?;
@@ -97,19 +110,7 @@ fn message(e: &cosserat::scene::SceneError, from_dict: bool) -> String {
 /// dotted path.
 pub(crate) fn scene_value_error(py: Python<'_>, field: &str, reason: String) -> PyErr {
     let err = SceneError::new_err(format!("{field}: {reason}"));
-    let value = err.value(py);
-    let set = || -> PyResult<()> {
-        value.setattr("file", py.None())?;
-        value.setattr("line", py.None())?;
-        value.setattr("field", field)?;
-        value.setattr("override", py.None())?;
-        value.setattr("reason", reason)?;
-        Ok(())
-    };
-    match set() {
-        Ok(()) => err,
-        Err(e) => e,
-    }
+    with_attributes(py, err, None, None, Some(field.to_owned()), None, reason)
 }
 
 /// The Python exception of a facade error: scene errors keep their attributes.
@@ -117,5 +118,24 @@ pub(crate) fn simulation_error(py: Python<'_>, e: &cosserat::SimulationError) ->
     match e {
         cosserat::SimulationError::Scene(scene) => scene_error(py, scene, false),
         other => SimulationError::new_err(other.to_string()),
+    }
+}
+
+/// A `TypeError` saying `what`, with the type and value that were given instead.
+pub(crate) fn type_error(what: &str, value: &Bound<'_, PyAny>) -> PyErr {
+    PyTypeError::new_err(format!("{what} (got {} {})", type_name(value), short_repr(value)))
+}
+
+/// The name of a value's type, for messages.
+fn type_name(value: &Bound<'_, PyAny>) -> String {
+    value.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string())
+}
+
+/// `repr(value)`, cut to a length that keeps a message readable.
+pub(crate) fn short_repr(value: &Bound<'_, PyAny>) -> String {
+    let text = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
+    match text.char_indices().nth(60) {
+        Some((i, _)) => format!("{}...", &text[..i]),
+        None => text,
     }
 }

@@ -1,6 +1,6 @@
 //! Scenes from Python: a TOML file or a dict of the same structure, with `--set`-style overrides.
 
-use crate::error::{scene_error, scene_value_error};
+use crate::error::{scene_error, scene_value_error, short_repr, type_error};
 use cosserat::geometry::Num;
 use cosserat::scene::SceneSpec;
 use pyo3::exceptions::PyTypeError;
@@ -52,45 +52,24 @@ fn override_value_text(value: &toml::Value) -> String {
 }
 
 fn overrides_type_error(overrides: &Bound<'_, PyAny>) -> PyErr {
-    PyTypeError::new_err(format!(
-        "overrides must be a dict such as {{\"mesh.nx\": 8}} or a list of \"key=value\" strings (got {} {})",
-        type_name(overrides),
-        short_repr(overrides)
-    ))
+    type_error(
+        "overrides must be a dict such as {\"mesh.nx\": 8} or a list of \"key=value\" strings",
+        overrides,
+    )
 }
 
 fn override_key(key: &Bound<'_, PyAny>) -> PyResult<String> {
     key.extract().map_err(|_| {
-        PyTypeError::new_err(format!(
-            "overrides: the keys of the dict must be strings such as \"mesh.nx\" (got {} {})",
-            type_name(key),
-            short_repr(key)
-        ))
+        type_error(
+            "overrides: the keys of the dict must be strings such as \"mesh.nx\"",
+            key,
+        )
     })
 }
 
 fn override_item(item: &Bound<'_, PyAny>) -> PyResult<String> {
-    item.extract().map_err(|_| {
-        PyTypeError::new_err(format!(
-            "overrides: every item of the list must be a \"key=value\" string (got {} {})",
-            type_name(item),
-            short_repr(item)
-        ))
-    })
-}
-
-/// The name of a value's type, for messages.
-fn type_name(value: &Bound<'_, PyAny>) -> String {
-    value.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string())
-}
-
-/// `repr(value)`, cut to a length that keeps a message readable.
-fn short_repr(value: &Bound<'_, PyAny>) -> String {
-    let text = value.repr().map_or_else(|_| "?".into(), |r| r.to_string());
-    match text.char_indices().nth(60) {
-        Some((i, _)) => format!("{}...", &text[..i]),
-        None => text,
-    }
+    item.extract()
+        .map_err(|_| type_error("overrides: every item of the list must be a \"key=value\" string", item))
 }
 
 /// Reads and checks a scene file.
@@ -177,14 +156,9 @@ fn to_toml_at(value: &Bound<'_, PyAny>, field: Field<'_>) -> PyResult<toml::Valu
     if let Ok(dict) = value.cast::<PyDict>() {
         let mut table = toml::Table::new();
         for (k, v) in dict.iter() {
-            let key: String = k.extract().map_err(|_| {
-                PyTypeError::new_err(format!(
-                    "`{}`: scene keys must be strings (got {} {})",
-                    field.name(),
-                    type_name(&k),
-                    short_repr(&k)
-                ))
-            })?;
+            let key: String = k
+                .extract()
+                .map_err(|_| type_error(&format!("`{}`: scene keys must be strings", field.name()), &k))?;
             let value = deeper(&field.child(&key), &v)?;
             table.insert(key, value);
         }
@@ -202,12 +176,13 @@ fn to_toml_at(value: &Bound<'_, PyAny>, field: Field<'_>) -> PyResult<toml::Valu
         // NumPy arrays and scalars.
         return deeper(field.path, &value.call_method0("tolist")?);
     }
-    Err(PyTypeError::new_err(format!(
-        "`{}`: a scene value must be a dict, list, bool, int, float or str (got {} {})",
-        field.name(),
-        type_name(value),
-        short_repr(value)
-    )))
+    Err(type_error(
+        &format!(
+            "`{}`: a scene value must be a dict, list, bool, int, float or str",
+            field.name()
+        ),
+        value,
+    ))
 }
 
 /// A Python int as a TOML integer, which has 64 bits.

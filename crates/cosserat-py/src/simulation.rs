@@ -1,7 +1,7 @@
 //! `cosserat.Simulation`: a scene ready to run, stepped or run from Python.
 
 use crate::array;
-use crate::error::{StepFailed, simulation_error};
+use crate::error::{StepFailed, simulation_error, type_error};
 use crate::frame::PyFrame;
 use crate::scene;
 use crate::summary::PyRunSummary;
@@ -12,7 +12,7 @@ use cosserat::solver::TimeStepper;
 use cosserat::{Simulation, StepInfo, StopReason, StopRequest};
 use nalgebra::{Matrix3, Vector3};
 use numpy::{PyArray2, PyArray3};
-use pyo3::exceptions::{PyKeyError, PyOverflowError, PyRuntimeError, PyTypeError, PyValueError};
+use pyo3::exceptions::{PyKeyError, PyOverflowError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBool, PyDict, PyList};
 use std::path::PathBuf;
@@ -261,12 +261,7 @@ fn check_run_args(py: Python<'_>, out_dir: &std::path::Path, on_step: Option<&Py
         ));
     }
     match on_step.map(|f| f.bind(py)) {
-        Some(f) if !f.is_callable() => {
-            let type_name = f.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string());
-            Err(PyTypeError::new_err(format!(
-                "on_step must be callable, taking a StepInfo (got {type_name} {f})"
-            )))
-        }
+        Some(f) if !f.is_callable() => Err(type_error("on_step must be callable, taking a StepInfo", f)),
         _ => Ok(()),
     }
 }
@@ -281,10 +276,7 @@ fn thread_count(threads: Option<&Bound<'_, PyAny>>) -> PyResult<Option<usize>> {
     let Some(threads) = threads.filter(|t| !t.is_none()) else {
         return Ok(None);
     };
-    let not_an_int = || {
-        let type_name = threads.get_type().name().map_or_else(|_| "?".into(), |n| n.to_string());
-        PyTypeError::new_err(format!("threads must be an int or None (got {type_name} {threads})"))
-    };
+    let not_an_int = || type_error("threads must be an int or None", threads);
     if threads.is_instance_of::<PyBool>() {
         return Err(not_an_int());
     }

@@ -397,6 +397,18 @@ fn an_interrupted_run_resumes_from_its_last_checkpoint_with_the_command() {
     );
 }
 
+/// A quiet one-thread command-line run of `scene` into `out`.
+fn run_args(scene: &Path, out: &Path) -> RunArgs {
+    RunArgs {
+        scene: scene.to_path_buf(),
+        out: Some(out.to_path_buf()),
+        overrides: Vec::new(),
+        threads: Some(1),
+        quiet: true,
+        max_memory: None,
+    }
+}
+
 fn resume_args(dir: &Path) -> ResumeArgs {
     ResumeArgs {
         dir: dir.to_path_buf(),
@@ -410,15 +422,7 @@ fn resume_args(dir: &Path) -> ResumeArgs {
 fn finished_run(d: &Path) -> (PathBuf, PathBuf) {
     let scene = write_scene(d, &dynamic_strip());
     let out = d.join("out");
-    let args = RunArgs {
-        scene: scene.clone(),
-        out: Some(out.clone()),
-        overrides: Vec::new(),
-        threads: Some(1),
-        quiet: true,
-        max_memory: None,
-    };
-    assert_eq!(run_scene(&args).unwrap(), 0);
+    assert_eq!(run_scene(&run_args(&scene, &out)).unwrap(), 0);
     assert!(state_path(&out).is_file());
     (scene, out)
 }
@@ -530,15 +534,7 @@ fn resuming_removes_the_temporary_files_of_a_killed_run() {
     assert!(keep.exists(), "a file of the user went");
     // A new run into the folder clears its checkpoint's temporaries too.
     std::fs::write(&left[3], "partial").unwrap();
-    let args = RunArgs {
-        scene: d.join("scene.toml"),
-        out: Some(out.clone()),
-        overrides: Vec::new(),
-        threads: Some(1),
-        quiet: true,
-        max_memory: None,
-    };
-    assert_eq!(run_scene(&args).unwrap(), 0);
+    assert_eq!(run_scene(&run_args(&d.join("scene.toml"), &out)).unwrap(), 0);
     assert!(!left[3].exists());
 }
 

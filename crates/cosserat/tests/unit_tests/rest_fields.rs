@@ -5,34 +5,9 @@ use cosserat::scene::spec::SceneSpec;
 use nalgebra::Vector3;
 use std::path::Path;
 
-/// A free strip whose rest state the `rest_fields` tables change, after three steps.
+/// The free strip's positions after three steps, its rest state changed by the `rest_fields` tables.
 fn positions_after_steps(rest_fields: &str) -> Vec<Vector3<f64>> {
-    let text = format!(
-        r#"
-name = "strip"
-[time]
-mode = "dynamic"
-dt = 0.01
-end = 0.03
-adaptive = false
-[mesh]
-generator = "rectangle"
-lx = 0.1
-ly = 0.01
-nx = 6
-ny = 2
-element = "tri6"
-rotation_element = "tri3"
-[material]
-model = "plate"
-thickness = 1e-3
-youngs_modulus = 1e6
-poisson_ratio = 0.3
-density = 1000.0
-length_scale = 1e-4
-{rest_fields}
-"#
-    );
+    let text = super::strip_scene(rest_fields);
     let spec = SceneSpec::from_str(&text, "strip.toml", Path::new("."), &[]).unwrap();
     let mut sim = Simulation::with_memory_limit(spec, None).unwrap();
     let mut stepper = sim.time_stepper().unwrap();

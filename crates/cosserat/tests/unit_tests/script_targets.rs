@@ -8,29 +8,8 @@ use std::path::Path;
 
 /// A clamped strip turned at its right end by `angle` about x, with a tip load scaled by `scale`.
 fn strip(angle: &str, scale: &str) -> Simulation {
-    let text = format!(
+    let text = super::strip_scene(&format!(
         r#"
-name = "strip"
-[time]
-mode = "dynamic"
-dt = 0.01
-end = 0.05
-adaptive = false
-[mesh]
-generator = "rectangle"
-lx = 0.1
-ly = 0.01
-nx = 6
-ny = 2
-element = "tri6"
-rotation_element = "tri3"
-[material]
-model = "plate"
-thickness = 1e-3
-youngs_modulus = 1e6
-poisson_ratio = 0.3
-density = 1000.0
-length_scale = 1e-4
 [[boundary]]
 name = "left"
 region = {{ predicate = "x <= -0.05 + 1e-9" }}
@@ -48,7 +27,7 @@ region = {{ predicate = "abs(x) <= 0.01" }}
 force = [0.0, 0.0, 1e-3]
 scale = "{scale}"
 "#
-    );
+    ));
     let spec = SceneSpec::from_str(&text, "strip.toml", Path::new("."), &[]).unwrap();
     Simulation::with_memory_limit(spec, None).unwrap()
 }
